@@ -1,0 +1,48 @@
+# Third-party dependencies, all from Debian 12 packages (scripts/deps.sh installs them).
+find_package(Threads REQUIRED)
+find_package(Vulkan REQUIRED)
+find_package(glm REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(GTest REQUIRED)
+find_package(benchmark REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+pkg_check_modules(GLFW REQUIRED IMPORTED_TARGET glfw3)
+
+find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+
+# Warnings for our own targets only.
+function(cumulo_target_defaults tgt)
+  target_compile_options(${tgt} PRIVATE -Wall -Wextra -Wno-unused-parameter -Wno-missing-field-initializers)
+endfunction()
+
+# Adds a GoogleTest executable and registers its tests with CTest.
+# cumulo_add_test(NAME sources... LIBS libs... [LABELS labels...])
+include(GoogleTest)
+function(cumulo_add_test name)
+  cmake_parse_arguments(T "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
+  cumulo_target_defaults(${name})
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+    PROPERTIES LABELS "${T_LABELS}" ENVIRONMENT "CUMULO_VALIDATION=1;CUMULO_ROOT=${PROJECT_SOURCE_DIR}"
+    DISCOVERY_TIMEOUT 60)
+endfunction()
+
+# Adds every immediate subdirectory that has a CMakeLists.txt, in a fixed order when given,
+# so subsystems can be added without editing their parents.
+function(cumulo_add_subdirs)
+  set(order ${ARGN})
+  file(GLOB children RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
+  list(SORT children)
+  foreach(c ${children})
+    if(NOT c IN_LIST order)
+      list(APPEND order ${c})
+    endif()
+  endforeach()
+  foreach(c ${order})
+    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${c}/CMakeLists.txt)
+      add_subdirectory(${c})
+    endif()
+  endforeach()
+endfunction()
