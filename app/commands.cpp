@@ -1,11 +1,13 @@
 #include "app/commands.h"
 
+#include "modules/clouds/clouds_commands.h"
+
 // Each layer adds its own register_*_commands(); add one line here when a layer gains commands.
 
 namespace cumulo {
 
 void register_all_commands(CommandRegistry& registry) {
-  (void)registry;
+  clouds::register_cloud_commands(registry);
 }
 
 }  // namespace cumulo

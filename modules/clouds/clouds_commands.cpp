@@ -1,0 +1,11 @@
+#include "modules/clouds/clouds_commands.h"
+
+// One line per tool as it lands: each tool's header declares its register_*_command().
+
+namespace cumulo::clouds {
+
+void register_cloud_commands(CommandRegistry& registry) {
+  (void)registry;
+}
+
+}  // namespace cumulo::clouds
