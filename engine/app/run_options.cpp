@@ -1,0 +1,61 @@
+#include "engine/app/run_options.h"
+
+#include <cstdlib>
+
+#include "engine/core/args.h"
+#include "engine/core/error.h"
+
+namespace cumulo::app {
+
+void parse_size(const std::string& text, uint32_t& width, uint32_t& height) {
+  size_t x = text.find_first_of("xX");
+  auto bad = [&]() { fail("--size: expected WIDTHxHEIGHT such as 640x360, got \"%s\"", text.c_str()); };
+  if (x == std::string::npos || x == 0 || x + 1 >= text.size()) bad();
+  char* end = nullptr;
+  std::string ws = text.substr(0, x), hs = text.substr(x + 1);
+  long w = std::strtol(ws.c_str(), &end, 10);
+  if (*end) bad();
+  long h = std::strtol(hs.c_str(), &end, 10);
+  if (*end) bad();
+  if (w < 1 || h < 1 || w > 16384 || h > 16384) fail("--size: %s is outside 1x1..16384x16384", text.c_str());
+  width = static_cast<uint32_t>(w);
+  height = static_cast<uint32_t>(h);
+}
+
+std::optional<RunOptions> parse_run_options(int argc, char** argv) {
+  RunOptions o;
+  std::string mode = "30", size;
+  float tod = -1.0f;
+  ArgParser p("cumulo run",
+              "Run a level: a fixed-step simulation (ECS systems in phases) and the renderer (render graph:\n"
+              "geometry, sky, tonemap). Opens a window when a display exists, otherwise runs headless.");
+  p.positional("LEVEL", "level JSON file, e.g. content/levels/sample/level.json", &o.level)
+      .flag("--headless", "no window at all: render offscreen, advance 1/mode s per frame (reproducible)", &o.headless)
+      .option("--frames", "N", "frames to render, then exit (headless default 1; windowed: until closed)", &o.frames)
+      .option("--size", "WxH", "output size in pixels (default 1280x720)", &size)
+      .option("--mode", "30|40|60", "budget mode: target frame rate the renderer plans for (default 30)", &mode)
+      .option("--screenshot", "PATH", "write the last frame as PNG and print its path", &o.screenshot)
+      .option("--camera", "NAME", "start from this named camera of the level (ground, mixed, immersed, ...)", &o.camera)
+      .option("--time-of-day", "HOURS", "sun position as local time 0..24 (overrides the level)", &tod)
+      .option("--seed", "N", "random seed of the simulation (default 1)", &o.seed)
+      .option("--start-at", "SECONDS", "simulate this long before the first rendered frame (no rendering)", &o.start_at)
+      .option("--stats", "PATH", "write JSON statistics: per-pass GPU ms, CPU frame ms, device, validation errors, memory", &o.stats)
+      .option("--dump-graph", "FILE", "write the compiled render graph of the first frame (Graphviz if FILE ends in .dot)", &o.dump_graph)
+      .option("--sim-hz", "HZ", "fixed simulation rate (default 60)", &o.sim_hz);
+  if (!p.parse(argc, argv)) return std::nullopt;
+  o.mode = render::parse_budget_mode(mode);
+  if (!size.empty()) {
+    parse_size(size, o.width, o.height);
+    o.size_set = true;
+  }
+  if (p.was_set("--time-of-day")) {
+    if (!(tod >= 0.0f && tod <= 24.0f)) fail("--time-of-day: %g is outside 0..24 hours", tod);
+    o.time_of_day = tod;
+  }
+  if (o.start_at < 0.0 || o.start_at > 86400.0 * 30) fail("--start-at: %g is outside 0..2592000 seconds", o.start_at);
+  if (o.sim_hz < 1 || o.sim_hz > 1000) fail("--sim-hz: %u is outside 1..1000", o.sim_hz);
+  if (o.headless && o.frames == 0) o.frames = kDefaultHeadlessFrames;
+  return o;
+}
+
+}  // namespace cumulo::app

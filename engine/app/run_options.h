@@ -1,0 +1,38 @@
+#pragma once
+// `cumulo run` command line (issue 2). Parsed with engine/core/args.h; every flag is in --help.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "engine/render/budget_mode.h"
+
+namespace cumulo::app {
+
+struct RunOptions {
+  std::string level;                 // path to level.json
+  bool headless = false;
+  uint32_t frames = 0;               // 0: until the window closes (windowed); headless default below
+  uint32_t width = 1280, height = 720;
+  bool size_set = false;
+  render::BudgetMode mode = render::BudgetMode::Hz30;
+  std::string screenshot;            // PNG of the last frame (headless or windowed)
+  std::string camera;                // named camera of the level; empty: the level's default
+  std::optional<float> time_of_day;  // hours 0..24; overrides the level's TimeOfDay
+  uint64_t seed = 1;
+  double start_at = 0.0;             // seconds of simulation run before the first rendered frame
+  std::string stats;                 // JSON statistics path
+  std::string dump_graph;            // compiled render graph (text, or Graphviz when it ends in .dot)
+  uint32_t sim_hz = 60;              // fixed simulation rate
+};
+
+// Frames a headless run renders when --frames is not given.
+constexpr uint32_t kDefaultHeadlessFrames = 1;
+
+// Parses argv (argv[0] = "run"). Returns nullopt after printing --help. Throws cumulo::Error on bad
+// values: "--size: expected WIDTHxHEIGHT ...", "--mode: ...", out-of-range time of day, etc.
+std::optional<RunOptions> parse_run_options(int argc, char** argv);
+
+// "640x360" -> (640, 360); throws cumulo::Error for anything else or sizes outside 1..16384.
+void parse_size(const std::string& text, uint32_t& width, uint32_t& height);
+
+}  // namespace cumulo::app

@@ -1,0 +1,36 @@
+#include "engine/app/run_stats.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+using namespace cumulo::app;
+
+TEST(RunStats, JsonHasPerPassMeanMinMaxInFrameOrder) {
+  RunStats s;
+  s.add_gpu_frame({{"geometry", 2.0}, {"sky", 1.0}, {"tonemap", 0.5}});
+  s.add_gpu_frame({{"geometry", 4.0}, {"sky", 3.0}, {"tonemap", 0.5}});
+  s.add_cpu_frame_ms(10);
+  s.add_cpu_frame_ms(30);
+  s.set_frames(2);
+  RunStats::Info info;
+  info.width = 320;
+  info.height = 180;
+  info.mode_hz = 30;
+  info.device_name = "llvmpipe";
+  info.peak_gpu_memory_bytes = 1234;
+  auto j = nlohmann::ordered_json::parse(s.to_json(info));
+  EXPECT_EQ(j["frames"], 2);
+  EXPECT_EQ(j["size"][0], 320);
+  EXPECT_EQ(j["validation_errors"], 0);
+  EXPECT_EQ(j["peak_gpu_memory_bytes"], 1234);
+  EXPECT_EQ(j["device"]["name"], "llvmpipe");
+  EXPECT_DOUBLE_EQ(j["cpu_frame_ms"]["mean"].get<double>(), 20.0);
+  EXPECT_DOUBLE_EQ(j["cpu_frame_ms"]["max"].get<double>(), 30.0);
+  EXPECT_DOUBLE_EQ(j["passes"]["geometry"]["mean_ms"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["passes"]["geometry"]["min_ms"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(j["passes"]["sky"]["max_ms"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["gpu_frame_ms"]["mean"].get<double>(), 5.5);
+  std::vector<std::string> order;
+  for (auto& [k, v] : j["passes"].items()) order.push_back(k);
+  EXPECT_EQ(order, (std::vector<std::string>{"geometry", "sky", "tonemap"}));
+}
