@@ -5,23 +5,12 @@
 
 #include <set>
 
-#include "engine/core/error.h"
 #include "tests/engine/ecs/components.h"
+#include "tests/engine/ecs/expect_error.h"
 
 namespace cumulo::ecs {
 namespace {
 using namespace test;
-
-// EXPECT_THROW plus a check that the message says what went wrong.
-#define EXPECT_ERROR_HAS(stmt, needle)                                                        \
-  do {                                                                                        \
-    try {                                                                                     \
-      stmt;                                                                                   \
-      ADD_FAILURE() << "no error thrown by " #stmt;                                           \
-    } catch (const cumulo::Error& err) {                                                      \
-      EXPECT_NE(std::string(err.what()).find(needle), std::string::npos) << err.what();       \
-    }                                                                                         \
-  } while (0)
 
 TEST(World, CreateGivesDistinctValidHandles) {
   World w;
