@@ -15,13 +15,15 @@ struct EncodingInfo {
   const char* name;
   uint32_t components;
   uint32_t texel_bytes;  // 0 for block encodings
+  uint32_t block_bytes;  // 0 for texel encodings
 };
 
 constexpr EncodingInfo kEncodings[] = {
-    {VolumeEncoding::R8, "r8", 1, 1},        {VolumeEncoding::RG8, "rg8", 2, 2},
-    {VolumeEncoding::RGBA8, "rgba8", 4, 4},  {VolumeEncoding::R16, "r16", 1, 2},
-    {VolumeEncoding::RGBA16, "rgba16", 4, 8}, {VolumeEncoding::R32F, "r32f", 1, 4},
-    {VolumeEncoding::R4G4B4A4, "r4g4b4a4", 4, 2}, {VolumeEncoding::BC1, "bc1", 4, 0},
+    {VolumeEncoding::R8, "r8", 1, 1, 0},           {VolumeEncoding::RG8, "rg8", 2, 2, 0},
+    {VolumeEncoding::RGBA8, "rgba8", 4, 4, 0},     {VolumeEncoding::R16, "r16", 1, 2, 0},
+    {VolumeEncoding::RGBA16, "rgba16", 4, 8, 0},   {VolumeEncoding::R32F, "r32f", 1, 4, 0},
+    {VolumeEncoding::R4G4B4A4, "r4g4b4a4", 4, 2, 0}, {VolumeEncoding::BC1, "bc1", 4, 0, 8},
+    {VolumeEncoding::BC4, "bc4", 1, 0, 8},         {VolumeEncoding::BC7, "bc7", 4, 0, 16},
 };
 
 const EncodingInfo& info(VolumeEncoding e) {
@@ -74,14 +76,15 @@ bool is_valid_encoding(uint32_t value) {
 }
 
 uint32_t encoding_components(VolumeEncoding e) { return info(e).components; }
-bool is_block_encoding(VolumeEncoding e) { return e == VolumeEncoding::BC1; }
+bool is_block_encoding(VolumeEncoding e) { return info(e).block_bytes != 0; }
 uint32_t encoding_texel_bytes(VolumeEncoding e) { return info(e).texel_bytes; }
+uint32_t encoding_block_bytes(VolumeEncoding e) { return info(e).block_bytes; }
 
 uint64_t encoded_level_bytes(VolumeEncoding e, glm::uvec3 s) {
   // Each factor is < 2^32, so a product of two fits in 64 bits; the third is checked.
   uint64_t per_slice;
   if (is_block_encoding(e))
-    per_slice = uint64_t(bc1_blocks(s.x)) * bc1_blocks(s.y) * 8u;  // < 2^30 * 2^30 * 8
+    per_slice = uint64_t(bc1_blocks(s.x)) * bc1_blocks(s.y) * info(e).block_bytes;  // < 2^30 * 2^30 * 16
   else
     per_slice = uint64_t(s.x) * s.y;
   uint64_t slices = s.z;
@@ -157,9 +160,11 @@ float Volume::texel(uint32_t x, uint32_t y, uint32_t z, uint32_t c, uint32_t lev
   const std::vector<uint8_t>& d = levels.at(level);
   if (x >= s.x || y >= s.y || z >= s.z || c >= encoding_components(encoding))
     fail("volume texel (%u,%u,%u) component %u out of range at level %u", x, y, z, c, level);
-  if (encoding == VolumeEncoding::BC1) {
-    size_t block = ((size_t(z) * bc1_blocks(s.y) + y / 4) * bc1_blocks(s.x) + x / 4) * 8;
-    return bc1_decode_texel(d.data() + block, x % 4, y % 4)[static_cast<int>(c)];
+  if (is_block_encoding(encoding)) {
+    size_t block = ((size_t(z) * bc1_blocks(s.y) + y / 4) * bc1_blocks(s.x) + x / 4) * encoding_block_bytes(encoding);
+    if (encoding == VolumeEncoding::BC1) return bc1_decode_texel(d.data() + block, x % 4, y % 4)[static_cast<int>(c)];
+    if (encoding == VolumeEncoding::BC4) return bc4_decode_texel(d.data() + block, x % 4, y % 4);
+    fail("volume texel: no CPU decode for %s", encoding_name(encoding));
   }
   const size_t i = (size_t(z) * s.y + y) * s.x + x;
   switch (encoding) {
@@ -182,7 +187,7 @@ float Volume::texel(uint32_t x, uint32_t y, uint32_t z, uint32_t c, uint32_t lev
       uint16_t w = load16(&d[i * 2]);
       return static_cast<float>((w >> (12 - 4 * c)) & 15u) / 15.0f;
     }
-    case VolumeEncoding::BC1:
+    default:
       break;
   }
   return 0.0f;
@@ -223,10 +228,10 @@ void Volume::set_texel(uint32_t x, uint32_t y, uint32_t z, uint32_t c, float val
       store16(&d[i * 2], w);
       return;
     }
-    case VolumeEncoding::BC1:
+    default:
       break;
   }
-  fail("set_texel: BC1 volumes are written block by block by their encoder");
+  fail("set_texel: %s volumes are written block by block by their encoder", encoding_name(encoding));
 }
 
 void Volume::set_decoded(uint32_t x, uint32_t y, uint32_t z, uint32_t c, float value, uint32_t level) {
@@ -325,6 +330,19 @@ glm::vec4 bc1_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty) {
     case 2: return glm::vec4((e0 + e1) * 0.5f, 1.0f);
     default: return glm::vec4(0.0f);
   }
+}
+
+float bc4_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty) {
+  const float r0 = block[0] / 255.0f, r1 = block[1] / 255.0f;
+  uint64_t bits = 0;
+  for (int i = 7; i >= 2; --i) bits = (bits << 8) | block[i];
+  const uint32_t idx = static_cast<uint32_t>(bits >> (3 * (ty * 4 + tx))) & 7u;
+  if (idx == 0) return r0;
+  if (idx == 1) return r1;
+  if (block[0] > block[1]) return ((8 - idx) * r0 + (idx - 1) * r1) / 7.0f;
+  if (idx == 6) return 0.0f;
+  if (idx == 7) return 1.0f;
+  return ((6 - idx) * r0 + (idx - 1) * r1) / 5.0f;
 }
 
 }  // namespace cumulo::clouds

@@ -44,17 +44,21 @@ enum class VolumeEncoding : uint32_t {
   R32F = 6,      // 1 x float32
   R4G4B4A4 = 7,  // 16-bit word, Vulkan R4G4B4A4_UNORM_PACK16 order: R bits 12-15, G 8-11, B 4-7, A 0-3
   BC1 = 8,       // 4x4 blocks per z slice, 8 bytes each: RGB (+1-bit alpha), 565 endpoints
+  BC4 = 9,       // 4x4 blocks per z slice, 8 bytes each: one unorm channel, 8-bit endpoints
+  BC7 = 10,      // 4x4 blocks per z slice, 16 bytes each: RGBA (stored only; texel() cannot decode it)
 };
 
 const char* encoding_name(VolumeEncoding e);
 // Parses the names encoding_name() returns ("r8", "rgba8", "bc1", ...); false if unknown.
 bool parse_encoding(std::string_view name, VolumeEncoding* out);
 bool is_valid_encoding(uint32_t value);
-// Components a texel decodes to (BC1: 4, RGB + alpha).
+// Components a texel decodes to (BC1: 4, RGB + alpha; BC4: 1; BC7: 4).
 uint32_t encoding_components(VolumeEncoding e);
 bool is_block_encoding(VolumeEncoding e);
-// Bytes per texel for non-block encodings; 0 for BC1.
+// Bytes per texel for non-block encodings; 0 for block encodings.
 uint32_t encoding_texel_bytes(VolumeEncoding e);
+// Bytes per 4x4 block for block encodings; 0 otherwise.
+uint32_t encoding_block_bytes(VolumeEncoding e);
 // Bytes of one level of size (x, y, z), or UINT64_MAX when that does not fit (callers check
 // limits first; the arithmetic is overflow-safe for any uint32 input).
 uint64_t encoded_level_bytes(VolumeEncoding e, glm::uvec3 size);
@@ -96,8 +100,8 @@ struct Volume {
   // Same, but throws cumulo::Error naming `what` (e.g. the file) when missing.
   uint32_t channel(std::string_view semantic, std::string_view what) const;
 
-  // Stored component value as float: unorm -> 0..1, R32F -> as stored, BC1 -> reference decode
-  // (see bc1_decode_texel). `c` indexes components, not only declared channels.
+  // Stored component value as float: unorm -> 0..1, R32F -> as stored, BC1/BC4 -> reference
+  // decode (see bc1_decode_texel); BC7 throws. `c` indexes components, not only declared channels.
   float texel(uint32_t x, uint32_t y, uint32_t z, uint32_t c, uint32_t level = 0) const;
   // texel() mapped through the channel's decode range (R32F: returned as stored).
   float decoded(uint32_t x, uint32_t y, uint32_t z, uint32_t c, uint32_t level = 0) const;
@@ -118,13 +122,15 @@ struct Volume {
 // at odd sizes; otherwise the edge texel is repeated.
 void generate_mips(Volume& v, uint32_t mip_count = 0, bool wrap = false);
 
-// BC1 helpers. Block (bx, by) of slice z in level of size s starts at
-// ((z * bc1_blocks(s.y) + by) * bc1_blocks(s.x) + bx) * 8.
+// Block helpers. Block (bx, by) of slice z in a level of size s starts at
+// ((z * bc1_blocks(s.y) + by) * bc1_blocks(s.x) + bx) * encoding_block_bytes(e).
 inline uint32_t bc1_blocks(uint32_t texels) { return (texels + 3) / 4; }
 // Reference decode of one texel of an 8-byte block into RGBA 0..1: 565 endpoints expanded by bit
 // replication, palette (c0 > c1) {c0, c1, (2c0+c1)/3, (c0+2c1)/3} else {c0, c1, (c0+c1)/2, 0}.
 // GPUs differ slightly in the interpolated entries (fgiesen 2021, "GPU BCn decoding"); the baker's
 // conservative encoder accounts for that itself.
 glm::vec4 bc1_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty);
+// BC4 unorm: 8-bit endpoints r0, r1; 8-entry palette if r0 > r1, else 6 entries + 0 and 1.
+float bc4_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty);
 
 }  // namespace cumulo::clouds

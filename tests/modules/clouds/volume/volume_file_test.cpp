@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 
 const VolumeEncoding kAll[] = {VolumeEncoding::R8,     VolumeEncoding::RG8,  VolumeEncoding::RGBA8,
                                VolumeEncoding::R16,    VolumeEncoding::RGBA16, VolumeEncoding::R32F,
-                               VolumeEncoding::R4G4B4A4, VolumeEncoding::BC1};
+                               VolumeEncoding::R4G4B4A4, VolumeEncoding::BC1, VolumeEncoding::BC4,
+                               VolumeEncoding::BC7};
 
 // A volume with smooth (compressible) data plus a little noise, odd sizes to exercise mips and
 // partial BC1 blocks.
