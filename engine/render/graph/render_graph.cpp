@@ -1,0 +1,237 @@
+// Declaration side of the render graph: resources, passes, builder, hash, the null backend.
+#include "engine/render/graph/render_graph.h"
+
+#include "engine/core/error.h"
+#include "engine/core/hash.h"
+#include "engine/render/graph/detail/compiler.h"
+#include "engine/render/graph/detail/graph_data.h"
+
+namespace cumulo::render {
+
+struct RenderGraph::Impl {
+  VkExtent2D output_size{0, 0};
+  std::vector<detail::ResourceDecl> resources;
+  std::vector<detail::PassDecl> passes;
+
+  uint32_t add_resource(detail::ResourceDecl r) {
+    resources.push_back(std::move(r));
+    return uint32_t(resources.size() - 1);
+  }
+  // Records the access; the version check happens in compile's validate step so that every
+  // declaration error is reported in one place, naming the pass.
+  uint32_t record(uint32_t pass, uint32_t resource, uint32_t version, Usage usage, bool read, bool write,
+                  VkPipelineStageFlags2 stages) {
+    if (resource >= resources.size())
+      fail("render graph: pass '%s' uses an invalid handle (index %u)", passes[pass].name.c_str(), resource);
+    passes[pass].accesses.push_back({resource, version, usage, read, write, stages});
+    if (!write) return version;
+    // Hand out the next version; validate() rejects a write of a version that is not the latest.
+    return ++resources[resource].version;
+  }
+};
+
+RenderGraph::RenderGraph(VkExtent2D output_size) : impl_(std::make_unique<Impl>()) {
+  if (output_size.width == 0 || output_size.height == 0)
+    fail("render graph: output size %ux%u is empty", output_size.width, output_size.height);
+  impl_->output_size = output_size;
+}
+RenderGraph::~RenderGraph() = default;
+RenderGraph::RenderGraph(RenderGraph&&) noexcept = default;
+RenderGraph& RenderGraph::operator=(RenderGraph&&) noexcept = default;
+
+TextureHandle RenderGraph::create_texture(const std::string& name, const TextureDesc& desc) {
+  detail::ResourceDecl r;
+  r.name = name;
+  r.image = true;
+  r.texture = desc;
+  return {impl_->add_resource(std::move(r)), 0};
+}
+
+BufferHandle RenderGraph::create_buffer(const std::string& name, const BufferDesc& desc) {
+  detail::ResourceDecl r;
+  r.name = name;
+  r.image = false;
+  r.buffer = desc;
+  return {impl_->add_resource(std::move(r)), 0};
+}
+
+TextureHandle RenderGraph::import_texture(const std::string& name, const TextureDesc& desc, VkImage image,
+                                          VkImageView view, const ResourceState& initial, const ResourceState& final) {
+  detail::ResourceDecl r;
+  r.name = name;
+  r.image = true;
+  r.imported = true;
+  r.texture = desc;
+  r.vk_image = image;
+  r.vk_view = view;
+  r.initial = initial;
+  r.final = final;
+  return {impl_->add_resource(std::move(r)), 0};
+}
+
+BufferHandle RenderGraph::import_buffer(const std::string& name, VkBuffer buffer, VkDeviceSize size,
+                                        const ResourceState& initial, const ResourceState& final) {
+  detail::ResourceDecl r;
+  r.name = name;
+  r.image = false;
+  r.imported = true;
+  r.buffer.size = size;
+  r.vk_buffer = buffer;
+  r.initial = initial;
+  r.final = final;
+  r.initial.layout = r.final.layout = VK_IMAGE_LAYOUT_UNDEFINED;  // buffers have no layout
+  return {impl_->add_resource(std::move(r)), 0};
+}
+
+void RenderGraph::add_pass(const std::string& name, Queue queue, const SetupFn& setup, ExecuteFn execute) {
+  detail::PassDecl p;
+  p.name = name;
+  p.queue = queue;
+  p.execute = std::move(execute);
+  impl_->passes.push_back(std::move(p));
+  PassBuilder builder(*this, uint32_t(impl_->passes.size() - 1));
+  if (setup) setup(builder);
+}
+
+uint64_t RenderGraph::hash() const {
+  uint64_t h = hash64(&impl_->output_size, sizeof(VkExtent2D));
+  auto mix = [&h](const void* p, size_t n) { h = hash64(p, n, h); };
+  auto mix_state = [&](const ResourceState& s) {
+    mix(&s.layout, sizeof s.layout);
+    mix(&s.stages, sizeof s.stages);
+    mix(&s.access, sizeof s.access);
+  };
+  for (const auto& r : impl_->resources) {
+    h = hash64(r.name, h);
+    uint8_t kind = uint8_t(r.image) | uint8_t(r.imported) << 1;
+    mix(&kind, 1);
+    const TextureDesc& t = r.texture;
+    mix(&t.format, sizeof t.format);
+    mix(&t.size_scale, sizeof t.size_scale);
+    mix(&t.width, sizeof t.width);
+    mix(&t.height, sizeof t.height);
+    mix(&t.depth, sizeof t.depth);
+    mix(&t.mips, sizeof t.mips);
+    mix(&t.type, sizeof t.type);
+    mix(&r.buffer.size, sizeof r.buffer.size);
+    mix_state(r.initial);
+    mix_state(r.final);
+  }
+  for (const auto& p : impl_->passes) {
+    h = hash64(p.name, h);
+    mix(&p.queue, sizeof p.queue);
+    for (const auto& a : p.accesses) {
+      mix(&a.resource, sizeof a.resource);
+      mix(&a.version, sizeof a.version);
+      mix(&a.usage, sizeof a.usage);
+      uint8_t rw = uint8_t(a.read) | uint8_t(a.write) << 1;
+      mix(&rw, 1);
+      mix(&a.stages, sizeof a.stages);
+    }
+  }
+  return h;
+}
+
+CompiledGraph RenderGraph::compile(const CompileOptions& options) const {
+  detail::Compiler compiler(impl_->output_size, impl_->resources, impl_->passes, options);
+  CompiledGraph out = compiler.run();
+  out.hash = hash();
+  return out;
+}
+
+void RenderGraph::execute_without_device(const CompiledGraph& compiled) const {
+  std::vector<PhysicalTexture> textures(impl_->resources.size());
+  std::vector<PhysicalBuffer> buffers(impl_->resources.size());
+  for (size_t i = 0; i < compiled.resources.size(); ++i) {
+    const CompiledResource& r = compiled.resources[i];
+    textures[i] = {VK_NULL_HANDLE, VK_NULL_HANDLE, r.format, r.extent, r.mips};
+    buffers[i] = {VK_NULL_HANDLE, r.size};
+  }
+  for (const CompiledPass& p : compiled.passes) {
+    PassContext context(VK_NULL_HANDLE, p.name, textures, buffers);
+    run_pass(p.declared, context);
+  }
+}
+
+VkExtent2D RenderGraph::output_size() const { return impl_->output_size; }
+size_t RenderGraph::pass_count() const { return impl_->passes.size(); }
+const std::string& RenderGraph::pass_name(uint32_t declared) const { return impl_->passes.at(declared).name; }
+
+PhysicalTexture RenderGraph::imported_texture(uint32_t resource) const {
+  const auto& r = impl_->resources.at(resource);
+  return {r.vk_image, r.vk_view, r.texture.format, {r.texture.width, r.texture.height, r.texture.depth}, r.texture.mips};
+}
+
+PhysicalBuffer RenderGraph::imported_buffer(uint32_t resource) const {
+  const auto& r = impl_->resources.at(resource);
+  return {r.vk_buffer, r.buffer.size};
+}
+
+void RenderGraph::run_pass(uint32_t declared, PassContext& context) const {
+  const auto& p = impl_->passes.at(declared);
+  if (p.execute) p.execute(context);
+}
+
+// ---- PassBuilder ----------------------------------------------------------------------------
+
+TextureHandle PassBuilder::read(TextureHandle h, Usage usage, VkPipelineStageFlags2 stages) {
+  graph_.impl_->record(pass_, h.index, h.version, usage, true, false, stages);
+  return h;
+}
+TextureHandle PassBuilder::write(TextureHandle h, Usage usage, VkPipelineStageFlags2 stages) {
+  return {h.index, graph_.impl_->record(pass_, h.index, h.version, usage, false, true, stages)};
+}
+TextureHandle PassBuilder::read_write(TextureHandle h, Usage usage, VkPipelineStageFlags2 stages) {
+  return {h.index, graph_.impl_->record(pass_, h.index, h.version, usage, true, true, stages)};
+}
+BufferHandle PassBuilder::read(BufferHandle h, Usage usage, VkPipelineStageFlags2 stages) {
+  graph_.impl_->record(pass_, h.index, h.version, usage, true, false, stages);
+  return h;
+}
+BufferHandle PassBuilder::write(BufferHandle h, Usage usage, VkPipelineStageFlags2 stages) {
+  return {h.index, graph_.impl_->record(pass_, h.index, h.version, usage, false, true, stages)};
+}
+BufferHandle PassBuilder::read_write(BufferHandle h, Usage usage, VkPipelineStageFlags2 stages) {
+  return {h.index, graph_.impl_->record(pass_, h.index, h.version, usage, true, true, stages)};
+}
+TextureHandle PassBuilder::create_texture(const std::string& name, const TextureDesc& desc) {
+  return graph_.create_texture(name, desc);
+}
+BufferHandle PassBuilder::create_buffer(const std::string& name, const BufferDesc& desc) {
+  return graph_.create_buffer(name, desc);
+}
+
+// ---- CompiledGraph helpers ------------------------------------------------------------------
+
+const CompiledPass* CompiledGraph::find_pass(const std::string& name) const {
+  for (const auto& p : passes)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+int CompiledGraph::position(const std::string& name) const {
+  for (size_t i = 0; i < passes.size(); ++i)
+    if (passes[i].name == name) return int(i);
+  return -1;
+}
+
+bool CompiledGraph::shares_memory(uint32_t a, uint32_t b) const {
+  const int ba = resources.at(a).memory_block, bb = resources.at(b).memory_block;
+  return a != b && ba >= 0 && ba == bb;
+}
+
+MemoryQuery estimate_memory(const CompiledResource& r) {
+  // Device-free estimate: texels * bytes, mip chain included, 64 KiB alignment (a common GPU
+  // page). The executor replaces this with vkGetDeviceImageMemoryRequirements.
+  uint32_t bytes = detail::format_bytes(r.format);
+  if (bytes == 0) bytes = 16;  // unknown format: assume the widest common texel
+  VkDeviceSize total = 0;
+  VkExtent3D e = r.extent;
+  for (uint32_t m = 0; m < r.mips; ++m) {
+    total += VkDeviceSize(e.width) * e.height * e.depth * bytes;
+    e = {std::max(1u, e.width / 2), std::max(1u, e.height / 2), std::max(1u, e.depth / 2)};
+  }
+  return {total, 65536, ~0u};
+}
+
+}  // namespace cumulo::render
