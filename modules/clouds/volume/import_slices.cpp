@@ -1,0 +1,186 @@
+// TGA-slice import and the parts every importer shares (NVDFs from an SDF, saving).
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+#include "engine/core/parallel.h"
+#include "modules/clouds/volume/distance.h"
+#include "modules/clouds/volume/import.h"
+#include "modules/clouds/volume/nvdf.h"
+#include "modules/clouds/volume/tga.h"
+#include "modules/clouds/volume/volume_file.h"
+
+namespace cumulo::clouds {
+
+namespace fs = std::filesystem;
+
+CloudscapeVolumes nvdfs_from_sdf(const std::vector<float>& sdf, glm::uvec3 size, float voxel_size,
+                                 glm::vec3 bounds_min, const DeriveOptions& derive) {
+  if (sdf.size() != size_t(size.x) * size.y * size.z) fail("nvdfs_from_sdf: %zu values for %ux%ux%u", sdf.size(), size.x, size.y, size.z);
+  CloudscapeVolumes out{make_modeling_volume(size, voxel_size, bounds_min), make_field_volume(size, voxel_size, bounds_min)};
+  const uint32_t cp = out.modeling.channel(kDimensionalProfile, "modeling");
+  const uint32_t cd = out.modeling.channel(kDetailType, "modeling");
+  const uint32_t cs = out.modeling.channel(kDensityScale, "modeling");
+  const uint32_t cf = out.field.channel(kSignedDistance, "field");
+  parallel_for(size.z, [&](size_t z0, size_t z1) {
+    for (uint32_t z = uint32_t(z0); z < z1; ++z)
+      for (uint32_t y = 0; y < size.y; ++y)
+        for (uint32_t x = 0; x < size.x; ++x) {
+          const float d = sdf[(size_t(z) * size.y + y) * size.x + x];
+          const float p = dimensional_profile_from_sdf(d, derive.profile_depth_m);
+          out.modeling.set_texel(x, y, z, cp, p);
+          // Detail type and density scale only matter inside; outside they stay 0 so that the
+          // texture compresses well and bilinear filtering at the edge fades them with the profile.
+          out.modeling.set_texel(x, y, z, cd, p > 0.0f ? derive.detail_type : 0.0f);
+          out.modeling.set_texel(x, y, z, cs, p > 0.0f ? derive.density_scale : 0.0f);
+          out.field.set_decoded(x, y, z, cf, std::clamp(d, kSdfRangeMin, kSdfRangeMax));
+        }
+  });
+  return out;
+}
+
+void save_cloudscape(const fs::path& dir, const CloudscapeVolumes& v, bool compress) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) fail("%s: cannot create folder: %s", dir.string().c_str(), ec.message().c_str());
+  save_volume(dir / kModelingFileName, v.modeling, {.compress = compress});
+  save_volume(dir / kFieldFileName, v.field, {.compress = compress});
+}
+
+uint32_t parse_channel_letter(const std::string& s) {
+  std::string l = s;
+  for (auto& c : l) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (l == "r" || l == "0") return 0;
+  if (l == "g" || l == "1") return 1;
+  if (l == "b" || l == "2") return 2;
+  if (l == "a" || l == "3") return 3;
+  fail("channel '%s': expected r, g, b or a", s.c_str());
+}
+
+std::vector<fs::path> numbered_slices(const fs::path& dir) {
+  const std::string d = dir.string();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) fail("%s: not a folder (or missing)", d.c_str());
+  struct Entry {
+    unsigned long long number;
+    fs::path path;
+  };
+  std::vector<Entry> entries;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    std::string ext = e.path().extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".tga") continue;
+    const std::string stem = e.path().stem().string();
+    // The last run of digits is the slice number ("cloud_v2_slice_010" -> 10).
+    size_t end = stem.size();
+    while (end > 0 && !std::isdigit(static_cast<unsigned char>(stem[end - 1]))) --end;
+    size_t begin = end;
+    while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
+    if (begin == end) fail("%s: slice file name has no number (cannot order the z slices)", e.path().string().c_str());
+    if (end - begin > 9) fail("%s: slice number '%s' is too long", e.path().string().c_str(), stem.substr(begin, end - begin).c_str());
+    entries.push_back({std::stoull(stem.substr(begin, end - begin)), e.path()});
+  }
+  if (ec) fail("%s: cannot list folder: %s", d.c_str(), ec.message().c_str());
+  if (entries.empty()) fail("%s: no .tga slices in folder", d.c_str());
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.number != b.number ? a.number < b.number : a.path < b.path;
+  });
+  for (size_t i = 1; i < entries.size(); ++i)
+    if (entries[i].number == entries[i - 1].number)
+      fail("%s: slice number %llu also used by %s", entries[i].path.string().c_str(), entries[i].number,
+           entries[i - 1].path.filename().string().c_str());
+  std::vector<fs::path> out;
+  for (auto& e : entries) out.push_back(std::move(e.path));
+  return out;
+}
+
+namespace {
+
+struct SliceStack {
+  glm::uvec3 size{0};
+  std::vector<Rgba8Image> slices;
+  std::string first;  // file that set the size, for messages
+};
+
+SliceStack load_stack(const fs::path& dir) {
+  SliceStack s;
+  const std::vector<fs::path> files = numbered_slices(dir);
+  if (files.size() > 4096) fail("%s: %zu slices (at most 4096)", dir.string().c_str(), files.size());
+  s.slices.resize(files.size());
+  // Decode in parallel (TGA decode dominates), then check sizes in order so the first mismatch is named.
+  parallel_for(files.size(), [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) s.slices[i] = load_tga(files[i], {.max_dimension = 4096});
+  });
+  s.first = files[0].string();
+  s.size = {s.slices[0].width, s.slices[0].height, uint32_t(files.size())};
+  for (size_t i = 1; i < files.size(); ++i)
+    if (s.slices[i].width != s.size.x || s.slices[i].height != s.size.y)
+      fail("%s: slice is %ux%u, but %s is %ux%u (all slices must match)", files[i].string().c_str(),
+           s.slices[i].width, s.slices[i].height, files[0].filename().string().c_str(), s.size.x, s.size.y);
+  return s;
+}
+
+// TGA rows run top to bottom; the volume's y runs with the image's rows (row 0 = y 0), so a slice
+// viewed as an image shows the volume from +z with y pointing down, the usual slice convention.
+uint8_t component(const SliceStack& s, uint32_t x, uint32_t y, uint32_t z, uint32_t c) {
+  return s.slices[z].pixel(x, y)[c];
+}
+
+}  // namespace
+
+CloudscapeVolumes import_tga_slices(const std::optional<fs::path>& modeling_dir, const std::optional<fs::path>& field_dir,
+                                    const SliceImportOptions& o) {
+  if (!modeling_dir && !field_dir) fail("import: give a modeling folder, a field folder or both");
+  if (!(o.voxel_size > 0.0f) || !std::isfinite(o.voxel_size)) fail("import: voxel size %g must be positive", o.voxel_size);
+  if (!(o.sdf_max > o.sdf_min)) fail("import: SDF range %g..%g is empty", o.sdf_min, o.sdf_max);
+  for (uint32_t c : {o.profile_channel, o.detail_channel, o.density_channel, o.sdf_channel})
+    if (c > 3) fail("import: channel index %u (0..3)", c);
+
+  std::optional<SliceStack> modeling, field;
+  if (modeling_dir) modeling = load_stack(*modeling_dir);
+  if (field_dir) field = load_stack(*field_dir);
+  if (modeling && field && modeling->size != field->size)
+    fail("%s: field slices are %ux%ux%u, modeling slices (%s) are %ux%ux%u", field_dir->string().c_str(), field->size.x,
+         field->size.y, field->size.z, modeling_dir->string().c_str(), modeling->size.x, modeling->size.y,
+         modeling->size.z);
+  const glm::uvec3 size = modeling ? modeling->size : field->size;
+  const size_t count = size_t(size.x) * size.y * size.z;
+  auto index = [&](uint32_t x, uint32_t y, uint32_t z) { return (size_t(z) * size.y + y) * size.x + x; };
+
+  // Signed distance in metres: from the field slices, else from the modeling profile's support.
+  std::vector<float> sdf(count);
+  if (field) {
+    const float scale = (o.sdf_max - o.sdf_min) / 255.0f;
+    for (uint32_t z = 0; z < size.z; ++z)
+      for (uint32_t y = 0; y < size.y; ++y)
+        for (uint32_t x = 0; x < size.x; ++x)
+          sdf[index(x, y, z)] = o.sdf_min + scale * float(component(*field, x, y, z, o.sdf_channel));
+  } else {
+    std::vector<uint8_t> inside(count);
+    for (uint32_t z = 0; z < size.z; ++z)
+      for (uint32_t y = 0; y < size.y; ++y)
+        for (uint32_t x = 0; x < size.x; ++x) inside[index(x, y, z)] = component(*modeling, x, y, z, o.profile_channel) > 0;
+    sdf = signed_distance_from_mask(inside, size, o.voxel_size);
+  }
+  CloudscapeVolumes out = nvdfs_from_sdf(sdf, size, o.voxel_size, o.origin, o.derive);
+
+  if (modeling) {  // the authored modeling data replaces the derived defaults, byte for byte
+    Volume& m = out.modeling;
+    const uint32_t cp = m.channel(kDimensionalProfile, "modeling"), cd = m.channel(kDetailType, "modeling"),
+                   cs = m.channel(kDensityScale, "modeling");
+    for (uint32_t z = 0; z < size.z; ++z)
+      for (uint32_t y = 0; y < size.y; ++y)
+        for (uint32_t x = 0; x < size.x; ++x) {
+          m.set_texel(x, y, z, cp, component(*modeling, x, y, z, o.profile_channel) / 255.0f);
+          m.set_texel(x, y, z, cd, component(*modeling, x, y, z, o.detail_channel) / 255.0f);
+          m.set_texel(x, y, z, cs, component(*modeling, x, y, z, o.density_channel) / 255.0f);
+        }
+  }
+  LOG_INFO("import: %ux%ux%u slices at %g m (%s%s%s)", size.x, size.y, size.z, o.voxel_size, modeling ? "modeling" : "",
+           modeling && field ? " + " : "", field ? "field" : "");
+  return out;
+}
+
+}  // namespace cumulo::clouds
