@@ -2,6 +2,7 @@
 
 #include "engine/core/error.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/allocator.h"
 #include "engine/gpu/pipeline_cache.h"
 #include "gpu_test_util.h"
 
@@ -67,4 +68,30 @@ TEST(GpuContext, UnknownDeviceOverrideIsAClearError) {
     EXPECT_NE(msg.find("no-such-gpu-xyz"), std::string::npos) << msg;
     EXPECT_NE(msg.find("devices:"), std::string::npos) << msg;
   }
+}
+
+// Synchronization validation must be on: two transfer writes to one buffer with no barrier between
+// them are a WRITE_AFTER_WRITE hazard.
+TEST(GpuValidation, SynchronizationValidationCatchesMissingBarrier) {
+  ContextDesc desc;
+  desc.validation = true;
+  desc.cache_dir = cumulo::gpu::test::temp_dir("sync_validation");
+  Context ctx(desc);
+  VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bi.size = 256;
+  bi.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  VkBuffer buf;
+  ASSERT_EQ(vkCreateBuffer(ctx.device(), &bi, nullptr, &buf), VK_SUCCESS);
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(ctx.device(), buf, &req);
+  Allocation a = ctx.allocator().allocate(req, MemoryUsage::GpuOnly);
+  vkBindBufferMemory(ctx.device(), buf, a.memory, a.offset);
+  ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, buf, 0, 256, 1);
+    vkCmdFillBuffer(cmd, buf, 0, 256, 2);  // hazard: no barrier
+  });
+  EXPECT_GE(ctx.validation_errors(), 1u);
+  EXPECT_NE(ctx.last_validation_message().find("WRITE_AFTER_WRITE"), std::string::npos) << ctx.last_validation_message();
+  vkDestroyBuffer(ctx.device(), buf, nullptr);
+  ctx.allocator().free(a);
 }
