@@ -1,10 +1,13 @@
 #include "modules/clouds/clouds_commands.h"
 
+#include "modules/clouds/noise/noise_command.h"
+
 // One line per tool as it lands: each tool's header declares its register_*_command().
 
 namespace cumulo::clouds {
 
 void register_cloud_commands(CommandRegistry& registry) {
+  register_noise_command(registry);
   (void)registry;
 }
 

@@ -1,0 +1,182 @@
+#include "modules/clouds/noise/noise_command.h"
+
+// Format choice for the 2023 voxel noise (measured with `cumulo noise -o DIR`, seed 1, 128^3, float
+// reference = the generated texels; see MEASUREMENTS in the printed summary):
+//   (filled in below from the measured numbers)
+
+#include <cstdio>
+#include <memory>
+
+#include "engine/core/args.h"
+#include "engine/core/error.h"
+#include "engine/core/progress.h"
+#include "engine/core/time.h"
+#include "modules/clouds/noise/noise_preview.h"
+#include "modules/clouds/volume/volume_file.h"
+
+namespace cumulo::clouds {
+
+const VolumeEncoding kVoxelNoiseEncoding = VolumeEncoding::R4G4B4A4;
+
+namespace {
+
+const std::vector<NoiseChannelInfo> kVoxelChannels = {
+    {"curly_alligator_low"}, {"curly_alligator_high"}, {"alligator_low"}, {"alligator_high"}};
+const std::vector<NoiseChannelInfo> kSkyBaseChannels = {
+    {"perlin_worley"}, {"worley_low"}, {"worley_mid"}, {"worley_high"}};
+const std::vector<NoiseChannelInfo> kSkyDetailChannels = {{"worley_low"}, {"worley_mid"}, {"worley_high"}};
+
+NoiseFileInfo save(const std::filesystem::path& path, const Volume& v) {
+  save_volume(path, v);
+  NoiseFileInfo info;
+  info.path = path;
+  info.encoding = encoding_name(v.encoding);
+  info.width = v.size.x;
+  info.height = v.size.y;
+  info.depth = v.size.z;
+  info.mips = v.mip_count();
+  info.channels = static_cast<uint32_t>(v.channels.size());
+  info.gpu_bytes_level0 = v.level_bytes(0);
+  info.gpu_bytes = v.payload_bytes();
+  info.file_bytes = std::filesystem::file_size(path);
+  return info;
+}
+
+// Generates one texture with a Progress line over its level-0 texels.
+template <typename Gen>
+NoiseTexture generate(const char* label, size_t texels, bool show, Gen&& gen) {
+  std::unique_ptr<Progress> progress;
+  if (show) progress = std::make_unique<Progress>(label, static_cast<double>(texels));
+  NoiseTexture t = gen(progress.get());
+  if (progress) progress->finish();
+  return t;
+}
+
+}  // namespace
+
+NoiseSetReport write_noise_set(const NoiseSetOptions& o) {
+  Stopwatch total;
+  NoiseSetReport report;
+  std::error_code ec;
+  std::filesystem::create_directories(o.out_dir, ec);
+  if (ec || !std::filesystem::is_directory(o.out_dir))
+    fail("%s: cannot create the output folder (%s)", o.out_dir.string().c_str(), ec.message().c_str());
+
+  VoxelNoiseParams vp;
+  vp.size = o.size;
+  vp.seed = o.seed;
+  SkyNoiseParams sp;
+  sp.seed = o.seed;
+  sp.base_size = o.size;
+  sp.detail_size = std::max(4, o.size / 4);
+  sp.curl_size = o.size;
+
+  Stopwatch gen_clock;
+  const size_t n3 = static_cast<size_t>(o.size) * o.size * o.size;
+  NoiseTexture voxel = generate("noise: voxel (Curly-Alligator, Alligator)", n3, o.progress,
+                                [&](Progress* p) { return generate_voxel_noise(vp, p); });
+  NoiseTexture base = generate("noise: sky base (Perlin-Worley, Worley)", n3, o.progress,
+                               [&](Progress* p) { return generate_sky_base(sp, p); });
+  NoiseTexture detail = generate("noise: sky detail (Worley)", static_cast<size_t>(sp.detail_size) * sp.detail_size * sp.detail_size,
+                                 o.progress, [&](Progress* p) { return generate_sky_detail(sp, p); });
+  NoiseTexture curl2d = generate("noise: curl 2D", static_cast<size_t>(o.size) * o.size, o.progress,
+                                 [&](Progress* p) { return generate_curl_2d(sp, p); });
+  report.generate_seconds = gen_clock.seconds();
+
+  // Voxel noise in the requested format(s); voxel_noise.nvdf is the one the renderer loads.
+  const VolumeEncoding chosen = o.format == NoiseFormat::Bits8   ? VolumeEncoding::RGBA8
+                                : o.format == NoiseFormat::Bits4 ? VolumeEncoding::R4G4B4A4
+                                                                 : kVoxelNoiseEncoding;
+  report.files.push_back(save(o.out_dir / "voxel_noise.nvdf", noise_to_volume(voxel, chosen, kVoxelChannels)));
+  if (o.format == NoiseFormat::Both) {
+    for (VolumeEncoding e : {VolumeEncoding::R4G4B4A4, VolumeEncoding::RGBA8})
+      report.files.push_back(save(o.out_dir / strf("voxel_noise_%s.nvdf", encoding_name(e)),
+                                  noise_to_volume(voxel, e, kVoxelChannels)));
+  }
+  report.files.push_back(save(o.out_dir / "sky_noise_base.nvdf", noise_to_volume(base, VolumeEncoding::RGBA8, kSkyBaseChannels)));
+  report.files.push_back(
+      save(o.out_dir / "sky_noise_detail.nvdf", noise_to_volume(detail, VolumeEncoding::RGBA8, kSkyDetailChannels)));
+  // generate_curl_2d stores c / max|c| * 0.5 + 0.5; the decode range maps it back to curl units.
+  const float cr = curl2d.signed_range;
+  const std::vector<NoiseChannelInfo> curl_channels = {{"curl_x", -cr, cr}, {"curl_y", -cr, cr}, {"curl_z", -cr, cr}};
+  report.files.push_back(save(o.out_dir / "curl_noise.nvdf", noise_to_volume(curl2d, VolumeEncoding::RGBA8, curl_channels)));
+
+  if (o.previews) {
+    write_noise_preview(o.out_dir / "voxel_noise_preview.png", voxel);
+    write_noise_preview(o.out_dir / "sky_noise_base_preview.png", base);
+    write_noise_preview(o.out_dir / "sky_noise_detail_preview.png", detail);
+    write_noise_preview(o.out_dir / "curl_noise_preview.png", curl2d);
+  }
+
+  if (o.measure) {
+    for (VolumeEncoding e : {VolumeEncoding::R4G4B4A4, VolumeEncoding::RGBA8})
+      report.voxel_quality.push_back({encoding_name(e), quantization_error(voxel, e), uprez_error(voxel, e)});
+  }
+  report.total_seconds = total.seconds();
+  return report;
+}
+
+std::string format_noise_report(const NoiseSetReport& r) {
+  std::string s;
+  for (const NoiseFileInfo& f : r.files) {
+    s += strf("  %-28s %4ux%-4ux%-4u %u ch %-9s %u mips  GPU %9llu B (level 0 %9llu B)  file %9llu B\n",
+              f.path.filename().string().c_str(), f.width, f.height, f.depth, f.channels, f.encoding.c_str(), f.mips,
+              static_cast<unsigned long long>(f.gpu_bytes), static_cast<unsigned long long>(f.gpu_bytes_level0),
+              static_cast<unsigned long long>(f.file_bytes));
+  }
+  for (const NoiseQuality& q : r.voxel_quality) {
+    s += strf("  voxel noise as %-9s PSNR dB (R G B A):", q.encoding.c_str());
+    for (const ChannelError& c : q.channels) s += strf(" %.1f", c.psnr_db);
+    s += "  max err:";
+    for (const ChannelError& c : q.channels) s += strf(" %.4f", c.max_abs);
+    s += strf("\n      up-rez density error vs float: mean %.5f  rmse %.5f  max %.4f  (mean density %.3f)\n",
+              q.uprez.mean_abs, q.uprez.rmse, q.uprez.max_abs, q.uprez.mean_density);
+  }
+  s += strf("  generated in %.2fs, total %.2fs\n", r.generate_seconds, r.total_seconds);
+  return s;
+}
+
+void register_noise_command(CommandRegistry& registry) {
+  registry.add({"noise", "Generate the tileable cloud noise textures (.nvdf + PNG previews)", [](int argc, char** argv) {
+                  NoiseSetOptions o;
+                  std::string out, format;
+                  bool no_previews = false, no_measure = false;
+                  ArgParser p("cumulo noise",
+                              "Generates the 2023 voxel-cloud noise (Curly-Alligator / Alligator, 4 channels, mips) and\n"
+                              "the 2015 sky set (128^3 Perlin-Worley + Worley, 32^3 Worley, 128^2 curl) as .nvdf files.");
+                  p.option("-o", "DIR", "output folder (created if missing)", &out)
+                      .option("--seed", "N", "random seed (default 1); same seed, same bytes", &o.seed)
+                      .option("--size", "N", "size of the 3D noises and the curl texture, a power of two (default 128)",
+                              &o.size)
+                      .option("--format", "4|8|both",
+                              strf("voxel noise storage: 4 = R4G4B4A4 (2 B/texel), 8 = RGBA8, both = default + both "
+                                   "variants (default %s)",
+                                   kVoxelNoiseEncoding == VolumeEncoding::R4G4B4A4 ? "4" : "8"),
+                              &format)
+                      .flag("--no-previews", "skip the PNG previews", &no_previews)
+                      .flag("--no-measure", "skip the 4-bit vs 8-bit quality measurement", &no_measure);
+                  if (!p.parse(argc, argv)) return 0;
+                  if (out.empty()) fail("cumulo noise: -o DIR is required");
+                  if (!format.empty()) {
+                    if (format == "4")
+                      o.format = NoiseFormat::Bits4;
+                    else if (format == "8")
+                      o.format = NoiseFormat::Bits8;
+                    else if (format == "both")
+                      o.format = NoiseFormat::Both;
+                    else
+                      fail("cumulo noise: --format must be 4, 8 or both, got '%s'", format.c_str());
+                  }
+                  if (o.size < 4 || o.size > 1024 || (o.size & (o.size - 1)) != 0)
+                    fail("cumulo noise: --size must be a power of two in 4..1024, got %d", o.size);
+                  o.out_dir = out;
+                  o.previews = !no_previews;
+                  o.measure = !no_measure;
+                  NoiseSetReport r = write_noise_set(o);
+                  std::printf("cumulo noise: wrote %zu files to %s (seed %llu)\n%s", r.files.size(), out.c_str(),
+                              static_cast<unsigned long long>(o.seed), format_noise_report(r).c_str());
+                  return 0;
+                }});
+}
+
+}  // namespace cumulo::clouds
