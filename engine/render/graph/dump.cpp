@@ -2,6 +2,7 @@
 #include <sstream>
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/render/graph/render_graph.h"
 
 namespace cumulo::render {
@@ -156,6 +157,17 @@ std::string CompiledGraph::to_dot() const {
     }
   o << "}\n";
   return o.str();
+}
+
+void CompiledGraph::write_dump(const std::string& path) const {
+  const bool dot = path.size() > 4 && (path.ends_with(".dot") || path.ends_with(".gv"));
+  try {
+    write_file_atomic(path, dot ? to_dot() : to_text());
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // std::filesystem errors from creating the folder
+    fail("%s: cannot write the render graph dump: %s", path.c_str(), e.what());
+  }
 }
 
 }  // namespace cumulo::render

@@ -13,7 +13,8 @@
 //   PassBuilder                  used inside setup: read / write / read_write / create
 //   PassContext                  given to execute: command buffer + resolved Vulkan objects
 //   RenderGraph                  declaration: create/import resources, add_pass, compile, hash
-//   Barrier, CompiledPass, ...   the compiled graph as plain structs (to_text, to_dot)
+//   Barrier, CompiledPass, ...   the compiled graph as plain structs (to_text, to_dot, write_dump)
+//   Executor (executor.h)        records a graph on Vulkan: transient images, barriers, labels, timestamps
 //
 // [SECTION] Example
 //   RenderGraph graph({320, 180});                                   // output size
@@ -260,6 +261,9 @@ struct CompiledGraph {
   bool shares_memory(uint32_t a, uint32_t b) const;
   std::string to_text() const;
   std::string to_dot() const;
+  // For `cumulo run --dump-graph FILE`: Graphviz when FILE ends in .dot or .gv, text otherwise.
+  // Written atomically; throws cumulo::Error naming the file on failure.
+  void write_dump(const std::string& path) const;
 };
 
 // Memory requirements of a transient image, as the device would report them. The default (no

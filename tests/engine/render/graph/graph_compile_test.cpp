@@ -1,10 +1,14 @@
 // The compiled render graph, with no device: culling, order, exact barriers, aliasing, dumps.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/render/graph/render_graph.h"
 
 using namespace cumulo;
@@ -402,6 +406,21 @@ TEST(RenderGraphCompile, DumpsTextAndGraphviz) {
   EXPECT_EQ(dot.rfind("digraph render_graph {", 0), 0u);
   for (const char* s : {"fill", "blur", "composite", "readback", "lonely (culled)", "->"})
     EXPECT_NE(dot.find(s), std::string::npos) << s;
+
+  // --dump-graph FILE: the extension picks the format; a bad path names the file.
+  const auto dir = std::filesystem::temp_directory_path() / ("cumulo_graph_dump_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  c.write_dump((dir / "frame.dot").string());
+  c.write_dump((dir / "frame.txt").string());
+  EXPECT_EQ(read_file_text(dir / "frame.dot"), dot);
+  EXPECT_EQ(read_file_text(dir / "frame.txt"), text);
+  try {
+    c.write_dump((dir / "frame.txt" / "below_a_file.txt").string());  // a file is no folder
+    ADD_FAILURE() << "no error for an unwritable path";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("below_a_file.txt"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(RenderGraphCompile, HashIgnoresCallbacksAndImportedHandles) {

@@ -1,0 +1,278 @@
+// Executor: physical resources (cached by graph hash), barriers, labels, timestamps, recording.
+#include "engine/render/graph/executor.h"
+
+#include <algorithm>
+
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/image.h"
+#include "engine/render/graph/detail/graph_data.h"
+
+namespace cumulo::render {
+
+// Everything that lives as long as the graph keeps its shape.
+struct Executor::Physical {
+  uint64_t hash = 0;
+  CompiledGraph compiled;
+  std::vector<gpu::Allocation> blocks;  // by memory block; declared before images: destroyed after them
+  std::vector<gpu::Image> images;       // by resource index; empty for imported / unused / buffers
+  std::vector<gpu::Buffer> buffers;     // by resource index; transient buffers only
+  gpu::Context* ctx = nullptr;
+
+  ~Physical() {
+    images.clear();  // images first: they are bound to the blocks
+    buffers.clear();
+    for (gpu::Allocation& a : blocks) ctx->allocator().free(a);
+  }
+};
+
+namespace {
+
+VkImageAspectFlags aspect_of(VkFormat format) {
+  if (!detail::is_depth_format(format)) return VK_IMAGE_ASPECT_COLOR_BIT;
+  return VK_IMAGE_ASPECT_DEPTH_BIT | (detail::has_stencil(format) ? VK_IMAGE_ASPECT_STENCIL_BIT : 0);
+}
+
+gpu::ImageDesc image_desc(const CompiledResource& r) {
+  gpu::ImageDesc d;
+  d.type = r.type == ImageType::Image3D ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+  d.format = r.format;
+  d.extent = r.extent;
+  d.mips = r.mips;
+  d.usage = r.image_usage;
+  d.name = r.name.c_str();
+  return d;
+}
+
+}  // namespace
+
+Executor::Executor(gpu::Context& ctx) : ctx_(ctx) {}
+
+Executor::~Executor() {
+  physical_.reset();
+  for (VkQueryPool& pool : pools_)
+    if (pool) vkDestroyQueryPool(ctx_.device(), pool, nullptr);
+}
+
+const CompiledGraph& Executor::compiled() const {
+  if (!physical_) fail("render graph executor: nothing executed yet");
+  return physical_->compiled;
+}
+
+const PhysicalTexture& Executor::texture(uint32_t resource) const { return textures_.at(resource); }
+
+VkDeviceSize Executor::transient_bytes() const {
+  if (!physical_) return 0;
+  VkDeviceSize total = 0;
+  for (const gpu::Allocation& a : physical_->blocks) total += a.size;
+  for (const gpu::Buffer& b : physical_->buffers)
+    if (b) total += b.allocation().size;
+  return total;
+}
+
+// Compiles against the device's real memory requirements and creates the transient resources.
+void Executor::rebuild(const RenderGraph& graph) {
+  // 1. A first compile validates the declaration (a bad one throws before anything is torn down)
+  //    and says which transients are live, their sizes and usages; create those images unbound and
+  //    ask the device what memory they need. 2. Compile again with those requirements, so that
+  //    aliasing decisions use real sizes, alignments and memory types.
+  CompiledGraph probe = graph.compile();
+  if (physical_) {
+    LOG_DEBUG("render graph: shape changed, rebuilding transient resources");
+    ctx_.wait_idle();  // the old images may still be in use by frames in flight
+    physical_.reset();
+  }
+  auto phys = std::make_unique<Physical>();
+  phys->ctx = &ctx_;
+  phys->hash = graph.hash();
+  phys->images.resize(probe.resources.size());
+  phys->buffers.resize(probe.resources.size());
+  for (uint32_t i = 0; i < probe.resources.size(); ++i) {
+    const CompiledResource& r = probe.resources[i];
+    if (r.imported || r.first_pass < 0) continue;
+    if (r.image) {
+      phys->images[i] = gpu::Image::create_unbound(ctx_, image_desc(r));
+      ++images_created_;
+    }
+  }
+  CompileOptions options;
+  options.memory_query = [&](const CompiledResource& r) {
+    for (uint32_t i = 0; i < probe.resources.size(); ++i)
+      if (probe.resources[i].name == r.name && phys->images[i]) {  // names are unique (validate)
+        VkMemoryRequirements req = phys->images[i].memory_requirements();
+        return MemoryQuery{req.size, req.alignment, req.memoryTypeBits};
+      }
+    fail("render graph: internal: no image for '%s'", r.name.c_str());
+  };
+  phys->compiled = graph.compile(options);
+  ++compile_count_;
+  const CompiledGraph& c = phys->compiled;
+
+  // One allocation per memory block; every occupant is bound at its start.
+  for (size_t b = 0; b < c.memory_blocks.size(); ++b) {
+    const MemoryBlock& block = c.memory_blocks[b];
+    VkMemoryRequirements req{block.size, block.alignment, block.memory_type_bits};
+    std::string name = strf("graph block %zu", b);
+    for (uint32_t r : block.resources) name += " " + c.resources[r].name;
+    phys->blocks.push_back(ctx_.allocator().allocate(req, gpu::MemoryUsage::GpuOnly, name.c_str()));
+    ++blocks_created_;
+    for (uint32_t r : block.resources) {
+      phys->images[r].bind_memory(phys->blocks.back());
+      const std::string label = "graph:" + c.resources[r].name;
+      ctx_.set_name(phys->images[r].handle(), label);
+      ctx_.set_name(phys->images[r].view(), label);
+    }
+  }
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    const CompiledResource& r = c.resources[i];
+    if (r.image || r.imported || r.first_pass < 0) continue;
+    const std::string label = "graph:" + r.name;
+    phys->buffers[i] = gpu::Buffer(ctx_, {r.size, r.buffer_usage, gpu::MemoryUsage::GpuOnly, label.c_str()});
+  }
+
+  // Timestamps: two per pass, in pools that rotate over frames.
+  const uint32_t queries = uint32_t(2 * c.passes.size());
+  if (ctx_.info().timestamps && queries > pool_capacity_) {
+    ctx_.wait_idle();
+    for (VkQueryPool& pool : pools_) {
+      if (pool) vkDestroyQueryPool(ctx_.device(), pool, nullptr);
+      VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+      info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+      info.queryCount = queries;
+      VK_CHECK(vkCreateQueryPool(ctx_.device(), &info, nullptr, &pool));
+      ctx_.set_name(pool, "graph timestamps");
+    }
+    pool_capacity_ = queries;
+    last_passes_.clear();
+  }
+  physical_ = std::move(phys);
+}
+
+void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const {
+  if (barriers.empty()) return;
+  std::vector<VkImageMemoryBarrier2> images;
+  std::vector<VkBufferMemoryBarrier2> buffers;
+  for (const Barrier& b : barriers) {
+    if (b.image) {
+      const PhysicalTexture& t = textures_[b.resource];
+      VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+      ib.srcStageMask = b.src_stages;
+      ib.srcAccessMask = b.src_access;
+      ib.dstStageMask = b.dst_stages;
+      ib.dstAccessMask = b.dst_access;
+      ib.oldLayout = b.old_layout;
+      ib.newLayout = b.new_layout;
+      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      ib.image = t.image;
+      ib.subresourceRange = {aspect_of(t.format), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+      images.push_back(ib);
+    } else {
+      VkBufferMemoryBarrier2 bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+      bb.srcStageMask = b.src_stages;
+      bb.srcAccessMask = b.src_access;
+      bb.dstStageMask = b.dst_stages;
+      bb.dstAccessMask = b.dst_access;
+      bb.srcQueueFamilyIndex = bb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      bb.buffer = buffers_[b.resource].buffer;
+      bb.offset = 0;
+      bb.size = VK_WHOLE_SIZE;
+      buffers.push_back(bb);
+    }
+  }
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = uint32_t(images.size());
+  dep.pImageMemoryBarriers = images.data();
+  dep.bufferMemoryBarrierCount = uint32_t(buffers.size());
+  dep.pBufferMemoryBarriers = buffers.data();
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
+  if (!physical_ || physical_->hash != graph.hash()) rebuild(graph);
+  const CompiledGraph& c = physical_->compiled;
+
+  // Resolve handles for this frame: imported objects may change every frame (swapchain images).
+  textures_.assign(c.resources.size(), {});
+  buffers_.assign(c.resources.size(), {});
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    const CompiledResource& r = c.resources[i];
+    if (r.imported) {
+      if (r.image) {
+        textures_[i] = graph.imported_texture(i);
+        textures_[i].extent = r.extent;
+      } else {
+        buffers_[i] = graph.imported_buffer(i);
+      }
+    } else if (r.image && physical_->images[i]) {
+      const gpu::Image& img = physical_->images[i];
+      textures_[i] = {img.handle(), img.view(), r.format, r.extent, r.mips};
+    } else if (!r.image && physical_->buffers[i]) {
+      buffers_[i] = {physical_->buffers[i].handle(), r.size};
+    }
+  }
+  for (const CompiledPass& p : c.passes)
+    for (const Barrier& b : p.barriers)
+      if (b.image ? !textures_[b.resource].image : !buffers_[b.resource].buffer)
+        fail("render graph: pass '%s' uses imported '%s' but it was imported with a null Vulkan handle", p.name.c_str(),
+             b.name.c_str());
+
+  const bool timestamps = ctx_.info().timestamps && pool_capacity_ >= 2 * c.passes.size();
+  const uint32_t slot = uint32_t(frame_ % kTimestampSlots);
+  VkQueryPool pool = timestamps ? pools_[slot] : VK_NULL_HANDLE;
+  if (pool) vkCmdResetQueryPool(cmd, pool, 0, uint32_t(2 * c.passes.size()));
+
+  for (uint32_t i = 0; i < c.passes.size(); ++i) {
+    const CompiledPass& p = c.passes[i];
+    ctx_.cmd_begin_label(cmd, p.name.c_str());
+    record_barriers(cmd, p.barriers);
+    // ALL_COMMANDS: the first timestamp waits for earlier passes, so a pass's range is its own work.
+    if (pool) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool, 2 * i);
+    PassContext context(cmd, p.name, textures_, buffers_);
+    graph.run_pass(p.declared, context);
+    if (pool) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool, 2 * i + 1);
+    ctx_.cmd_end_label(cmd);
+  }
+  record_barriers(cmd, c.final_barriers);
+
+  // Keep gpu::Image's idea of the layout current for helpers that use it (readback, uploads).
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    if (!physical_->images[i] || c.resources[i].last_pass < 0) continue;
+    for (const ResourceAccess& a : c.passes[c.resources[i].last_pass].accesses)
+      if (a.resource == i) physical_->images[i].set_layout(a.layout);
+  }
+
+  last_passes_.clear();
+  if (pool)
+    for (const CompiledPass& p : c.passes) last_passes_.push_back(p.name);
+  last_slot_ = slot;
+  ++frame_;
+}
+
+std::vector<PassTiming> Executor::timings() const {
+  std::vector<PassTiming> out;
+  if (last_passes_.empty()) return out;
+  const uint32_t n = uint32_t(last_passes_.size());
+  std::vector<uint64_t> data(size_t(4) * n);  // (value, availability) pairs
+  VkResult r = vkGetQueryPoolResults(ctx_.device(), pools_[last_slot_], 0, 2 * n, data.size() * sizeof(uint64_t),
+                                     data.data(), 2 * sizeof(uint64_t),
+                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
+  if (r < 0) return out;
+  const double period_ms = double(ctx_.info().limits.timestampPeriod) * 1e-6;
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint64_t begin = data[4 * i], begin_ok = data[4 * i + 1];
+    const uint64_t end = data[4 * i + 2], end_ok = data[4 * i + 3];
+    if (!begin_ok || !end_ok) return {};
+    out.push_back({last_passes_[i], end >= begin ? double(end - begin) * period_ms : 0.0});
+  }
+  return out;
+}
+
+double Executor::pass_ms(const std::string& pass) const {
+  for (const PassTiming& t : timings())
+    if (t.name == pass) return t.ms;
+  return -1.0;
+}
+
+}  // namespace cumulo::render

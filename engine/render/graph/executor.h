@@ -1,0 +1,87 @@
+#pragma once
+// Executor: records a RenderGraph into a command buffer on a gpu::Context.
+//
+//   render::Executor executor(ctx);
+//   for (each frame) {
+//     RenderGraph graph(output_size);  ... declare imports and passes ...
+//     executor.execute(graph, cmd);    // compiles only when graph.hash() changed
+//     submit cmd, wait (or fence) ...
+//     executor.timings();              // per-pass GPU ms of the last executed frame, once complete
+//   }
+//
+// What execute() does:
+// - compile + physical resources are cached by the graph's hash: the same shape next frame reuses
+//   the compiled barriers, the transient images and their memory (nothing is created per frame).
+//   A new shape (resize, budget-mode switch) waits for the device to go idle, frees the old ones and
+//   builds new ones: rare, so simplicity wins over deferred deletion;
+// - transient images are created unbound, their real memory requirements fed to compile() so that
+//   aliasing uses the device's sizes, then bound to one allocation per memory block (gpu allocator);
+// - per pass: one vkCmdPipelineBarrier2 with the compiled barriers, a debug label with the pass
+//   name, a timestamp before and after; then the final barriers of the imported resources;
+// - objects are named after their graph resource ("graph:<name>") for validation messages/captures.
+// Frames may overlap on the GPU (several in flight on the one queue): every transient's first use
+// waits on the previous frame's last use of its memory (see barriers.cpp), and the timestamp pools
+// rotate over kTimestampSlots frames.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/render/graph/render_graph.h"
+
+namespace cumulo::gpu {
+class Context;
+}
+
+namespace cumulo::render {
+
+struct PassTiming {
+  std::string name;
+  double ms = 0.0;
+};
+
+class Executor {
+ public:
+  static constexpr uint32_t kTimestampSlots = 3;
+
+  explicit Executor(gpu::Context& ctx);
+  ~Executor();  // the caller makes sure the GPU no longer uses the recorded command buffers
+  Executor(const Executor&) = delete;
+  Executor& operator=(const Executor&) = delete;
+
+  // Compiles (if needed) and records every live pass of `graph` into `cmd` (in the recording
+  // state, outside a render pass). Throws cumulo::Error on a bad declaration.
+  void execute(const RenderGraph& graph, VkCommandBuffer cmd);
+
+  const CompiledGraph& compiled() const;  // of the last execute(); throws before the first
+  // Per-pass GPU milliseconds of the last executed frame, in execution order; empty while its
+  // command buffer has not completed, or when the queue has no timestamps.
+  std::vector<PassTiming> timings() const;
+  double pass_ms(const std::string& pass) const;  // -1 when unknown or not available
+
+  // Counters for tests and stats: how often the graph was compiled / how many transient images
+  // and memory blocks were created since construction.
+  uint32_t compile_count() const { return compile_count_; }
+  uint32_t images_created() const { return images_created_; }
+  uint32_t memory_blocks_created() const { return blocks_created_; }
+  VkDeviceSize transient_bytes() const;  // memory held by the current transient blocks and buffers
+  // The physical object behind a resource of the last execute() (imported ones as imported).
+  const PhysicalTexture& texture(uint32_t resource) const;
+
+ private:
+  struct Physical;
+  void rebuild(const RenderGraph& graph);
+  void record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const;
+
+  gpu::Context& ctx_;
+  std::unique_ptr<Physical> physical_;
+  std::vector<PhysicalTexture> textures_;  // by resource index, resolved per frame
+  std::vector<PhysicalBuffer> buffers_;
+  VkQueryPool pools_[kTimestampSlots] = {};
+  uint32_t pool_capacity_ = 0;  // queries per pool
+  uint64_t frame_ = 0;          // frames executed
+  std::vector<std::string> last_passes_;  // pass names of the last frame, in order
+  uint32_t last_slot_ = 0;
+  uint32_t compile_count_ = 0, images_created_ = 0, blocks_created_ = 0;
+};
+
+}  // namespace cumulo::render

@@ -1,0 +1,479 @@
+// The render graph executed on Vulkan (lavapipe on CI) with validation + synchronization validation:
+// fill (compute) -> blur (compute, sampled read) -> composite (compute, + an imported texture) ->
+// readback (copy into an imported host buffer), plus a pass nobody consumes. Checked numerically.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "blur_comp.h"
+#include "composite_comp.h"
+#include "engine/core/error.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/image.h"
+#include "engine/gpu/sampler.h"
+#include "engine/render/graph/executor.h"
+#include "engine/render/graph/render_graph.h"
+#include "fill_comp.h"
+#include "fullscreen_vert.h"
+#include "shade_frag.h"
+
+using namespace cumulo;
+using namespace cumulo::render;
+
+namespace {
+
+// True when the loader sees at least one physical device; the test skips only when there is none.
+bool any_vulkan_device() {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  info.pApplicationInfo = &app;
+  VkInstance instance;
+  if (vkCreateInstance(&info, nullptr, &instance) != VK_SUCCESS) return false;
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  vkDestroyInstance(instance, nullptr);
+  return count > 0;
+}
+
+// A compute pipeline with one descriptor set (updated before each dispatch: frames are serialized
+// in these tests) and a 16-byte push-constant block.
+class Kernel {
+ public:
+  Kernel(gpu::Context& ctx, const uint32_t* code, size_t bytes, std::vector<VkDescriptorType> bindings) : ctx_(ctx), types_(bindings) {
+    VkDevice dev = ctx.device();
+    std::vector<VkDescriptorSetLayoutBinding> b;
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
+      b.push_back({i, bindings[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+      sizes.push_back({bindings[i], 1});
+    }
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = uint32_t(b.size());
+    dl.pBindings = b.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &set_layout_));
+    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 16};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = 1;
+    pl.pSetLayouts = &set_layout_;
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &push;
+    VK_CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout_));
+    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    sm.codeSize = bytes;
+    sm.pCode = code;
+    VkShaderModule module;
+    VK_CHECK(vkCreateShaderModule(dev, &sm, nullptr, &module));
+    VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cp.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main", nullptr};
+    cp.layout = layout_;
+    VkResult r = vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cp, nullptr, &pipeline_);
+    vkDestroyShaderModule(dev, module, nullptr);
+    VK_CHECK(r);
+    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dp.maxSets = 1;
+    dp.poolSizeCount = uint32_t(sizes.size());
+    dp.pPoolSizes = sizes.data();
+    VK_CHECK(vkCreateDescriptorPool(dev, &dp, nullptr, &pool_));
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = pool_;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &set_layout_;
+    VK_CHECK(vkAllocateDescriptorSets(dev, &ai, &set_));
+  }
+  ~Kernel() {
+    VkDevice dev = ctx_.device();
+    vkDestroyDescriptorPool(dev, pool_, nullptr);
+    vkDestroyPipeline(dev, pipeline_, nullptr);
+    vkDestroyPipelineLayout(dev, layout_, nullptr);
+    vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+  }
+  // views[i] goes to binding i, in the layout its descriptor type implies.
+  void dispatch(VkCommandBuffer cmd, const std::vector<VkImageView>& views, VkExtent3D size, float push = 0.0f) {
+    std::vector<VkDescriptorImageInfo> infos(views.size());
+    std::vector<VkWriteDescriptorSet> writes(views.size());
+    VkSampler sampler = ctx_.samplers().get(gpu::SamplerDesc::nearest_clamp());
+    for (uint32_t i = 0; i < views.size(); ++i) {
+      const bool sampled = types_[i] == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      infos[i] = {sampled ? sampler : VK_NULL_HANDLE, views[i],
+                  sampled ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL};
+      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set_, i, 0, 1, types_[i], &infos[i], nullptr, nullptr};
+    }
+    vkUpdateDescriptorSets(ctx_.device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
+    float data[4] = {push, 0, 0, 0};
+    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof data, data);
+    vkCmdDispatch(cmd, (size.width + 7) / 8, (size.height + 7) / 8, 1);
+  }
+
+ private:
+  gpu::Context& ctx_;
+  std::vector<VkDescriptorType> types_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+// A fullscreen-triangle graphics pipeline (dynamic rendering) with one combined image sampler.
+class FullscreenPipeline {
+ public:
+  FullscreenPipeline(gpu::Context& ctx, VkFormat color_format) : ctx_(ctx) {
+    VkDevice dev = ctx.device();
+    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = 1;
+    dl.pBindings = &binding;
+    VK_CHECK(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &set_layout_));
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = 1;
+    pl.pSetLayouts = &set_layout_;
+    VK_CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout_));
+    VkShaderModule vs = module(k_fullscreen_vert, sizeof k_fullscreen_vert), fs = module(k_shade_frag, sizeof k_shade_frag);
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vs, "main", nullptr},
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fs, "main", nullptr}};
+    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    rs.cullMode = VK_CULL_MODE_NONE;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineColorBlendAttachmentState blend{};
+    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
+    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = 1;
+    cb.pAttachments = &blend;
+    VkDynamicState dyn[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    ds.dynamicStateCount = 2;
+    ds.pDynamicStates = dyn;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &color_format;
+    VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gp.pNext = &rendering;
+    gp.stageCount = 2;
+    gp.pStages = stages;
+    gp.pVertexInputState = &vi;
+    gp.pInputAssemblyState = &ia;
+    gp.pViewportState = &vp;
+    gp.pRasterizationState = &rs;
+    gp.pMultisampleState = &ms;
+    gp.pColorBlendState = &cb;
+    gp.pDynamicState = &ds;
+    gp.layout = layout_;
+    VkResult r = vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gp, nullptr, &pipeline_);
+    vkDestroyShaderModule(dev, vs, nullptr);
+    vkDestroyShaderModule(dev, fs, nullptr);
+    VK_CHECK(r);
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
+    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dp.maxSets = 1;
+    dp.poolSizeCount = 1;
+    dp.pPoolSizes = &size;
+    VK_CHECK(vkCreateDescriptorPool(dev, &dp, nullptr, &pool_));
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = pool_;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &set_layout_;
+    VK_CHECK(vkAllocateDescriptorSets(dev, &ai, &set_));
+  }
+  ~FullscreenPipeline() {
+    VkDevice dev = ctx_.device();
+    vkDestroyDescriptorPool(dev, pool_, nullptr);
+    vkDestroyPipeline(dev, pipeline_, nullptr);
+    vkDestroyPipelineLayout(dev, layout_, nullptr);
+    vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+  }
+  // Renders into `target` (COLOR_ATTACHMENT_OPTIMAL, placed by the graph) sampling `source`.
+  void draw(VkCommandBuffer cmd, VkImageView source, VkImageView target, VkExtent3D size) {
+    VkDescriptorImageInfo info{ctx_.samplers().get(gpu::SamplerDesc::nearest_clamp()), source,
+                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set_, 0, 0, 1,
+                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &info, nullptr, nullptr};
+    vkUpdateDescriptorSets(ctx_.device(), 1, &w, 0, nullptr);
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = target;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {size.width, size.height}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = 1;
+    ri.pColorAttachments = &color;
+    vkCmdBeginRendering(cmd, &ri);
+    VkViewport viewport{0, 0, float(size.width), float(size.height), 0, 1};
+    VkRect2D scissor{{0, 0}, {size.width, size.height}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+  }
+
+ private:
+  VkShaderModule module(const uint32_t* code, size_t bytes) {
+    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    sm.codeSize = bytes;
+    sm.pCode = code;
+    VkShaderModule m;
+    VK_CHECK(vkCreateShaderModule(ctx_.device(), &sm, nullptr, &m));
+    return m;
+  }
+  gpu::Context& ctx_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+
+float bias_value(uint32_t x, uint32_t y) { return float((x * 7 + y * 3) % 5) * 0.25f; }
+
+// CPU reference of the four passes.
+std::vector<float> expected(uint32_t w, uint32_t h, float frame) {
+  std::vector<float> field(size_t(w) * h), out(size_t(w) * h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) field[y * w + x] = 0.01f * float(x) + 0.1f * float(y) + frame;
+  for (int y = 0; y < int(h); ++y)
+    for (int x = 0; x < int(w); ++x) {
+      float sum = 0.0f;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          sum += field[std::clamp(y + dy, 0, int(h) - 1) * w + std::clamp(x + dx, 0, int(w) - 1)];
+      out[y * w + x] = 2.0f * (sum / 9.0f) + bias_value(x, y);
+    }
+  return out;
+}
+
+class RenderGraphVulkan : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!any_vulkan_device()) GTEST_SKIP() << "no Vulkan device";
+    errors_before_ = gpu::total_validation_errors();
+    gpu::ContextDesc desc;
+    desc.validation = true;
+    ctx_ = std::make_unique<gpu::Context>(desc);
+    ASSERT_TRUE(ctx_->validation_enabled());
+    fill_ = std::make_unique<Kernel>(*ctx_, k_fill_comp, sizeof k_fill_comp, std::vector{kStorage});
+    blur_ = std::make_unique<Kernel>(*ctx_, k_blur_comp, sizeof k_blur_comp, std::vector{kSampled, kStorage});
+    composite_ = std::make_unique<Kernel>(*ctx_, k_composite_comp, sizeof k_composite_comp,
+                                          std::vector{kStorage, kSampled, kStorage});
+  }
+  void TearDown() override {
+    if (!ctx_) return;
+    ctx_->wait_idle();
+    EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
+    fill_.reset();
+    blur_.reset();
+    composite_.reset();
+    resources_.reset();
+    ctx_.reset();
+    EXPECT_EQ(gpu::total_validation_errors(), errors_before_) << "validation errors while tearing down";
+  }
+
+  // Persistent (imported) resources for one output size.
+  struct Persistent {
+    gpu::Image bias;
+    gpu::Buffer readback;
+  };
+  void make_persistent(uint32_t w, uint32_t h) {
+    resources_ = std::make_unique<Persistent>();
+    resources_->bias = gpu::Image(*ctx_, gpu::ImageDesc::tex2d(w, h, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1, "bias"));
+    std::vector<float> bias(size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) bias[y * w + x] = bias_value(x, y);
+    resources_->bias.upload({{bias.data(), bias.size() * sizeof(float)}});
+    resources_->readback = gpu::Buffer(*ctx_, {VkDeviceSize(w) * h * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                               gpu::MemoryUsage::Readback, "readback"});
+  }
+
+  // The frame: fill -> blur -> composite -> readback, and "debug" that nobody consumes.
+  RenderGraph build(VkExtent2D size, float frame) {
+    RenderGraph g(size);
+    const TextureDesc r32 = TextureDesc::relative(VK_FORMAT_R32_SFLOAT);
+    TextureHandle bias = g.import_texture("bias", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, size.width, size.height),
+                                          resources_->bias.handle(), resources_->bias.view(),
+                                          ResourceState::shader_read_only());
+    BufferHandle readback = g.import_buffer("readback", resources_->readback.handle(), resources_->readback.size(),
+                                            ResourceState::undefined(), ResourceState::host_read());
+    TextureHandle field = g.create_texture("field", r32);
+    TextureHandle blurred = g.create_texture("blurred", r32);
+    TextureHandle out = g.create_texture("out", r32);
+    TextureHandle debug = g.create_texture("debug", r32);
+
+    g.add_pass("fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
+               [this, field, frame](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), frame); });
+    g.add_pass("blur", Queue::Compute, [&](PassBuilder& b) {
+      b.read(field, Usage::Sampled);
+      blurred = b.write(blurred, Usage::StorageWrite);
+    }, [this, field, blurred](PassContext& c) { blur_->dispatch(c.cmd(), {c.view(field), c.view(blurred)}, c.extent(blurred)); });
+    g.add_pass("debug", Queue::Compute, [&](PassBuilder& b) {
+      b.read(field, Usage::Sampled);
+      debug = b.write(debug, Usage::StorageWrite);
+    }, [this](PassContext&) { debug_ran_ = true; });
+    g.add_pass("composite", Queue::Compute, [&](PassBuilder& b) {
+      b.read(blurred, Usage::StorageRead);
+      b.read(bias, Usage::Sampled);
+      out = b.write(out, Usage::StorageWrite);
+    }, [this, blurred, bias, out](PassContext& c) {
+      composite_->dispatch(c.cmd(), {c.view(blurred), c.view(bias), c.view(out)}, c.extent(out));
+    });
+    g.add_pass("readback", Queue::Compute, [&](PassBuilder& b) {
+      b.read(out, Usage::TransferSrc);
+      readback = b.write(readback, Usage::TransferDst);
+    }, [out, readback](PassContext& c) {
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = c.extent(out);
+      vkCmdCopyImageToBuffer(c.cmd(), c.image(out), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1, &region);
+    });
+    return g;
+  }
+
+  // Runs one frame and compares the readback with the CPU reference.
+  void run_frame(Executor& executor, VkExtent2D size, float frame) {
+    RenderGraph g = build(size, frame);
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
+    std::vector<float> got(size_t(size.width) * size.height);
+    resources_->readback.download(got.data(), got.size() * sizeof(float));
+    const std::vector<float> want = expected(size.width, size.height, frame);
+    size_t bad = 0;
+    for (size_t i = 0; i < got.size(); ++i)
+      if (std::fabs(got[i] - want[i]) > 1e-4f * std::max(1.0f, std::fabs(want[i]))) {
+        if (bad++ < 5) ADD_FAILURE() << "frame " << frame << " texel " << i << ": got " << got[i] << ", want " << want[i];
+      }
+    EXPECT_EQ(bad, 0u) << "frame " << frame;
+  }
+
+  std::unique_ptr<gpu::Context> ctx_;
+  std::unique_ptr<Kernel> fill_, blur_, composite_;
+  std::unique_ptr<Persistent> resources_;
+  bool debug_ran_ = false;
+  uint32_t errors_before_ = 0;
+};
+
+}  // namespace
+
+TEST_F(RenderGraphVulkan, FourPassGraphOverSeveralFrames) {
+  const VkExtent2D size{37, 23};  // not a multiple of the 8x8 work group: bounds checks matter
+  make_persistent(size.width, size.height);
+  Executor executor(*ctx_);
+  run_frame(executor, size, 0.0f);
+  const CompiledGraph& c = executor.compiled();
+  ASSERT_EQ(c.passes.size(), 4u);
+  EXPECT_EQ(c.culled, std::vector<std::string>{"debug"});
+  uint32_t field = 0, out = 0, blurred = 0;
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    if (c.resources[i].name == "field") field = i;
+    if (c.resources[i].name == "out") out = i;
+    if (c.resources[i].name == "blurred") blurred = i;
+  }
+  // field lives in fill..blur, out in composite..readback: the device's sizes allow sharing.
+  EXPECT_TRUE(c.shares_memory(field, out)) << c.to_text();
+  EXPECT_FALSE(c.shares_memory(field, blurred));
+  const VkImage field_image = executor.texture(field).image;
+  const VkImage out_image = executor.texture(out).image;
+  EXPECT_NE(field_image, out_image);  // two images, one memory range
+
+  for (int frame = 1; frame < 4; ++frame) run_frame(executor, size, float(frame));
+
+  // Same shape every frame: compiled once, images created once, and the same images reused.
+  EXPECT_EQ(executor.compile_count(), 1u);
+  EXPECT_EQ(executor.images_created(), 3u);
+  EXPECT_EQ(executor.memory_blocks_created(), 2u);
+  EXPECT_EQ(executor.texture(field).image, field_image);
+  EXPECT_FALSE(debug_ran_);
+
+  if (ctx_->info().timestamps) {
+    const std::vector<PassTiming> timings = executor.timings();
+    ASSERT_EQ(timings.size(), 4u);
+    for (const PassTiming& t : timings) EXPECT_GT(t.ms, 0.0) << t.name;
+    EXPECT_EQ(timings[0].name, "fill");
+    EXPECT_GT(executor.pass_ms("composite"), 0.0);
+    EXPECT_LT(executor.pass_ms("debug"), 0.0);  // culled: no timing
+  }
+  EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
+}
+
+// compute writes a storage image -> a fragment shader samples it into a color attachment -> copy.
+TEST_F(RenderGraphVulkan, ComputeToFragmentToReadback) {
+  const VkExtent2D size{37, 23};
+  make_persistent(size.width, size.height);
+  FullscreenPipeline shade(*ctx_, VK_FORMAT_R32_SFLOAT);
+  Executor executor(*ctx_);
+  for (int frame = 0; frame < 3; ++frame) {
+    RenderGraph g(size);
+    BufferHandle readback = g.import_buffer("readback", resources_->readback.handle(), resources_->readback.size(),
+                                            ResourceState::undefined(), ResourceState::host_read());
+    TextureHandle field = g.create_texture("field", TextureDesc::relative(VK_FORMAT_R32_SFLOAT));
+    TextureHandle color = g.create_texture("color", TextureDesc::relative(VK_FORMAT_R32_SFLOAT));
+    g.add_pass("fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
+               [&, field](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), float(frame)); });
+    g.add_pass("shade", Queue::Graphics, [&](PassBuilder& b) {
+      b.read(field, Usage::Sampled);
+      color = b.write(color, Usage::ColorAttachment);
+    }, [&, field, color](PassContext& c) { shade.draw(c.cmd(), c.view(field), c.view(color), c.extent(color)); });
+    g.add_pass("readback", Queue::Graphics, [&](PassBuilder& b) {
+      b.read(color, Usage::TransferSrc);
+      readback = b.write(readback, Usage::TransferDst);
+    }, [color, readback](PassContext& c) {
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = c.extent(color);
+      vkCmdCopyImageToBuffer(c.cmd(), c.image(color), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1, &region);
+    });
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
+    std::vector<float> got(size_t(size.width) * size.height);
+    resources_->readback.download(got.data(), got.size() * sizeof(float));
+    size_t bad = 0;
+    for (uint32_t y = 0; y < size.height; ++y)
+      for (uint32_t x = 0; x < size.width; ++x) {
+        const float want = 3.0f * (0.01f * float(x) + 0.1f * float(y) + float(frame)) + 1.0f;
+        if (std::fabs(got[y * size.width + x] - want) > 1e-4f * std::max(1.0f, want) && bad++ < 5)
+          ADD_FAILURE() << "frame " << frame << " (" << x << ", " << y << "): got " << got[y * size.width + x] << ", want " << want;
+      }
+    EXPECT_EQ(bad, 0u);
+  }
+  const Barrier* sampled = nullptr;
+  for (const Barrier& b : executor.compiled().find_pass("shade")->barriers)
+    if (b.name == "field") sampled = &b;
+  ASSERT_NE(sampled, nullptr);
+  EXPECT_EQ(sampled->dst_stages, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT);
+  EXPECT_EQ(executor.compile_count(), 1u);
+  EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
+}
+
+TEST_F(RenderGraphVulkan, NewShapeRecompilesAndStaysCorrect) {
+  Executor executor(*ctx_);
+  make_persistent(37, 23);
+  run_frame(executor, {37, 23}, 1.0f);
+  run_frame(executor, {37, 23}, 2.0f);
+  EXPECT_EQ(executor.compile_count(), 1u);
+  ctx_->wait_idle();
+  make_persistent(64, 40);  // a resize: the imports change size, so the graph's hash changes
+  run_frame(executor, {64, 40}, 3.0f);
+  run_frame(executor, {64, 40}, 4.0f);
+  EXPECT_EQ(executor.compile_count(), 2u);
+  EXPECT_EQ(executor.images_created(), 6u);
+  EXPECT_EQ(executor.compiled().output_size.width, 64u);
+  EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
+}
