@@ -67,7 +67,10 @@ VkMemoryRequirements Image::memory_requirements() const {
 
 void Image::bind_memory(const Allocation& a, VkDeviceSize offset) {
   VK_CHECK(vkBindImageMemory(ctx_->device(), image_, a.memory, a.offset + offset));
-  view_ = make_view(0, desc_.mips);
+  // Transfer-only images cannot have views (VUID-VkImageViewCreateInfo-image-04441).
+  const VkImageUsageFlags viewable = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT;
+  if (desc_.usage & viewable) view_ = make_view(0, desc_.mips);
 }
 
 Image& Image::operator=(Image&& o) noexcept {

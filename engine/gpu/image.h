@@ -76,7 +76,7 @@ class Image {
   void bind_memory(const Allocation& allocation, VkDeviceSize offset = 0);
 
   VkImage handle() const { return image_; }
-  VkImageView view() const { return view_; }
+  VkImageView view() const { return view_; }  // null for transfer-only images
   VkImageView mip_view(uint32_t mip);  // single-mip view (all layers), created on first use
   VkFormat format() const { return desc_.format; }
   VkExtent3D extent() const { return desc_.extent; }
