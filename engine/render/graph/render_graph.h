@@ -60,8 +60,8 @@ enum class Usage : uint8_t {
   StorageRead,      // imageLoad / SSBO read                            GENERAL
   StorageWrite,     // imageStore / SSBO write                          GENERAL
   ColorAttachment,  // write; with read_write: load op LOAD or blending COLOR_ATTACHMENT_OPTIMAL
-  DepthWrite,       // depth test + write                               DEPTH_ATTACHMENT_OPTIMAL
-  DepthRead,        // depth test without writes                        DEPTH_READ_ONLY_OPTIMAL
+  DepthWrite,       // depth test + write                               DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+  DepthRead,        // depth test without writes                        DEPTH_STENCIL_READ_ONLY_OPTIMAL
   TransferSrc,      // copy/blit source                                 TRANSFER_SRC_OPTIMAL
   TransferDst,      // copy/blit/clear destination                      TRANSFER_DST_OPTIMAL
   Uniform,          // buffers only: uniform buffer

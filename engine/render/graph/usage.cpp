@@ -65,14 +65,16 @@ UsageInfo usage_info(Usage usage, Queue queue, VkPipelineStageFlags2 stage_overr
       break;
     case Usage::DepthWrite:
     case Usage::DepthRead:
+      // The combined DEPTH_STENCIL layouts are valid for depth-only formats too and need no
+      // separateDepthStencilLayouts feature.
       u.stages = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
       u.read_access = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
       if (usage == Usage::DepthWrite) {
         u.write_access = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-        u.layout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+        u.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
         u.can_write = true;
       } else {
-        u.layout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+        u.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
         u.can_read = true;
       }
       u.image_usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
