@@ -1,0 +1,169 @@
+#pragma once
+// A cloudscape recipe ("frankencloudscape", 2023 talk "Atlas" and the 2011 SmogVox talk): a JSON list
+// of edits applied in order to one signed distance field, plus where the baked box sits in the world.
+//
+// Index:  Transform  Erosion  Shear  Particle  Edit (kinds and ops)  ProfileParams  SliceSpec  Recipe
+//         load_recipe / parse_recipe_text
+//
+// Axes: the engine's, Y up, metres (x, z horizontal). The bake grid and every .nvdf it writes use the
+// same axis order: texel (i, j, k) is world (x, y, z), so a 4096 m x 512 m (up) x 4096 m box at 8 m is
+// a 512 x 64 x 512 volume -- the talk's "512 x 512 x 64" with its Z-up swapped to our Y-up; a volume
+// "z slice" is therefore a vertical layer of constant world z. The box is `bounds` in world space:
+// the cloudscape is placed where the recipe says, no further transform.
+//
+// JSON shape (content/schemas/cloudscape.schema.json is the reference):
+//   { "name": "...", "seed": 7, "voxel_size": 8, "bounds": {"min": [x,y,z], "max": [x,y,z]},
+//     "defaults": {"detail_type": 0.5, "density_scale": 1.0},
+//     "profile": {"depth": 96, "exponent": 1.0},
+//     "edits": [ { "type": "sphere|metaball|ellipsoid|box|capsule|mesh|particles|volume|group",
+//                  "op": "union|subtract|intersect", "blend": 40,
+//                  "position": [..], "rotation": [deg x, deg y, deg z], "scale": s | [sx, sy, sz],
+//                  "shear": [sx, sz], "erode": {"amplitude": 30, "frequency": 0.01, "octaves": 3},
+//                  "detail_type": 0.8, "density_scale": 0.9, ...shape parameters... } ],
+//     "slices": {"heights": [..], "vertical": [{"name": "hero", "axis": "x", "at": 120}]} }
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace cumulo::clouds::bake {
+
+struct Aabb {
+  glm::vec3 min{1e30f};
+  glm::vec3 max{-1e30f};
+  bool empty() const { return min.x > max.x; }
+  void add(glm::vec3 p) { min = glm::min(min, p), max = glm::max(max, p); }
+  void add(const Aabb& b) {
+    if (!b.empty()) add(b.min), add(b.max);
+  }
+  Aabb expanded(float m) const { return empty() ? *this : Aabb{min - m, max + m}; }
+  bool contains(glm::vec3 p) const {
+    return p.x >= min.x && p.y >= min.y && p.z >= min.z && p.x <= max.x && p.y <= max.y && p.z <= max.z;
+  }
+};
+
+// Parent space -> local space: p_local = inverse(rotation) * (p - position) / scale. Non-uniform
+// scale is the recipe's squash/stretch; distances come back scaled by the smallest scale factor
+// (a lower bound of the true distance).
+struct Transform {
+  glm::vec3 position{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+  glm::vec3 scale{1.0f};
+  glm::vec3 to_local(glm::vec3 p) const { return (glm::inverse(rotation) * (p - position)) / scale; }
+  glm::vec3 to_parent(glm::vec3 p) const { return rotation * (p * scale) + position; }
+  float min_scale() const { return std::min(scale.x, std::min(scale.y, scale.z)); }
+};
+
+// Noise erosion: the edit's distance grows by amplitude * n, n in [0, 1] an fBm of gradient noise in
+// world space at `frequency` cycles per metre. It only ever removes cloud (the talk's "erosion").
+struct Erosion {
+  float amplitude = 0.0f;  // metres
+  float frequency = 0.0f;  // 1 / metres
+  int octaves = 3;
+  bool enabled() const { return amplitude > 0.0f && frequency > 0.0f; }
+};
+
+// Wind shear: the edit's shape is displaced horizontally by `per_metre` metres for every metre above
+// its own position (a height-dependent skew, as the 2017 talk skews clouds downwind with height).
+struct Shear {
+  glm::vec2 per_metre{0.0f};  // (x, z)
+  bool enabled() const { return per_metre.x != 0.0f || per_metre.y != 0.0f; }
+};
+
+struct Particle {
+  glm::vec3 center;
+  float radius;
+};
+
+struct ParticleBins;  // compose.h
+class GridSdf;  // grid_sdf.h: a sampled distance grid (a voxelized glTF mesh or an imported .nvdf)
+
+enum class EditKind { Sphere, Ellipsoid, Box, Capsule, Mesh, Particles, Volume, Group };
+enum class EditOp { Union, Subtract, Intersect };
+
+struct Edit {
+  std::string name;       // optional, for slices and messages
+  std::string json_path;  // "$.edits[3]" for messages
+  EditKind kind = EditKind::Sphere;
+  EditOp op = EditOp::Union;
+  Transform transform;
+  float blend = 0.0f;  // soft-min blend radius, metres (parent space)
+  float detail_type = 0.5f;    // 0 = wispy, 1 = billowy (2023 talk)
+  float density_scale = 1.0f;  // multiplies density after the up-rez
+  Erosion erosion;
+  Shear shear;
+
+  // Shape parameters, in local space (metres before scale).
+  float radius = 0.0f;                  // sphere, capsule
+  glm::vec3 radii{0.0f};                // ellipsoid
+  glm::vec3 half_extents{0.0f};         // box
+  float rounding = 0.0f;                // box edge radius
+  glm::vec3 a{0.0f}, b{0.0f};           // capsule segment
+  std::vector<Particle> particles;      // particles
+  float particle_blend = 0.0f;          // soft-min radius between particles
+  std::shared_ptr<const GridSdf> grid;  // mesh, volume: distances in local space
+  std::string source;                   // mesh/volume file, as resolved
+  std::vector<Edit> children;           // group
+  uint32_t noise_seed = 0;              // erosion noise stream: hash of (recipe seed, json_path)
+  std::shared_ptr<const ParticleBins> bins;        // particles: spatial hash, built by finalize_edits()
+
+  // Derived by finalize_edits(): the box in parent space where the edit can matter.
+  Aabb local_bounds;   // the shape's own box in local space (no margins)
+  Aabb parent_bounds;  // local_bounds transformed, sheared, expanded by blend + erosion + band
+};
+
+// Dimensional profile from the signed distance (2023 talk: "generated from a signed-distance field of
+// the cloud to ensure that we get a gradient from outside to inside"): profile = saturate(depth /
+// `depth`) ^ `exponent`, depth = -sdf (metres below the surface).
+struct ProfileParams {
+  float depth = 96.0f;
+  float exponent = 1.0f;
+};
+
+struct VerticalSlice {
+  std::string name;
+  int axis = 0;      // 0: plane of constant x, 2: plane of constant z
+  float at = 0.0f;   // world coordinate of that plane
+};
+
+struct SliceSpec {
+  std::vector<float> heights;  // world y of horizontal slices
+  std::vector<VerticalSlice> vertical;
+};
+
+struct Recipe {
+  std::string file;  // for messages
+  std::string name;
+  uint64_t seed = 1;
+  glm::vec3 bounds_min{-2048.0f, 0.0f, -2048.0f};  // default: the talk's 4096 x 512 x 4096 m
+  glm::vec3 bounds_max{2048.0f, 512.0f, 2048.0f};
+  float voxel_size = 8.0f;
+  float default_detail_type = 0.5f;
+  float default_density_scale = 1.0f;
+  ProfileParams profile;
+  std::vector<Edit> edits;
+  SliceSpec slices;
+};
+
+// Parses and validates a recipe; every error names the file and the JSON path
+// ("cloudscape.json: $.edits[4].radius: expected a number > 0"). Relative mesh/volume paths resolve
+// against the recipe's folder.
+struct RecipeOptions {
+  std::optional<uint64_t> seed;  // overrides the recipe's "seed" (particles and noise derive from it)
+};
+Recipe load_recipe(const std::filesystem::path& path, const RecipeOptions& options = {});
+Recipe parse_recipe_text(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,
+                         const RecipeOptions& options = {});
+
+// Computes every edit's bounds; `band` (metres) is how far from a surface voxels still need exact
+// values (a few voxels). Called by the parsers; call again after editing a Recipe in code.
+void finalize_edits(Recipe& recipe, float band);
+
+const char* edit_kind_name(EditKind k);
+
+}  // namespace cumulo::clouds::bake

@@ -1,0 +1,203 @@
+// The bake pipeline: culling exactness, field accuracy, profile monotonicity, determinism, memory
+// accounting, files, slices and the sample cloudscape at a reduced grid.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+
+#include "engine/core/file_io.h"
+#include "modules/clouds/bake/bake.h"
+#include "modules/clouds/bake/png.h"
+#include "modules/clouds/volume/nvdf.h"
+#include "modules/clouds/volume/volume_file.h"
+
+using namespace cumulo::clouds::bake;
+namespace cc = cumulo::clouds;
+
+namespace {
+
+const char* kSmallRecipe = R"({
+  "name": "small", "seed": 5, "voxel_size": 16,
+  "bounds": {"min": [-512, 0, -512], "max": [512, 256, 512]},
+  "edits": [
+    {"type": "ellipsoid", "radii": [220, 80, 160], "position": [-100, 110, 0], "detail_type": 0.8,
+     "erode": {"amplitude": 24, "frequency": 0.01}},
+    {"type": "metaball", "radius": 70, "position": [60, 140, 30], "blend": 40, "density_scale": 0.6},
+    {"type": "capsule", "a": [-300, 0, 0], "b": [100, 0, 0], "radius": 25, "position": [0, 110, 0], "op": "subtract", "blend": 10},
+    {"type": "group", "position": [250, 100, -250], "scale": [1.5, 0.6, 1], "edits": [
+      {"type": "box", "size": [120, 120, 120], "rounding": 20},
+      {"type": "sphere", "radius": 50, "op": "subtract"}]},
+    {"type": "particles", "generate": {"count": 40, "radii": [120, 30, 120], "radius": [10, 25]},
+     "position": [-250, 60, 300], "particle_blend": 12, "shear": [0.5, 0.2], "detail_type": 0.1},
+    {"type": "ellipsoid", "radii": [500, 200, 500], "position": [0, 128, 0], "op": "intersect", "blend": 20}
+  ]})";
+
+Recipe small_recipe(std::optional<uint64_t> seed = {}) {
+  RecipeOptions o;
+  o.seed = seed;
+  return parse_recipe_text(kSmallRecipe, "small.json", ".", o);
+}
+
+BakeSettings quiet() {
+  BakeSettings s;
+  s.show_progress = false;
+  return s;
+}
+
+}  // namespace
+
+TEST(Compose, CullingIsExactWithinTheBandAndKeepsTheSign) {
+  Recipe r = small_recipe();
+  BakeGrid g = make_grid(r);
+  ASSERT_EQ(g.dims, glm::uvec3(64, 16, 64));
+  Composed c = compose(r, g);
+  // The same recipe with no culling at all: every edit's box covers everything.
+  Recipe all = r;
+  std::function<void(std::vector<Edit>&)> open = [&](std::vector<Edit>& es) {
+    for (Edit& e : es) {
+      open(e.children);
+      e.parent_bounds = Aabb{glm::vec3(-1e9f), glm::vec3(1e9f)};
+    }
+  };
+  open(all.edits);
+  size_t inside = 0;
+  for (uint32_t z = 0; z < g.dims.z; ++z)
+    for (uint32_t y = 0; y < g.dims.y; ++y)
+      for (uint32_t x = 0; x < g.dims.x; ++x) {
+        size_t i = g.index(x, y, z);
+        EvalSample ref = evaluate_point(all, g.position(x, y, z));
+        ASSERT_EQ(c.sdf[i] < 0.0f, ref.d < 0.0f) << x << "," << y << "," << z;
+        if (std::abs(ref.d) < 2.0f * 16.0f) {
+          EXPECT_NEAR(c.sdf[i], ref.d, 1e-3f);
+          if (ref.d < 0.0f) {
+            EXPECT_NEAR(c.detail_type[i], ref.detail_type, 1e-4f);
+            EXPECT_NEAR(c.density_scale[i], ref.density_scale, 1e-4f);
+          }
+        }
+        inside += c.sdf[i] < 0.0f;
+      }
+  EXPECT_GT(inside, 1000u);
+  EXPECT_LT(c.edit_evaluations, uint64_t(g.count()) * 6 / 2);  // culling skipped most pairs
+}
+
+TEST(Field, SphereFieldMatchesTheAnalyticDistance) {
+  Recipe r = parse_recipe_text(R"({"voxel_size": 8, "bounds": {"min": [-256, -256, -256], "max": [256, 256, 256]},
+    "edits": [{"type": "sphere", "radius": 100, "position": [3, -2, 5]}]})", "s.json", ".");
+  BakeResult b = bake_recipe(r, quiet());
+  const BakeGrid& g = b.grid;
+  double worst = 0.0;
+  for (size_t z = 0; z < g.dims.z; ++z)
+    for (size_t y = 0; y < g.dims.y; ++y)
+      for (size_t x = 0; x < g.dims.x; ++x) {
+        float want = glm::length(g.position(x, y, z) - glm::vec3(3, -2, 5)) - 100.0f;
+        if (want < -256.0f || want > 200.0f) continue;
+        worst = std::max(worst, double(std::abs(b.field[g.index(x, y, z)] - want)));
+      }
+  EXPECT_LT(worst, 0.75 * 8.0);
+  EXPECT_GT(b.field_stats.surface_voxels, 1000u);
+}
+
+TEST(Field, DimensionalProfileIsMonotonicWithDepth) {
+  BakeResult b = bake_recipe(small_recipe(), quiet());
+  const size_t n = b.grid.count();
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t c) { return b.field[a] < b.field[c]; });
+  for (size_t k = 1; k < n; ++k) ASSERT_LE(b.modeling[3 * order[k]], b.modeling[3 * order[k - 1]]);
+  // Zero outside, rising inside, reaching 1 at the recipe's depth.
+  for (size_t i = 0; i < n; ++i) {
+    if (b.field[i] >= 0.0f) ASSERT_EQ(b.modeling[3 * i], 0.0f);
+    if (b.field[i] < 0.0f) ASSERT_GT(b.modeling[3 * i], 0.0f);
+    if (b.field[i] <= -96.0f) ASSERT_EQ(b.modeling[3 * i], 1.0f);
+  }
+}
+
+TEST(Bake, SameRecipeAndSeedGiveTheSameBytes) {
+  std::filesystem::path root = std::filesystem::temp_directory_path() / "cumulo_bake_determinism";
+  std::filesystem::remove_all(root);
+  auto run = [&](const char* sub, std::optional<uint64_t> seed) {
+    Recipe r = small_recipe(seed);
+    write_bake_outputs(r, bake_recipe(r, quiet()), root / sub);
+  };
+  run("a", {});
+  run("b", {});
+  run("c", 1234);
+  for (const char* f : {"modeling.nvdf", "modeling_bc1.nvdf", "field.nvdf", "field_bc1.nvdf"}) {
+    auto a = cumulo::read_file_bytes(root / "a" / f), b = cumulo::read_file_bytes(root / "b" / f);
+    EXPECT_EQ(a, b) << f;
+    EXPECT_NE(a, cumulo::read_file_bytes(root / "c" / f)) << f << " should depend on the seed";
+  }
+  std::filesystem::remove_all(root);
+}
+
+TEST(Bake, FilesLoadBackWithTheirChannelsAndPlacement) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cumulo_bake_files";
+  std::filesystem::remove_all(dir);
+  Recipe r = small_recipe();
+  BakeResult b = bake_recipe(r, quiet());
+  std::string report = write_bake_outputs(r, b, dir);
+  EXPECT_NE(report.find("\"violations\": 0"), std::string::npos);
+  cc::Volume m = cc::load_volume(dir / "modeling.nvdf");
+  cc::check_modeling_volume(m, "modeling");
+  cc::Volume f = cc::load_volume(dir / "field.nvdf");
+  cc::check_field_volume(f, "field");
+  cc::Volume fb = cc::load_volume(dir / "field_bc1.nvdf");
+  EXPECT_EQ(fb.encoding, cc::VolumeEncoding::BC1);
+  EXPECT_EQ(m.size, glm::uvec3(64, 16, 64));
+  EXPECT_EQ(f.bounds_min, glm::vec3(-512, 0, -512));
+  EXPECT_EQ(f.bounds_max, glm::vec3(512, 256, 512));
+  // The R16 texel decodes to the field rounded down.
+  for (size_t i : {size_t(0), b.grid.index(20, 7, 31), b.grid.index(40, 8, 30)}) {
+    uint32_t x = i % 64, y = (i / 64) % 16, z = i / (64 * 16);
+    float dec = f.decoded(x, y, z, f.channel(cc::kSignedDistance, "field"));
+    EXPECT_LE(dec, b.field[i] + 1e-3f);
+    EXPECT_GT(dec, b.field[i] - 0.07f);
+  }
+  // A recipe can place the baked field again as a "volume" edit: same inside/outside.
+  cumulo::write_file_atomic(dir / "again.json", std::string(R"({"voxel_size": 16, "bounds": {"min": [-512, 0, -512], "max": [512, 256, 512]},
+     "edits": [{"type": "volume", "file": "field.nvdf"}]})"));
+  Recipe again = load_recipe(dir / "again.json");
+  BakeResult b2 = bake_recipe(again, quiet());
+  size_t same = 0;
+  for (size_t i = 0; i < b.grid.count(); ++i) same += (b.field[i] < 0) == (b2.field[i] < 0);
+  EXPECT_GT(same, b.grid.count() * 995 / 1000);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Bake, MemoryAccountingMatchesTheTalkAndTheBudget) {
+  const glm::uvec3 talk(512, 64, 512);  // the talk's 512 x 512 x 64, Y up
+  EXPECT_EQ(bake_gpu_bytes("bc1", talk), 8388608u);    // talk: field BC1 8.389 MB
+  EXPECT_EQ(bake_gpu_bytes("r16", talk), 33554432u);   // talk: 33.554 MB uncompressed
+  EXPECT_EQ(bake_gpu_bytes("rgba8", talk), 67108864u);
+  const uint64_t ours = bake_gpu_bytes("bc1", talk) * 2;  // modeling BC1 + field BC1
+  EXPECT_EQ(ours, 16777216u);
+  EXPECT_LE(ours, 25200000u);
+  EXPECT_EQ(bake_gpu_bytes("bc1", talk) + talk.x * talk.y * talk.z, 25165824u);  // the talk's 25.166 MB
+  // Partial blocks round up.
+  EXPECT_EQ(bake_gpu_bytes("bc1", {5, 5, 2}), 2u * 2 * 2 * 8);
+}
+
+TEST(Bake, DimsOverrideResamplesTheSameBounds) {
+  BakeSettings s = quiet();
+  s.dims = {32, 8, 32};
+  BakeResult b = bake_recipe(small_recipe(), s);
+  EXPECT_EQ(b.grid.dims, glm::uvec3(32, 8, 32));
+  EXPECT_EQ(b.grid.spacing, glm::vec3(32.0f));
+  EXPECT_EQ(b.field_bc1_report.violations, 0u);
+}
+
+TEST(Slices, WritesPngCrossSections) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cumulo_bake_slices";
+  std::filesystem::remove_all(dir);
+  Recipe r = small_recipe();
+  auto files = write_slices(r, bake_recipe(r, quiet()), dir);
+  EXPECT_EQ(files.size(), (3u + 2u) * 3u);  // 3 default heights + 2 vertical, 3 images each
+  for (auto& f : files) {
+    auto bytes = cumulo::read_file_bytes(f);
+    ASSERT_GT(bytes.size(), 64u);
+    EXPECT_EQ(bytes[1], 'P');
+    EXPECT_EQ(bytes[2], 'N');
+  }
+  std::filesystem::remove_all(dir);
+}
