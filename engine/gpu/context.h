@@ -149,6 +149,21 @@ class Context {
   std::unique_ptr<PipelineCache> pipeline_cache_;
 };
 
+// Debug label scope: ScopedLabel label(ctx, cmd, "clouds");  (ends at scope exit)
+class ScopedLabel {
+ public:
+  ScopedLabel(const Context& ctx, VkCommandBuffer cmd, const char* name, const float color[4] = nullptr) : ctx_(ctx), cmd_(cmd) {
+    ctx.cmd_begin_label(cmd, name, color);
+  }
+  ~ScopedLabel() { ctx_.cmd_end_label(cmd_); }
+  ScopedLabel(const ScopedLabel&) = delete;
+  ScopedLabel& operator=(const ScopedLabel&) = delete;
+
+ private:
+  const Context& ctx_;
+  VkCommandBuffer cmd_;
+};
+
 // Maps a Vulkan handle type to its VkObjectType (for set_name).
 template <class H>
 constexpr VkObjectType object_type_of() {

@@ -178,3 +178,43 @@ void Image::upload(std::span<const MipData> mips, VkImageLayout final_layout) {
 }
 
 }  // namespace cumulo::gpu
+
+namespace cumulo::gpu {
+
+void Image::cmd_generate_mips(VkCommandBuffer cmd, VkImageLayout final_layout) {
+  VkFormatProperties fp;
+  vkGetPhysicalDeviceFormatProperties(ctx_->physical_device(), desc_.format, &fp);
+  const VkFormatFeatureFlags need =
+      VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+  if ((fp.optimalTilingFeatures & need) != need)
+    fail("gpu: cannot generate mips for format %s: no linear blit support on %s", format_name(desc_.format), ctx_->info().name.c_str());
+  VkImageAspectFlags a = aspect();
+  // Mip 0 -> TRANSFER_SRC (after whatever wrote it); mips 1.. -> TRANSFER_DST (contents discarded).
+  cmd_image_barrier(cmd, image_, {a, 0, 1, 0, desc_.layers}, layout_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT);
+  if (desc_.mips > 1)
+    cmd_image_barrier(cmd, image_, {a, 1, desc_.mips - 1, 0, desc_.layers}, VK_IMAGE_LAYOUT_UNDEFINED,
+                      VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                      VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  for (uint32_t m = 1; m < desc_.mips; ++m) {
+    VkExtent3D s = extent(m - 1), d = extent(m);
+    VkImageBlit blit{};
+    blit.srcSubresource = {a, m - 1, 0, desc_.layers};
+    blit.srcOffsets[1] = {int32_t(s.width), int32_t(s.height), int32_t(s.depth)};
+    blit.dstSubresource = {a, m, 0, desc_.layers};
+    blit.dstOffsets[1] = {int32_t(d.width), int32_t(d.height), int32_t(d.depth)};
+    vkCmdBlitImage(cmd, image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit,
+                   VK_FILTER_LINEAR);
+    // The mip just written becomes the next source.
+    cmd_image_barrier(cmd, image_, {a, m, 1, 0, desc_.layers}, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  }
+  cmd_image_barrier(cmd, image_, full_range(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, final_layout, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  layout_ = final_layout;
+}
+
+}  // namespace cumulo::gpu

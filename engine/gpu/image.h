@@ -96,6 +96,10 @@ class Image {
   void upload(std::initializer_list<MipData> mips, VkImageLayout final_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL) {
     upload(std::span<const MipData>(mips.begin(), mips.size()), final_layout);
   }
+  // Fills mips 1..n-1 from mip 0 with linear blits (2D or 3D box-filter downsampling), leaving the
+  // whole image in `final_layout`. Mip 0 must hold data in layout(). Needs a format with linear
+  // blit support (checked: throws otherwise).
+  void cmd_generate_mips(VkCommandBuffer cmd, VkImageLayout final_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   // Records a transition from layout() to `layout` (full range, conservative ALL_COMMANDS scopes) and updates layout().
   void cmd_transition(VkCommandBuffer cmd, VkImageLayout layout);
 

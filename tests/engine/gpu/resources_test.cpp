@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "engine/core/error.h"
@@ -130,4 +131,29 @@ TEST(Readback, WritePngToBadPathNamesIt) {
   } catch (const cumulo::Error& e) {
     EXPECT_NE(std::string(e.what()).find("/proc/cumulo_no_such_dir/x.png"), std::string::npos);
   }
+}
+
+// Mips generated on the GPU by blits: a 3D volume and a 2D image with a checkerboard average.
+TEST_F(GpuTest, GenerateMipsByBlit) {
+  Image vol(ctx(), ImageDesc::tex3d(8, 8, 8, VK_FORMAT_R8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT, kAllMips, "mip volume"));
+  std::vector<uint8_t> v(8 * 8 * 8, 100);
+  vol.upload({{v.data(), v.size()}}, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { vol.cmd_generate_mips(cmd); });
+  EXPECT_EQ(vol.layout(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  for (uint32_t m = 1; m < vol.mips(); ++m) {
+    std::vector<uint8_t> got = read_image_bytes(ctx(), vol, m);
+    ASSERT_EQ(got.size(), size_t(8 >> m) * (8 >> m) * (8 >> m));
+    for (uint8_t x : got) EXPECT_NEAR(x, 100, 1) << "mip " << m;
+  }
+  Image img(ctx(), ImageDesc::tex2d(4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, kAllMips, "mip 2d"));
+  std::vector<uint16_t> px(4 * 4 * 4);
+  for (int i = 0; i < 16; ++i)
+    for (int c = 0; c < 4; ++c) px[i * 4 + c] = ((i % 4 + i / 4) % 2) ? 0x3c00 : 0x0000;  // checkerboard of 1.0 and 0.0
+  img.upload({{px.data(), px.size() * 2}});
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) { img.cmd_generate_mips(cmd); });
+  std::vector<uint8_t> top = read_image_bytes(ctx(), img, 2);
+  ASSERT_EQ(top.size(), 8u);
+  uint16_t h;
+  std::memcpy(&h, top.data(), 2);
+  EXPECT_NEAR(half_to_float(h), 0.5f, 0.01f);
 }
