@@ -57,7 +57,7 @@ struct TimeOfDay {
   float hours = 16.5f;            // local solar time, [0, 24)
   int day_of_year = 240;          // 1..365, sets the solar declination
   float latitude_deg = 34.05f;    // -90..90, north positive
-  float north_deg = 0.0f;         // compass rotation of the world: heading of world -Z, clockwise from above
+  float north_deg = 0.0f;         // where true north lies: degrees clockwise (seen from above) from world -Z
   float hours_per_second = 0.0f;  // simulation speed of the day cycle (0 = fixed time)
 };
 

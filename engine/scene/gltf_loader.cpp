@@ -369,6 +369,9 @@ Texture load_texture(const Reader& r, const tinygltf::Model& g, size_t index) {
   const auto& img = g.images[size_t(t.source)];
   Texture tex;
   tex.name = !t.name.empty() ? t.name : !img.name.empty() ? img.name : img.uri;
+  if (img.image.empty())  // tinygltf reports a missing external image only as a warning
+    r.fail(strf("images[%d]", t.source), strf("image \"%s\" could not be loaded (missing file or undecodable data)",
+                                              img.uri.empty() ? img.name.c_str() : img.uri.c_str()));
   if (img.component != 4 || img.bits != 8 || img.width <= 0 || img.height <= 0 ||
       img.image.size() != size_t(img.width) * size_t(img.height) * 4)
     r.fail(strf("images[%d]", t.source), "image was not decoded to RGBA8");

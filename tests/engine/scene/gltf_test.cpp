@@ -1,0 +1,262 @@
+// glTF loading: assets written by the test itself (GlbWriter), in .glb and .gltf form, good and broken.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/core/file_io.h"
+#include "engine/scene/gltf.h"
+#include "engine/scene/tools/glb_writer.h"
+#include "scene_test_util.h"
+
+using namespace cumulo;
+using namespace cumulo::scene;
+using scene::test::expect_error;
+using scene::test::temp_dir;
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class IndexType { U8, U16, U32 };
+
+// A unit quad in the x-z plane (no normals: the loader must generate them), used by two nodes: a child
+// under a translated parent (rotated 90 degrees about Y, scaled 2) and a node with a matrix.
+// A 2x2 texture (red, green / blue, white) with a NEAREST, CLAMP sampler and a base-color factor.
+GlbWriter make_asset(IndexType type = IndexType::U16) {
+  GlbWriter w;
+  std::vector<glm::vec3> pos = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+  std::vector<glm::vec2> uv = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  std::vector<uint32_t> idx = {0, 2, 1, 0, 3, 2};  // counter-clockwise seen from +Y
+  int ind;
+  if (type == IndexType::U16) {
+    std::vector<uint16_t> i16(idx.begin(), idx.end());
+    ind = w.add_indices_u16(i16);
+  } else if (type == IndexType::U32) {
+    ind = w.add_indices_u32(idx);
+  } else {
+    std::vector<uint8_t> i8(idx.begin(), idx.end());
+    int view = w.add_view(i8, 34963);
+    w.json()["accessors"].push_back({{"bufferView", view}, {"componentType", 5121}, {"count", 6}, {"type", "SCALAR"}});
+    ind = int(w.json()["accessors"].size()) - 1;
+  }
+  int p = w.add_vec3(pos, true), t = w.add_vec2(uv);
+  std::vector<uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  int image = w.add_png_image(encode_png_rgb(rgb, 2, 2), "checker");
+  auto& j = w.json();
+  j["meshes"] = {{{"name", "quad"},
+                  {"primitives", {{{"attributes", {{"POSITION", p}, {"TEXCOORD_0", t}}}, {"indices", ind}, {"material", 0}}}}}};
+  j["materials"] = {{{"name", "tinted"},
+                     {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}, {"baseColorTexture", {{"index", 0}}}}},
+                     {"doubleSided", true}}};
+  j["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}}};
+  j["textures"] = {{{"sampler", 0}, {"source", image}}};
+  j["nodes"] = {{{"name", "parent"}, {"translation", {10, 0, 0}}, {"children", {1}}},
+                {{"name", "child"}, {"mesh", 0}, {"rotation", {0, 0.70710678, 0, 0.70710678}}, {"scale", {2, 2, 2}}},
+                {{"name", "lifted"}, {"mesh", 0}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 5, 0, 1}}}};
+  j["scenes"] = {{{"nodes", {0, 2}}}};
+  j["scene"] = 0;
+  return w;
+}
+
+fs::path write(const fs::path& path, const std::vector<uint8_t>& bytes) {
+  write_file_atomic(path, bytes);
+  return path;
+}
+fs::path write(const fs::path& path, const std::string& text) {
+  write_file_atomic(path, text);
+  return path;
+}
+
+bool near(const glm::vec3& a, const glm::vec3& b, float eps = 1e-4f) { return glm::length(a - b) < eps; }
+
+}  // namespace
+
+TEST(Gltf, LoadsGlbWithHierarchyTextureFactorAndGeneratedNormals) {
+  fs::path file = write(temp_dir() / "quad.glb", make_asset().finish());
+  Model m = load_gltf(file);
+
+  ASSERT_EQ(m.meshes.size(), 1u);
+  const Mesh& mesh = m.meshes[0];
+  EXPECT_EQ(mesh.name, "quad");
+  EXPECT_EQ(mesh.vertices.size(), 4u);
+  EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 2, 1, 0, 3, 2}));
+  EXPECT_TRUE(mesh.generated_normals);
+  for (const Vertex& v : mesh.vertices) EXPECT_TRUE(near(v.normal, {0, 1, 0})) << v.normal.x << " " << v.normal.y;
+  EXPECT_EQ(mesh.vertices[2].uv, glm::vec2(1, 1));
+  EXPECT_EQ(mesh.material, 0);
+
+  ASSERT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].name, "tinted");
+  EXPECT_EQ(m.materials[0].base_color_factor, glm::vec4(0.5f, 0.25f, 1.0f, 1.0f));
+  EXPECT_EQ(m.materials[0].base_color_texture, 0);
+  EXPECT_TRUE(m.materials[0].double_sided);
+
+  ASSERT_EQ(m.textures.size(), 1u);
+  const Texture& tex = m.textures[0];
+  ASSERT_EQ(tex.width, 2u);
+  ASSERT_EQ(tex.height, 2u);
+  ASSERT_EQ(tex.rgba.size(), 16u);
+  EXPECT_EQ(std::vector<uint8_t>(tex.rgba.begin(), tex.rgba.begin() + 4), (std::vector<uint8_t>{255, 0, 0, 255}));
+  EXPECT_EQ(std::vector<uint8_t>(tex.rgba.begin() + 8, tex.rgba.begin() + 12), (std::vector<uint8_t>{0, 0, 255, 255}));
+  EXPECT_FALSE(tex.linear_filter);
+  EXPECT_EQ(tex.wrap_u, Wrap::ClampToEdge);
+  EXPECT_EQ(tex.wrap_v, Wrap::MirroredRepeat);
+
+  // Two instances of the one mesh: parent * child TRS, and the matrix node.
+  ASSERT_EQ(m.instances.size(), 2u);
+  glm::mat4 expected = glm::translate(glm::mat4(1), {10, 0, 0}) *
+                       glm::rotate(glm::mat4(1), glm::radians(90.0f), {0, 1, 0}) * glm::scale(glm::mat4(1), {2, 2, 2});
+  EXPECT_EQ(m.instances[0].node, "child");
+  EXPECT_TRUE(near(glm::vec3(m.instances[0].world * glm::vec4(1, 0, 0, 1)), glm::vec3(expected * glm::vec4(1, 0, 0, 1))));
+  EXPECT_TRUE(near(glm::vec3(m.instances[0].world * glm::vec4(1, 0, 0, 1)), {10, 0, -2}));
+  EXPECT_EQ(m.instances[1].node, "lifted");
+  EXPECT_TRUE(near(glm::vec3(m.instances[1].world * glm::vec4(1, 0, 1, 1)), {1, 5, 1}));
+
+  // Bounds: the child spans x 10..12, z -2..0 at y 0; the lifted copy x 0..1, z 0..1 at y 5.
+  EXPECT_TRUE(near(m.bounds.min, {0, 0, -2}));
+  EXPECT_TRUE(near(m.bounds.max, {12, 5, 1}));
+  EXPECT_EQ(m.vertex_count(), 4u);
+  EXPECT_EQ(m.triangle_count(), 2u);
+  EXPECT_EQ(m.instances_with_material("tinted").size(), 2u);
+}
+
+TEST(Gltf, IndexTypesU8U16U32GiveTheSameMesh) {
+  auto load = [](IndexType t) {
+    auto bytes = make_asset(t).finish();
+    return load_gltf_from_memory(bytes, "mem.glb", {});
+  };
+  Model a = load(IndexType::U8), b = load(IndexType::U16), c = load(IndexType::U32);
+  EXPECT_EQ(a.meshes[0].indices, b.meshes[0].indices);
+  EXPECT_EQ(b.meshes[0].indices, c.meshes[0].indices);
+}
+
+TEST(Gltf, LoadsGltfWithExternalBufferAndImage) {
+  fs::path dir = temp_dir();
+  GlbWriter w = make_asset(IndexType::U8);
+  std::vector<uint8_t> rgb = {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120};
+  write(dir / "tex.png", encode_png_rgb(rgb, 2, 2));
+  w.json()["images"][0] = {{"uri", "tex.png"}};
+  write(dir / "quad.bin", w.bin());
+  fs::path file = write(dir / "quad.gltf", w.finish_gltf("quad.bin"));
+  Model m = load_gltf(file);
+  ASSERT_EQ(m.textures.size(), 1u);
+  EXPECT_EQ(std::vector<uint8_t>(m.textures[0].rgba.begin() + 4, m.textures[0].rgba.begin() + 8),
+            (std::vector<uint8_t>{40, 50, 60, 255}));
+  EXPECT_EQ(m.meshes[0].indices.size(), 6u);
+
+  // The same file without its buffer, or without its image: errors that name the glTF.
+  fs::remove(dir / "tex.png");
+  expect_error([&] { load_gltf(file); }, {file.string(), "tex.png"});
+  fs::remove(dir / "quad.bin");
+  expect_error([&] { load_gltf(file); }, {file.string(), "quad.bin"});
+}
+
+TEST(Gltf, ExplicitNormalsAreKeptAndNormalized) {
+  GlbWriter w = make_asset();
+  std::vector<glm::vec3> nor(4, glm::vec3(0, 0, 2));
+  int n = w.add_vec3(nor, false);
+  w.json()["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = n;
+  auto bytes = w.finish();
+  Model m = load_gltf_from_memory(bytes, "mem.glb", {});
+  EXPECT_FALSE(m.meshes[0].generated_normals);
+  EXPECT_TRUE(near(m.meshes[0].vertices[0].normal, {0, 0, 1}));
+}
+
+TEST(Gltf, TriangleStripsAndFansAreUnrolled) {
+  GlbWriter w = make_asset();
+  std::vector<uint16_t> strip = {0, 3, 1, 2};
+  int s = w.add_indices_u16(strip);
+  w.json()["meshes"][0]["primitives"][0]["indices"] = s;
+  w.json()["meshes"][0]["primitives"][0]["mode"] = 5;
+  auto bytes = w.finish();
+  Model m = load_gltf_from_memory(bytes, "strip.glb", {});
+  EXPECT_EQ(m.meshes[0].indices, (std::vector<uint32_t>{0, 3, 1, 1, 3, 2}));  // winding kept for odd triangles
+
+  w.json()["meshes"][0]["primitives"][0]["mode"] = 6;
+  std::vector<uint16_t> fan = {0, 3, 2, 1};
+  w.json()["meshes"][0]["primitives"][0]["indices"] = w.add_indices_u16(fan);
+  bytes = w.finish();
+  m = load_gltf_from_memory(bytes, "fan.glb", {});
+  EXPECT_EQ(m.meshes[0].indices, (std::vector<uint32_t>{0, 3, 2, 0, 2, 1}));
+}
+
+TEST(Gltf, MissingFileIsNamed) {
+  fs::path file = temp_dir() / "nowhere.glb";
+  expect_error([&] { load_gltf(file); }, {file.string()});
+}
+
+TEST(Gltf, GarbageAndTruncatedFilesGiveParseErrors) {
+  fs::path dir = temp_dir();
+  fs::path garbage = write(dir / "garbage.gltf", std::string("{ this is not json"));
+  expect_error([&] { load_gltf(garbage); }, {garbage.string(), "glTF parse error"});
+
+  auto bytes = make_asset().finish();
+  bytes.resize(bytes.size() / 2);
+  fs::path truncated = write(dir / "truncated.glb", bytes);
+  expect_error([&] { load_gltf(truncated); }, {truncated.string(), "glTF parse error"});
+}
+
+TEST(Gltf, UnsupportedPrimitiveModesAreRefused) {
+  GlbWriter w = make_asset();
+  w.json()["meshes"][0]["primitives"][0]["mode"] = 1;
+  auto bytes = w.finish();
+  expect_error([&] { load_gltf_from_memory(bytes, "lines.glb", {}); },
+               {"lines.glb", "meshes[0].primitives[0]", "unsupported primitive mode LINES"});
+  w.json()["meshes"][0]["primitives"][0]["mode"] = 0;
+  bytes = w.finish();
+  expect_error([&] { load_gltf_from_memory(bytes, "points.glb", {}); }, {"POINTS"});
+}
+
+TEST(Gltf, OutOfRangeAccessorsAndIndicesAreRefused) {
+  {
+    GlbWriter w = make_asset();
+    int pos = w.json()["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+    w.json()["accessors"][size_t(pos)]["count"] = 4000;  // far past the end of its bufferView
+    auto bytes = w.finish();
+    expect_error([&] { load_gltf_from_memory(bytes, "big.glb", {}); }, {"big.glb", "accessors["});
+  }
+  {
+    GlbWriter w = make_asset();
+    std::vector<uint16_t> bad = {0, 1, 9};
+    w.json()["meshes"][0]["primitives"][0]["indices"] = w.add_indices_u16(bad);
+    auto bytes = w.finish();
+    expect_error([&] { load_gltf_from_memory(bytes, "idx.glb", {}); }, {"idx.glb", "index 9", "out of range"});
+  }
+  {
+    GlbWriter w = make_asset();
+    w.json()["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 77;
+    auto bytes = w.finish();
+    expect_error([&] { load_gltf_from_memory(bytes, "acc.glb", {}); }, {"acc.glb"});
+  }
+}
+
+TEST(Gltf, RequiredExtensionsAreRefused) {
+  GlbWriter w = make_asset();
+  w.json()["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  w.json()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  auto bytes = w.finish();
+  expect_error([&] { load_gltf_from_memory(bytes, "draco.glb", {}); }, {"draco.glb", "KHR_draco_mesh_compression"});
+}
+
+TEST(Gltf, MemoryLoadsWithoutBaseDirectoryRefuseExternalFiles) {
+  GlbWriter w = make_asset();
+  auto text = w.finish_gltf("/etc/passwd");
+  std::vector<uint8_t> bytes(text.begin(), text.end());
+  expect_error([&] { load_gltf_from_memory(bytes, "ext.gltf", {}); }, {"ext.gltf"});
+}
+
+TEST(Gltf, GenerateNormalsWeighsByArea) {
+  // Two triangles sharing vertex 0: a large one facing +Y and a small one facing +X.
+  std::vector<Vertex> v(5);
+  v[0].position = {0, 0, 0};
+  v[1].position = {0, 0, 10};
+  v[2].position = {10, 0, 0};
+  v[3].position = {0, 1, 0};
+  v[4].position = {0, 0, 1};
+  std::vector<uint32_t> idx = {0, 1, 2, 0, 3, 4};
+  generate_normals(v, idx);
+  EXPECT_TRUE(near(v[1].normal, {0, 1, 0}));
+  EXPECT_TRUE(near(v[3].normal, {1, 0, 0}));
+  EXPECT_GT(v[0].normal.y, 0.99f);  // the big face dominates
+}

@@ -1,0 +1,39 @@
+#pragma once
+// Helpers shared by the scene tests: a private temporary folder per test, and error-message checks.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <unistd.h>
+
+#include "engine/core/error.h"
+
+namespace cumulo::scene::test {
+
+// A fresh folder named after the running test (CTest runs tests in parallel processes).
+inline std::filesystem::path temp_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("cumulo_scene_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
+                               std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// Runs `fn`, expects a cumulo::Error whose message contains every one of `parts`; returns the message.
+inline std::string expect_error(const std::function<void()>& fn, std::initializer_list<std::string> parts) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "missing \"" << p << "\" in: " << msg;
+    return msg;
+  }
+  ADD_FAILURE() << "expected a cumulo::Error";
+  return {};
+}
+
+}  // namespace cumulo::scene::test
