@@ -115,10 +115,10 @@ class World {
   template <typename T, typename... Args>
   T& emplace_or_replace(Entity e, Args&&... args) {
     check_valid(e, "emplace_or_replace", detail::type_name<T>());
-    auto& pool = pool_for<T>();
-    if (T* existing = pool.find(e.index)) return *existing = T(std::forward<Args>(args)...);
+    if (auto* pool = find_pool<T>())
+      if (T* existing = pool->find(e.index)) return *existing = T(std::forward<Args>(args)...);
     check_unlocked(e, "emplace_or_replace", detail::type_name<T>());
-    return pool.emplace(e, std::forward<Args>(args)...);
+    return pool_for<T>().emplace(e, std::forward<Args>(args)...);
   }
   template <typename T>
   T& get(Entity e) {
@@ -357,18 +357,20 @@ class View {
   }
 
   // The lead pool's components are read by dense position; the others through their sparse arrays.
+  // The structure is locked while this runs, so sizes and array pointers are loop invariants.
   template <size_t Lead, typename F, size_t... Is>
   void run(F& fn, std::index_sequence<Is...>) {
     constexpr uint32_t kAbsent = detail::PoolBase::kAbsent;
-    const std::vector<Entity>& entities = std::get<Lead>(pools_)->entities();
-    const size_t n = entities.size();  // the structure is locked, so n and the arrays are stable
+    const detail::PoolBase::Lookup lookups[] = {std::get<Is>(pools_)->lookup()...};
+    const std::tuple<std::remove_const_t<Ts>*...> data{std::get<Is>(pools_)->data()...};
+    const Entity* entities = std::get<Lead>(pools_)->entities().data();
+    const size_t n = std::get<Lead>(pools_)->size();
     uint32_t pos[sizeof...(Ts)];
     for (size_t i = 0; i < n; ++i) {
       const Entity e = entities[i];
-      const bool match =
-          (((pos[Is] = (Is == Lead ? uint32_t(i) : std::get<Is>(pools_)->position(e.index))) != kAbsent) && ...);
+      const bool match = (((pos[Is] = (Is == Lead ? uint32_t(i) : lookups[Is].position(e.index))) != kAbsent) && ...);
       if (!match) continue;
-      invoke(fn, e, static_cast<Component<Is>&>(std::get<Is>(pools_)->at_position(pos[Is]))...);
+      invoke(fn, e, static_cast<Component<Is>&>(std::get<Is>(data)[pos[Is]])...);
     }
   }
   template <typename F, typename... Cs>

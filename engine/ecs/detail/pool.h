@@ -37,6 +37,19 @@ class PoolBase {
     if (page >= pages_.size() || !pages_[page]) return kAbsent;
     return pages_[page][index & (kPageSize - 1)];
   }
+  // A snapshot of the sparse pages for a loop during which the pool's structure cannot change (a locked
+  // view): lets the compiler keep the page table in registers instead of reloading it per entity.
+  struct Lookup {
+    const std::unique_ptr<uint32_t[]>* pages;
+    size_t page_count;
+    uint32_t position(uint32_t index) const {
+      uint32_t page = index >> kPageBits;
+      if (page >= page_count || !pages[page]) return kAbsent;
+      return pages[page][index & (kPageSize - 1)];
+    }
+  };
+  Lookup lookup() const { return Lookup{pages_.data(), pages_.size()}; }
+
   size_t size() const { return entities_.size(); }
   const std::vector<Entity>& entities() const { return entities_; }
   std::string_view type_name() const { return type_name_; }
@@ -100,10 +113,7 @@ class Pool final : public PoolBase {
     uint32_t pos = position(index);
     return pos == kAbsent ? nullptr : &data_[pos];
   }
-  // Unchecked accessors for the view's inner loop.
-  T& at_position(uint32_t pos) { return data_[pos]; }
-  T& at_index(uint32_t index) { return data_[position(index)]; }
-  T* data() { return data_.data(); }
+  T* data() { return data_.data(); }  // dense, parallel to entities()
 
  private:
   std::vector<T> data_;
