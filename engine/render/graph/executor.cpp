@@ -229,7 +229,7 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
     record_barriers(cmd, p.barriers);
     // ALL_COMMANDS: the first timestamp waits for earlier passes, so a pass's range is its own work.
     if (pool) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool, 2 * i);
-    PassContext context(cmd, p.name, textures_, buffers_);
+    PassContext context(cmd, p.name, textures_, buffers_, p.accesses);
     graph.run_pass(p.declared, context);
     if (pool) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool, 2 * i + 1);
     ctx_.cmd_end_label(cmd);

@@ -148,7 +148,7 @@ void RenderGraph::execute_without_device(const CompiledGraph& compiled) const {
     buffers[i] = {VK_NULL_HANDLE, r.size};
   }
   for (const CompiledPass& p : compiled.passes) {
-    PassContext context(VK_NULL_HANDLE, p.name, textures, buffers);
+    PassContext context(VK_NULL_HANDLE, p.name, textures, buffers, p.accesses);
     run_pass(p.declared, context);
   }
 }
@@ -199,6 +199,12 @@ TextureHandle PassBuilder::create_texture(const std::string& name, const Texture
 }
 BufferHandle PassBuilder::create_buffer(const std::string& name, const BufferDesc& desc) {
   return graph_.create_buffer(name, desc);
+}
+
+VkImageLayout PassContext::layout(TextureHandle h) const {
+  for (const ResourceAccess& a : accesses_)
+    if (a.resource == h.index) return a.layout;
+  fail("render graph: pass '%s' asks for the layout of a texture (index %u) it did not declare", pass_.c_str(), h.index);
 }
 
 // ---- CompiledGraph helpers ------------------------------------------------------------------

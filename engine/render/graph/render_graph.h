@@ -169,11 +169,13 @@ struct PhysicalBuffer {
   VkDeviceSize size = 0;
 };
 
+struct ResourceAccess;
+
 class PassContext {
  public:
   PassContext(VkCommandBuffer cmd, const std::string& pass, const std::vector<PhysicalTexture>& textures,
-              const std::vector<PhysicalBuffer>& buffers)
-      : cmd_(cmd), pass_(pass), textures_(textures), buffers_(buffers) {}
+              const std::vector<PhysicalBuffer>& buffers, const std::vector<ResourceAccess>& accesses)
+      : cmd_(cmd), pass_(pass), textures_(textures), buffers_(buffers), accesses_(accesses) {}
   VkCommandBuffer cmd() const { return cmd_; }
   const std::string& pass_name() const { return pass_; }
   const PhysicalTexture& texture(TextureHandle h) const { return textures_.at(h.index); }
@@ -182,12 +184,16 @@ class PassContext {
   VkExtent3D extent(TextureHandle h) const { return texture(h).extent; }
   VkBuffer buffer(BufferHandle h) const { return buffers_.at(h.index).buffer; }
   VkDeviceSize buffer_size(BufferHandle h) const { return buffers_.at(h.index).size; }
+  // The layout the graph put the image in for this pass (attachment infos, descriptor writes,
+  // copies): use it rather than hard-coding one. Throws if the pass did not declare the image.
+  VkImageLayout layout(TextureHandle h) const;
 
  private:
   VkCommandBuffer cmd_;
   const std::string& pass_;
   const std::vector<PhysicalTexture>& textures_;  // by resource index (textures and buffers share indices)
   const std::vector<PhysicalBuffer>& buffers_;
+  const std::vector<ResourceAccess>& accesses_;   // this pass's accesses
 };
 
 using SetupFn = std::function<void(PassBuilder&)>;

@@ -444,7 +444,10 @@ TEST(RenderGraphCompile, FilamentStyleDataPasses) {
         d.clouds = b.create_texture("clouds", kRgba16);
         d.clouds = b.write(d.clouds, Usage::StorageWrite);
       },
-      [](PassContext& c, const MarchData& d) { EXPECT_EQ(c.extent(d.clouds).width, 160u); });
+      [](PassContext& c, const MarchData& d) {
+        EXPECT_EQ(c.extent(d.clouds).width, 160u);
+        EXPECT_EQ(c.layout(d.clouds), VK_IMAGE_LAYOUT_GENERAL);
+      });
   g.add_pass("show", Queue::Graphics, [&](PassBuilder& b) {
     b.read(march.clouds, Usage::Sampled);
     out = b.write(out, Usage::ColorAttachment);

@@ -534,6 +534,51 @@ TEST_F(RenderGraphVulkan, FramesInFlightShareTransientsSafely) {
   EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
 }
 
+// Depth: written as an attachment (cleared by dynamic rendering), then copied out. The layout the
+// pass renders in comes from the graph (PassContext::layout), never hard-coded.
+TEST_F(RenderGraphVulkan, DepthAttachmentThenCopy) {
+  const VkExtent2D size{16, 8};
+  gpu::Buffer readback(*ctx_, {VkDeviceSize(size.width) * size.height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               gpu::MemoryUsage::Readback, "depth readback"});
+  Executor executor(*ctx_);
+  for (int frame = 0; frame < 2; ++frame) {
+    RenderGraph g(size);
+    BufferHandle out = g.import_buffer("depth readback", readback.handle(), readback.size(), ResourceState::host_read(),
+                                       ResourceState::host_read());
+    TextureHandle depth = g.create_texture("depth", TextureDesc::relative(VK_FORMAT_D32_SFLOAT));
+    const float clear = 0.25f + 0.5f * float(frame);
+    g.add_pass("depth", Queue::Graphics, [&](PassBuilder& b) { depth = b.write(depth, Usage::DepthWrite); },
+               [depth, clear](PassContext& c) {
+                 VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+                 d.imageView = c.view(depth);
+                 d.imageLayout = c.layout(depth);
+                 d.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+                 d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+                 d.clearValue.depthStencil = {clear, 0};
+                 VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+                 ri.renderArea = {{0, 0}, {c.extent(depth).width, c.extent(depth).height}};
+                 ri.layerCount = 1;
+                 ri.pDepthAttachment = &d;
+                 vkCmdBeginRendering(c.cmd(), &ri);
+                 vkCmdEndRendering(c.cmd());
+               });
+    g.add_pass("copy", Queue::Graphics, [&](PassBuilder& b) {
+      b.read(depth, Usage::TransferSrc);
+      out = b.write(out, Usage::TransferDst);
+    }, [depth, out](PassContext& c) {
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
+      region.imageExtent = c.extent(depth);
+      vkCmdCopyImageToBuffer(c.cmd(), c.image(depth), c.layout(depth), c.buffer(out), 1, &region);
+    });
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
+    std::vector<float> got(size_t(size.width) * size.height);
+    readback.download(got.data(), got.size() * sizeof(float));
+    for (float v : got) ASSERT_FLOAT_EQ(v, clear);
+  }
+  EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
+}
+
 TEST_F(RenderGraphVulkan, NewShapeRecompilesAndStaysCorrect) {
   Executor executor(*ctx_);
   make_persistent(37, 23);
