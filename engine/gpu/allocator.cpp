@@ -40,8 +40,9 @@ std::optional<uint64_t> RangeAllocator::allocate(uint64_t size, uint64_t alignme
 
 void RangeAllocator::free(uint64_t offset, uint64_t size) {
   if (size == 0) size = 1;
-  if (offset + size > capacity_) fail("RangeAllocator::free: range [%llu, %llu) outside capacity %llu",
-                                      (unsigned long long)offset, (unsigned long long)(offset + size), (unsigned long long)capacity_);
+  if (offset + size > capacity_)
+    fail("RangeAllocator::free: range [%llu, %llu) outside capacity %llu", (unsigned long long)offset,
+         (unsigned long long)(offset + size), (unsigned long long)capacity_);
   auto next = free_.lower_bound(offset);
   if (next != free_.end() && next->first < offset + size)
     fail("RangeAllocator::free: range [%llu, %llu) overlaps a free range (double free?)", (unsigned long long)offset,
@@ -79,10 +80,14 @@ uint64_t RangeAllocator::largest_free() const {
 
 static const char* usage_name(MemoryUsage u) {
   switch (u) {
-    case MemoryUsage::GpuOnly: return "GpuOnly";
-    case MemoryUsage::Upload: return "Upload";
-    case MemoryUsage::Readback: return "Readback";
-    case MemoryUsage::Dynamic: return "Dynamic";
+    case MemoryUsage::GpuOnly:
+      return "GpuOnly";
+    case MemoryUsage::Upload:
+      return "Upload";
+    case MemoryUsage::Readback:
+      return "Readback";
+    case MemoryUsage::Dynamic:
+      return "Dynamic";
   }
   return "?";
 }
@@ -110,7 +115,10 @@ bool MemoryAllocator::is_host_visible(uint32_t t) const {
 uint32_t MemoryAllocator::find_memory_type(uint32_t type_bits, MemoryUsage usage) const {
   VkMemoryPropertyFlags required = 0, preferred = 0, avoided = 0;
   switch (usage) {
-    case MemoryUsage::GpuOnly: preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT; avoided = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT; break;
+    case MemoryUsage::GpuOnly:
+      preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+      avoided = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+      break;
     case MemoryUsage::Upload:
       required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
       avoided = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;  // keep scarce BAR memory for Dynamic
@@ -217,7 +225,8 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& req, MemoryUsag
 void MemoryAllocator::free(Allocation& a) {
   if (!a) return;
   std::lock_guard lock(mutex_);
-  if (a.block >= blocks_.size() || blocks_[a.block].memory != a.memory) fail("gpu: freeing an allocation this allocator does not own");
+  if (a.block >= blocks_.size() || blocks_[a.block].memory != a.memory)
+    fail("gpu: freeing an allocation this allocator does not own");
   Block& b = blocks_[a.block];
   b.ranges->free(a.offset, a.size);
   stats_.allocated_bytes -= a.size;

@@ -39,8 +39,8 @@ enum class MemoryUsage {
 struct Allocation {
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkDeviceSize offset = 0;
-  VkDeviceSize size = 0;       // the rounded size actually reserved
-  void* mapped = nullptr;      // host pointer to `offset` when host-visible, else null
+  VkDeviceSize size = 0;   // the rounded size actually reserved
+  void* mapped = nullptr;  // host pointer to `offset` when host-visible, else null
   uint32_t memory_type = 0;
   uint32_t block = UINT32_MAX;  // allocator-internal
   explicit operator bool() const { return memory != VK_NULL_HANDLE; }

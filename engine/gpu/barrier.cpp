@@ -2,9 +2,9 @@
 
 namespace cumulo::gpu {
 
-void cmd_image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range, VkImageLayout old_layout,
-                       VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                       VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+void cmd_image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range,
+                       VkImageLayout old_layout, VkImageLayout new_layout, VkPipelineStageFlags2 src_stage,
+                       VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
   VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
   b.srcStageMask = src_stage;
   b.srcAccessMask = src_access;

@@ -13,9 +13,9 @@
 
 namespace cumulo::gpu {
 
-void cmd_image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range, VkImageLayout old_layout,
-                       VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                       VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+void cmd_image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range,
+                       VkImageLayout old_layout, VkImageLayout new_layout, VkPipelineStageFlags2 src_stage,
+                       VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
 void cmd_memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
                         VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
 

@@ -50,40 +50,49 @@ void Buffer::reset() {
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
-  if (offset + bytes > size_) fail("gpu: upload of %llu bytes at %llu overflows a %llu-byte buffer", (unsigned long long)bytes,
-                                   (unsigned long long)offset, (unsigned long long)size_);
+  if (offset + bytes > size_)
+    fail("gpu: upload of %llu bytes at %llu overflows a %llu-byte buffer", (unsigned long long)bytes,
+         (unsigned long long)offset, (unsigned long long)size_);
   if (bytes == 0) return;
   if (mapped()) {
     std::memcpy(static_cast<char*>(mapped()) + offset, data, bytes);
     return;
   }
-  Buffer staging(*ctx_, {.size = bytes, .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT, .memory = MemoryUsage::Upload, .name = "upload staging"});
+  Buffer staging(*ctx_, {.size = bytes,
+                         .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                         .memory = MemoryUsage::Upload,
+                         .name = "upload staging"});
   std::memcpy(staging.mapped(), data, bytes);
   ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
     VkBufferCopy region{0, offset, bytes};
     vkCmdCopyBuffer(cmd, staging.handle(), buffer_, 1, &region);
-    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                        VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
   });
 }
 
 void Buffer::download(void* out, VkDeviceSize bytes, VkDeviceSize offset) const {
-  if (offset + bytes > size_) fail("gpu: download of %llu bytes at %llu overflows a %llu-byte buffer", (unsigned long long)bytes,
-                                   (unsigned long long)offset, (unsigned long long)size_);
+  if (offset + bytes > size_)
+    fail("gpu: download of %llu bytes at %llu overflows a %llu-byte buffer", (unsigned long long)bytes,
+         (unsigned long long)offset, (unsigned long long)size_);
   if (bytes == 0) return;
   if (mapped()) {
     std::memcpy(out, static_cast<const char*>(mapped()) + offset, bytes);
     return;
   }
-  Buffer staging(*ctx_, {.size = bytes, .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT, .memory = MemoryUsage::Readback, .name = "readback staging"});
+  Buffer staging(*ctx_, {.size = bytes,
+                         .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         .memory = MemoryUsage::Readback,
+                         .name = "readback staging"});
   ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
     // Earlier submissions may have written this buffer (shader or transfer): order them before the copy.
-    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                       VK_ACCESS_2_TRANSFER_READ_BIT);
+    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cmd, buffer_, staging.handle(), 1, &region);
-    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                       VK_ACCESS_2_HOST_READ_BIT);
+    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });
   std::memcpy(out, staging.mapped(), bytes);
 }

@@ -20,7 +20,7 @@ struct BufferDesc {
   VkDeviceSize size = 0;
   VkBufferUsageFlags usage = 0;  // TRANSFER_SRC/DST are added so upload()/download() always work
   MemoryUsage memory = MemoryUsage::GpuOnly;
-  const char* name = nullptr;    // debug-utils name
+  const char* name = nullptr;  // debug-utils name
 };
 
 class Buffer {
@@ -40,7 +40,9 @@ class Buffer {
   VkDeviceSize size() const { return size_; }
   void* mapped() const { return allocation_.mapped; }  // null unless host-visible
   template <class T>
-  T* mapped_as() const { return static_cast<T*>(allocation_.mapped); }
+  T* mapped_as() const {
+    return static_cast<T*>(allocation_.mapped);
+  }
   const Allocation& allocation() const { return allocation_; }
   VkDescriptorBufferInfo descriptor(VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE) const {
     return {buffer_, offset, range};

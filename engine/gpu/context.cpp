@@ -17,16 +17,21 @@ namespace fs = std::filesystem;
 
 const char* vk_result_name(VkResult r) {
   switch (r) {
-#define CASE(x) case x: return #x;
-    CASE(VK_SUCCESS) CASE(VK_NOT_READY) CASE(VK_TIMEOUT) CASE(VK_EVENT_SET) CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE)
-    CASE(VK_ERROR_OUT_OF_HOST_MEMORY) CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY) CASE(VK_ERROR_INITIALIZATION_FAILED)
-    CASE(VK_ERROR_DEVICE_LOST) CASE(VK_ERROR_MEMORY_MAP_FAILED) CASE(VK_ERROR_LAYER_NOT_PRESENT)
-    CASE(VK_ERROR_EXTENSION_NOT_PRESENT) CASE(VK_ERROR_FEATURE_NOT_PRESENT) CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
-    CASE(VK_ERROR_TOO_MANY_OBJECTS) CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) CASE(VK_ERROR_FRAGMENTED_POOL)
-    CASE(VK_ERROR_OUT_OF_POOL_MEMORY) CASE(VK_ERROR_SURFACE_LOST_KHR) CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
-    CASE(VK_SUBOPTIMAL_KHR) CASE(VK_ERROR_OUT_OF_DATE_KHR) CASE(VK_ERROR_VALIDATION_FAILED_EXT)
+#define CASE(x) \
+  case x:       \
+    return #x;
+    CASE(VK_SUCCESS)
+    CASE(VK_NOT_READY) CASE(VK_TIMEOUT) CASE(VK_EVENT_SET) CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE)
+        CASE(VK_ERROR_OUT_OF_HOST_MEMORY) CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY) CASE(VK_ERROR_INITIALIZATION_FAILED)
+            CASE(VK_ERROR_DEVICE_LOST) CASE(VK_ERROR_MEMORY_MAP_FAILED) CASE(VK_ERROR_LAYER_NOT_PRESENT)
+                CASE(VK_ERROR_EXTENSION_NOT_PRESENT) CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+                    CASE(VK_ERROR_INCOMPATIBLE_DRIVER) CASE(VK_ERROR_TOO_MANY_OBJECTS)
+                        CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) CASE(VK_ERROR_FRAGMENTED_POOL)
+                            CASE(VK_ERROR_OUT_OF_POOL_MEMORY) CASE(VK_ERROR_SURFACE_LOST_KHR)
+                                CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR) CASE(VK_SUBOPTIMAL_KHR)
+                                    CASE(VK_ERROR_OUT_OF_DATE_KHR) CASE(VK_ERROR_VALIDATION_FAILED_EXT)
 #undef CASE
-    default: return "VK_ERROR_UNKNOWN";
+                                        default : return "VK_ERROR_UNKNOWN";
   }
 }
 
@@ -36,11 +41,16 @@ void vk_fail(VkResult r, const char* expr, const char* file, int line) {
 
 const char* device_type_name(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return "CPU";
+    default:
+      return "other";
   }
 }
 
@@ -77,7 +87,8 @@ static std::atomic<uint32_t> g_total_errors{0}, g_total_warnings{0};
 uint32_t total_validation_errors() { return g_total_errors.load(); }
 uint32_t total_validation_warnings() { return g_total_warnings.load(); }
 
-VkBool32 VKAPI_PTR Context::debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
+VkBool32 VKAPI_PTR Context::debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                           VkDebugUtilsMessageTypeFlagsEXT,
                                            const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
   auto* self = static_cast<Context*>(user);
   const char* msg = data && data->pMessage ? data->pMessage : "(no message)";
@@ -147,7 +158,8 @@ void Context::destroy() {
   if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
   surface_ = VK_NULL_HANDLE;
   if (messenger_) {
-    auto destroy = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT");
+    auto destroy =
+        (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT");
     if (destroy) destroy(instance_, messenger_, nullptr);
     messenger_ = VK_NULL_HANDLE;
   }
@@ -172,9 +184,12 @@ void Context::create_instance(const ContextDesc& desc) {
     vkEnumerateInstanceLayerProperties(&n, nullptr);
     std::vector<VkLayerProperties> lp(n);
     vkEnumerateInstanceLayerProperties(&n, lp.data());
-    bool found = std::any_of(lp.begin(), lp.end(), [](auto& l) { return std::strcmp(l.layerName, "VK_LAYER_KHRONOS_validation") == 0; });
+    bool found = std::any_of(lp.begin(), lp.end(),
+                             [](auto& l) { return std::strcmp(l.layerName, "VK_LAYER_KHRONOS_validation") == 0; });
     if (!found) {
-      LOG_WARN("gpu: validation requested but VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)");
+      LOG_WARN(
+          "gpu: validation requested but VK_LAYER_KHRONOS_validation is not installed (Debian: "
+          "vulkan-validationlayers)");
       validation_ = false;
     } else {
       layers.push_back("VK_LAYER_KHRONOS_validation");
@@ -200,7 +215,8 @@ void Context::create_instance(const ContextDesc& desc) {
   app.apiVersion = VK_API_VERSION_1_3;
 
   VkDebugUtilsMessengerCreateInfoEXT messenger{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-  messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  messenger.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
   messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                           VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   messenger.pfnUserCallback = &Context::debug_callback;
@@ -236,14 +252,17 @@ void Context::create_instance(const ContextDesc& desc) {
   }
   if (validation_ && debug_utils) {
     messenger.pNext = nullptr;
-    auto create = (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT");
+    auto create =
+        (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT");
     if (create) VK_CHECK(create(instance_, &messenger, nullptr, &messenger_));
   }
   if (debug_utils) {
     set_name_fn_ = (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT");
-    begin_label_fn_ = (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT");
+    begin_label_fn_ =
+        (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT");
     end_label_fn_ = (PFN_vkCmdEndDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT");
-    if (!set_name_fn_ || !begin_label_fn_ || !end_label_fn_) set_name_fn_ = nullptr, begin_label_fn_ = nullptr, end_label_fn_ = nullptr;
+    if (!set_name_fn_ || !begin_label_fn_ || !end_label_fn_)
+      set_name_fn_ = nullptr, begin_label_fn_ = nullptr, end_label_fn_ = nullptr;
   }
   if (validation_)
     LOG_DEBUG("gpu: validation on (synchronization validation %s)", validation_features ? "on" : "unavailable");
@@ -293,12 +312,18 @@ void Context::pick_device(const ContextDesc& desc) {
       c.family = i;
     }
     std::string why;
-    if (p.apiVersion < VK_API_VERSION_1_3) why = "Vulkan 1.3 not supported";
-    else if (!f13.synchronization2) why = "no synchronization2";
-    else if (!f13.dynamicRendering) why = "no dynamicRendering";
-    else if (!f12.timelineSemaphore) why = "no timelineSemaphore";
-    else if (!f12.hostQueryReset) why = "no hostQueryReset";
-    else if (c.family == UINT32_MAX) why = desc.need_present ? "no graphics+compute queue that presents to the surface" : "no graphics+compute queue";
+    if (p.apiVersion < VK_API_VERSION_1_3)
+      why = "Vulkan 1.3 not supported";
+    else if (!f13.synchronization2)
+      why = "no synchronization2";
+    else if (!f13.dynamicRendering)
+      why = "no dynamicRendering";
+    else if (!f12.timelineSemaphore)
+      why = "no timelineSemaphore";
+    else if (!f12.hostQueryReset)
+      why = "no hostQueryReset";
+    else if (c.family == UINT32_MAX)
+      why = desc.need_present ? "no graphics+compute queue that presents to the surface" : "no graphics+compute queue";
     c.desc.suitable = why.empty();
     c.desc.why_not = why;
     descs.push_back(c.desc);
@@ -330,7 +355,8 @@ void Context::create_device(const ContextDesc& desc) {
   vkEnumerateDeviceExtensionProperties(physical_, nullptr, &n, avail.data());
   std::vector<const char*> exts;
   if (desc.need_present || surface_) {
-    if (!has_extension(avail, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) fail("gpu: %s has no VK_KHR_swapchain", info_.name.c_str());
+    if (!has_extension(avail, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
+      fail("gpu: %s has no VK_KHR_swapchain", info_.name.c_str());
     exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   }
   if (has_extension(avail, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) {
@@ -414,9 +440,9 @@ void Context::create_device(const ContextDesc& desc) {
   set_name(queue_, "main queue");
   set_name(oneoff_pool_, "one-off command pool");
 
-  LOG_INFO("gpu: %s (%s, %s), Vulkan %u.%u.%u%s", info_.name.c_str(), device_type_name(info_.type), info_.driver_info.c_str(),
-           VK_API_VERSION_MAJOR(info_.api_version), VK_API_VERSION_MINOR(info_.api_version), VK_API_VERSION_PATCH(info_.api_version),
-           validation_ ? ", validation on" : "");
+  LOG_INFO("gpu: %s (%s, %s), Vulkan %u.%u.%u%s", info_.name.c_str(), device_type_name(info_.type),
+           info_.driver_info.c_str(), VK_API_VERSION_MAJOR(info_.api_version), VK_API_VERSION_MINOR(info_.api_version),
+           VK_API_VERSION_PATCH(info_.api_version), validation_ ? ", validation on" : "");
 }
 
 void Context::set_name(VkObjectType type, uint64_t handle, const char* name) const {

@@ -6,10 +6,9 @@
 //   gpu::ContextDesc desc;                       // validation forced on by CUMULO_VALIDATION=1 / Debug builds
 //   desc.instance_extensions = glfw_extensions;  // optional: from glfwGetRequiredInstanceExtensions
 //   desc.need_present = true;                    // optional: then give create_surface
-//   desc.create_surface = [&](VkInstance i) { VkSurfaceKHR s; glfwCreateWindowSurface(i, win, nullptr, &s); return s; };
-//   gpu::Context ctx(desc);
-//   ctx.submit_and_wait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buf, 0, VK_WHOLE_SIZE, 0); });
-//   ctx.set_name(buf, "my buffer");              // no-op without VK_EXT_debug_utils
+//   desc.create_surface = [&](VkInstance i) { VkSurfaceKHR s; glfwCreateWindowSurface(i, win, nullptr, &s); return s;
+//   }; gpu::Context ctx(desc); ctx.submit_and_wait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buf, 0,
+//   VK_WHOLE_SIZE, 0); }); ctx.set_name(buf, "my buffer");              // no-op without VK_EXT_debug_utils
 //   EXPECT_EQ(ctx.validation_errors(), 0u);      // every validation message is counted and logged
 //
 // Device choice: discrete > integrated > virtual > CPU (lavapipe); override with env
@@ -33,11 +32,11 @@ class SamplerCache;
 class PipelineCache;
 
 struct ContextDesc {
-  bool validation = false;                       // also on with env CUMULO_VALIDATION=1 or in Debug builds
-  std::vector<std::string> instance_extensions;  // e.g. from glfwGetRequiredInstanceExtensions
-  bool need_present = false;                     // require a queue family that presents to the surface
+  bool validation = false;                                 // also on with env CUMULO_VALIDATION=1 or in Debug builds
+  std::vector<std::string> instance_extensions;            // e.g. from glfwGetRequiredInstanceExtensions
+  bool need_present = false;                               // require a queue family that presents to the surface
   std::function<VkSurfaceKHR(VkInstance)> create_surface;  // called once after instance creation; ctx owns the surface
-  std::string device;                            // device override; empty: env CUMULO_DEVICE
+  std::string device;                                      // device override; empty: env CUMULO_DEVICE
   std::string app_name = "cumulo";
   // Folder for the pipeline cache (pipelines.bin) and the shader cache (shaders/*.spv). Empty:
   // $CUMULO_CACHE_DIR, else $XDG_CACHE_HOME/cumulo, else $HOME/.cache/cumulo.
@@ -95,9 +94,13 @@ class Context {
   void set_name(VkObjectType type, uint64_t handle, const char* name) const;
   template <class H>
   void set_name(H handle, const char* name) const;
-  void set_name(VkObjectType type, uint64_t handle, const std::string& name) const { set_name(type, handle, name.c_str()); }
+  void set_name(VkObjectType type, uint64_t handle, const std::string& name) const {
+    set_name(type, handle, name.c_str());
+  }
   template <class H>
-  void set_name(H handle, const std::string& name) const { set_name(handle, name.c_str()); }
+  void set_name(H handle, const std::string& name) const {
+    set_name(handle, name.c_str());
+  }
   void cmd_begin_label(VkCommandBuffer cmd, const char* name, const float color[4] = nullptr) const;
   void cmd_end_label(VkCommandBuffer cmd) const;
 
@@ -152,7 +155,8 @@ class Context {
 // Debug label scope: ScopedLabel label(ctx, cmd, "clouds");  (ends at scope exit)
 class ScopedLabel {
  public:
-  ScopedLabel(const Context& ctx, VkCommandBuffer cmd, const char* name, const float color[4] = nullptr) : ctx_(ctx), cmd_(cmd) {
+  ScopedLabel(const Context& ctx, VkCommandBuffer cmd, const char* name, const float color[4] = nullptr)
+      : ctx_(ctx), cmd_(cmd) {
     ctx.cmd_begin_label(cmd, name, color);
   }
   ~ScopedLabel() { ctx_.cmd_end_label(cmd_); }
@@ -167,25 +171,44 @@ class ScopedLabel {
 // Maps a Vulkan handle type to its VkObjectType (for set_name).
 template <class H>
 constexpr VkObjectType object_type_of() {
-  if constexpr (std::is_same_v<H, VkBuffer>) return VK_OBJECT_TYPE_BUFFER;
-  else if constexpr (std::is_same_v<H, VkImage>) return VK_OBJECT_TYPE_IMAGE;
-  else if constexpr (std::is_same_v<H, VkImageView>) return VK_OBJECT_TYPE_IMAGE_VIEW;
-  else if constexpr (std::is_same_v<H, VkSampler>) return VK_OBJECT_TYPE_SAMPLER;
-  else if constexpr (std::is_same_v<H, VkPipeline>) return VK_OBJECT_TYPE_PIPELINE;
-  else if constexpr (std::is_same_v<H, VkPipelineLayout>) return VK_OBJECT_TYPE_PIPELINE_LAYOUT;
-  else if constexpr (std::is_same_v<H, VkShaderModule>) return VK_OBJECT_TYPE_SHADER_MODULE;
-  else if constexpr (std::is_same_v<H, VkDescriptorSetLayout>) return VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT;
-  else if constexpr (std::is_same_v<H, VkDescriptorSet>) return VK_OBJECT_TYPE_DESCRIPTOR_SET;
-  else if constexpr (std::is_same_v<H, VkDescriptorPool>) return VK_OBJECT_TYPE_DESCRIPTOR_POOL;
-  else if constexpr (std::is_same_v<H, VkCommandBuffer>) return VK_OBJECT_TYPE_COMMAND_BUFFER;
-  else if constexpr (std::is_same_v<H, VkCommandPool>) return VK_OBJECT_TYPE_COMMAND_POOL;
-  else if constexpr (std::is_same_v<H, VkFence>) return VK_OBJECT_TYPE_FENCE;
-  else if constexpr (std::is_same_v<H, VkSemaphore>) return VK_OBJECT_TYPE_SEMAPHORE;
-  else if constexpr (std::is_same_v<H, VkQueryPool>) return VK_OBJECT_TYPE_QUERY_POOL;
-  else if constexpr (std::is_same_v<H, VkDeviceMemory>) return VK_OBJECT_TYPE_DEVICE_MEMORY;
-  else if constexpr (std::is_same_v<H, VkSwapchainKHR>) return VK_OBJECT_TYPE_SWAPCHAIN_KHR;
-  else if constexpr (std::is_same_v<H, VkQueue>) return VK_OBJECT_TYPE_QUEUE;
-  else static_assert(sizeof(H) == 0, "add this handle type to object_type_of");
+  if constexpr (std::is_same_v<H, VkBuffer>)
+    return VK_OBJECT_TYPE_BUFFER;
+  else if constexpr (std::is_same_v<H, VkImage>)
+    return VK_OBJECT_TYPE_IMAGE;
+  else if constexpr (std::is_same_v<H, VkImageView>)
+    return VK_OBJECT_TYPE_IMAGE_VIEW;
+  else if constexpr (std::is_same_v<H, VkSampler>)
+    return VK_OBJECT_TYPE_SAMPLER;
+  else if constexpr (std::is_same_v<H, VkPipeline>)
+    return VK_OBJECT_TYPE_PIPELINE;
+  else if constexpr (std::is_same_v<H, VkPipelineLayout>)
+    return VK_OBJECT_TYPE_PIPELINE_LAYOUT;
+  else if constexpr (std::is_same_v<H, VkShaderModule>)
+    return VK_OBJECT_TYPE_SHADER_MODULE;
+  else if constexpr (std::is_same_v<H, VkDescriptorSetLayout>)
+    return VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT;
+  else if constexpr (std::is_same_v<H, VkDescriptorSet>)
+    return VK_OBJECT_TYPE_DESCRIPTOR_SET;
+  else if constexpr (std::is_same_v<H, VkDescriptorPool>)
+    return VK_OBJECT_TYPE_DESCRIPTOR_POOL;
+  else if constexpr (std::is_same_v<H, VkCommandBuffer>)
+    return VK_OBJECT_TYPE_COMMAND_BUFFER;
+  else if constexpr (std::is_same_v<H, VkCommandPool>)
+    return VK_OBJECT_TYPE_COMMAND_POOL;
+  else if constexpr (std::is_same_v<H, VkFence>)
+    return VK_OBJECT_TYPE_FENCE;
+  else if constexpr (std::is_same_v<H, VkSemaphore>)
+    return VK_OBJECT_TYPE_SEMAPHORE;
+  else if constexpr (std::is_same_v<H, VkQueryPool>)
+    return VK_OBJECT_TYPE_QUERY_POOL;
+  else if constexpr (std::is_same_v<H, VkDeviceMemory>)
+    return VK_OBJECT_TYPE_DEVICE_MEMORY;
+  else if constexpr (std::is_same_v<H, VkSwapchainKHR>)
+    return VK_OBJECT_TYPE_SWAPCHAIN_KHR;
+  else if constexpr (std::is_same_v<H, VkQueue>)
+    return VK_OBJECT_TYPE_QUEUE;
+  else
+    static_assert(sizeof(H) == 0, "add this handle type to object_type_of");
 }
 
 template <class H>

@@ -6,8 +6,8 @@
 
 namespace cumulo::gpu {
 
-DescriptorWriter& DescriptorWriter::add(uint32_t binding, VkDescriptorType type, uint32_t element, const VkDescriptorImageInfo* image,
-                                        const VkDescriptorBufferInfo* buffer) {
+DescriptorWriter& DescriptorWriter::add(uint32_t binding, VkDescriptorType type, uint32_t element,
+                                        const VkDescriptorImageInfo* image, const VkDescriptorBufferInfo* buffer) {
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstBinding = binding;
   w.dstArrayElement = element;
@@ -52,14 +52,14 @@ DescriptorWriter& DescriptorWriter::storage_buffer(uint32_t b, VkBuffer buf, VkD
 
 void DescriptorWriter::push(const Context& ctx, VkCommandBuffer cmd, const Pipeline& p, uint32_t set) const {
   if (set != 0 || !p.set0_is_push())
-    fail("pipeline '%s': set %u is not a push-descriptor set (only set 0 is, on devices with VK_KHR_push_descriptor)", p.name().c_str(),
-         set);
+    fail("pipeline '%s': set %u is not a push-descriptor set (only set 0 is, on devices with VK_KHR_push_descriptor)",
+         p.name().c_str(), set);
   for (auto& w : writes_) {
     const PipelineBinding* b = p.find_binding(set, w.dstBinding);
     if (!b) fail("pipeline '%s' has no binding %u in set %u", p.name().c_str(), w.dstBinding, set);
     if (b->type != w.descriptorType)
-      fail("pipeline '%s': binding %u ('%s') has descriptor type %d, the write has %d", p.name().c_str(), w.dstBinding, b->name.c_str(),
-           int(b->type), int(w.descriptorType));
+      fail("pipeline '%s': binding %u ('%s') has descriptor type %d, the write has %d", p.name().c_str(), w.dstBinding,
+           b->name.c_str(), int(b->type), int(w.descriptorType));
   }
   ctx.cmd_push_descriptor_set(cmd, p.bind_point(), p.layout(), set, uint32_t(writes_.size()), writes_.data());
 }
@@ -73,9 +73,9 @@ void DescriptorWriter::update(const Context& ctx, VkDescriptorSet set) const {
 DescriptorPool::DescriptorPool(Context& ctx, uint32_t max_sets, uint32_t per_type) : ctx_(ctx) {
   if (per_type == 0) per_type = 4 * max_sets;
   VkDescriptorPoolSize sizes[] = {
-      {VK_DESCRIPTOR_TYPE_SAMPLER, per_type},          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, per_type},
-      {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, per_type},    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, per_type},
-      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, per_type},   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, per_type},
+      {VK_DESCRIPTOR_TYPE_SAMPLER, per_type},        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, per_type},
+      {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, per_type},  {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, per_type},
+      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, per_type}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, per_type},
   };
   VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   info.maxSets = max_sets;
@@ -93,7 +93,8 @@ VkDescriptorSet DescriptorPool::allocate(VkDescriptorSetLayout layout) {
   info.pSetLayouts = &layout;
   VkDescriptorSet set;
   VkResult r = vkAllocateDescriptorSets(ctx_.device(), &info, &set);
-  if (r != VK_SUCCESS) fail("gpu: descriptor pool exhausted (%s); reset it per frame or make it larger", vk_result_name(r));
+  if (r != VK_SUCCESS)
+    fail("gpu: descriptor pool exhausted (%s); reset it per frame or make it larger", vk_result_name(r));
   return set;
 }
 

@@ -26,12 +26,16 @@ class DescriptorWriter {
   DescriptorWriter& storage_image(uint32_t binding, VkImageView view, VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL,
                                   uint32_t array_element = 0);
   DescriptorWriter& sampled_image(uint32_t binding, VkImageView view, VkSampler sampler,  // combined image sampler
-                                  VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, uint32_t array_element = 0);
+                                  VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                  uint32_t array_element = 0);
   DescriptorWriter& texture(uint32_t binding, VkImageView view,  // separate sampled image (texture2D)
-                            VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, uint32_t array_element = 0);
+                            VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                            uint32_t array_element = 0);
   DescriptorWriter& sampler(uint32_t binding, VkSampler sampler, uint32_t array_element = 0);
-  DescriptorWriter& uniform_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
-  DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
+  DescriptorWriter& uniform_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0,
+                                   VkDeviceSize range = VK_WHOLE_SIZE);
+  DescriptorWriter& storage_buffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0,
+                                   VkDeviceSize range = VK_WHOLE_SIZE);
 
   // Pushes the writes as `set` (which must be the pipeline's push-descriptor set 0).
   void push(const Context& ctx, VkCommandBuffer cmd, const Pipeline& pipeline, uint32_t set = 0) const;
@@ -41,7 +45,7 @@ class DescriptorWriter {
  private:
   DescriptorWriter& add(uint32_t binding, VkDescriptorType type, uint32_t element, const VkDescriptorImageInfo* image,
                         const VkDescriptorBufferInfo* buffer);
-  std::deque<VkDescriptorImageInfo> images_;    // deque: stable addresses for pImageInfo
+  std::deque<VkDescriptorImageInfo> images_;  // deque: stable addresses for pImageInfo
   std::deque<VkDescriptorBufferInfo> buffers_;
   std::vector<VkWriteDescriptorSet> writes_;
 };

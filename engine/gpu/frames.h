@@ -21,11 +21,11 @@ class Context;
 constexpr uint32_t kFramesInFlight = 2;
 
 struct Frame {
-  uint32_t slot = 0;        // 0 .. frames-1: index per-frame resources with it
-  uint64_t number = 0;      // frames begun so far, this one included
+  uint32_t slot = 0;    // 0 .. frames-1: index per-frame resources with it
+  uint64_t number = 0;  // frames begun so far, this one included
   VkCommandBuffer cmd = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;          // signalled when this slot's submission completes
-  VkSemaphore acquired = VK_NULL_HANDLE;   // for swapchain acquire: signalled by the presentation engine
+  VkFence fence = VK_NULL_HANDLE;         // signalled when this slot's submission completes
+  VkSemaphore acquired = VK_NULL_HANDLE;  // for swapchain acquire: signalled by the presentation engine
   VkCommandPool pool = VK_NULL_HANDLE;
   bool submitted = false;
 };
@@ -42,7 +42,8 @@ class FrameRing {
   // `signal` (e.g. swapchain.render_finished(index)) is signalled at the end.
   void submit(Frame& f, VkSemaphore wait = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE,
               VkPipelineStageFlags2 wait_stage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                                 VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+                                                 VK_PIPELINE_STAGE_2_TRANSFER_BIT |
+                                                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
   void wait_all();  // waits for every submitted frame
   uint32_t size() const { return uint32_t(frames_.size()); }
   uint64_t frame_number() const { return number_; }

@@ -12,8 +12,8 @@
 //
 // Aliasing (render graph): create unbound, allocate one range for several images, bind each:
 //   gpu::Image a = gpu::Image::create_unbound(ctx, desc_a), b = gpu::Image::create_unbound(ctx, desc_b);
-//   VkMemoryRequirements ra = a.memory_requirements(), rb = b.memory_requirements();  // combine: max size/alignment, AND bits
-//   gpu::Allocation mem = ctx.allocator().allocate(combined, gpu::MemoryUsage::GpuOnly, "transient slot 0");
+//   VkMemoryRequirements ra = a.memory_requirements(), rb = b.memory_requirements();  // combine: max size/alignment,
+//   AND bits gpu::Allocation mem = ctx.allocator().allocate(combined, gpu::MemoryUsage::GpuOnly, "transient slot 0");
 //   a.bind_memory(mem); b.bind_memory(mem);   // images do not own `mem`: free it after both are destroyed
 //
 // layout() is the last layout known to the helpers here (upload, readback); code that transitions
@@ -43,7 +43,8 @@ struct ImageDesc {
   MemoryUsage memory = MemoryUsage::GpuOnly;
   const char* name = nullptr;
 
-  static ImageDesc tex2d(uint32_t w, uint32_t h, VkFormat f, VkImageUsageFlags usage, uint32_t mips = 1, const char* name = nullptr) {
+  static ImageDesc tex2d(uint32_t w, uint32_t h, VkFormat f, VkImageUsageFlags usage, uint32_t mips = 1,
+                         const char* name = nullptr) {
     return {VK_IMAGE_TYPE_2D, f, {w, h, 1}, mips, 1, usage, VK_SAMPLE_COUNT_1_BIT, MemoryUsage::GpuOnly, name};
   }
   static ImageDesc tex3d(uint32_t w, uint32_t h, uint32_t d, VkFormat f, VkImageUsageFlags usage, uint32_t mips = 1,
@@ -77,7 +78,7 @@ class Image {
 
   VkImage handle() const { return image_; }
   VkImageView view() const { return view_; }  // null for transfer-only images
-  VkImageView mip_view(uint32_t mip);  // single-mip view (all layers), created on first use
+  VkImageView mip_view(uint32_t mip);         // single-mip view (all layers), created on first use
   VkFormat format() const { return desc_.format; }
   VkExtent3D extent() const { return desc_.extent; }
   VkExtent3D extent(uint32_t mip) const;
@@ -93,7 +94,8 @@ class Image {
   // Uploads every mip from CPU data (sizes must match mip_size_bytes * layers exactly) through one
   // staging buffer, then leaves the image in `final_layout` visible to all later commands. Waits.
   void upload(std::span<const MipData> mips, VkImageLayout final_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  void upload(std::initializer_list<MipData> mips, VkImageLayout final_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL) {
+  void upload(std::initializer_list<MipData> mips,
+              VkImageLayout final_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL) {
     upload(std::span<const MipData>(mips.begin(), mips.size()), final_layout);
   }
   // Fills mips 1..n-1 from mip 0 with linear blits (2D or 3D box-filter downsampling), leaving the

@@ -11,9 +11,12 @@ namespace cumulo::gpu {
 
 static VkShaderStageFlagBits vk_stage(ShaderStage s) {
   switch (s) {
-    case ShaderStage::Vertex: return VK_SHADER_STAGE_VERTEX_BIT;
-    case ShaderStage::Fragment: return VK_SHADER_STAGE_FRAGMENT_BIT;
-    case ShaderStage::Compute: return VK_SHADER_STAGE_COMPUTE_BIT;
+    case ShaderStage::Vertex:
+      return VK_SHADER_STAGE_VERTEX_BIT;
+    case ShaderStage::Fragment:
+      return VK_SHADER_STAGE_FRAGMENT_BIT;
+    case ShaderStage::Compute:
+      return VK_SHADER_STAGE_COMPUTE_BIT;
   }
   return VK_SHADER_STAGE_COMPUTE_BIT;
 }
@@ -66,7 +69,9 @@ void Pipeline::reset() {
   layout_ = VK_NULL_HANDLE;
 }
 
-VkDescriptorSetLayout Pipeline::set_layout(uint32_t set) const { return set < set_layouts_.size() ? set_layouts_[set] : VK_NULL_HANDLE; }
+VkDescriptorSetLayout Pipeline::set_layout(uint32_t set) const {
+  return set < set_layouts_.size() ? set_layouts_[set] : VK_NULL_HANDLE;
+}
 
 const PipelineBinding* Pipeline::find_binding(uint32_t set, uint32_t binding) const {
   for (auto& b : bindings_)
@@ -85,13 +90,14 @@ void Pipeline::build_layout(Context& ctx, const std::vector<const CompiledShader
       push_stages_ |= stage;
     }
     for (auto& rb : r.bindings) {
-      auto it = std::find_if(bindings_.begin(), bindings_.end(), [&](auto& b) { return b.set == rb.set && b.binding == rb.binding; });
+      auto it = std::find_if(bindings_.begin(), bindings_.end(),
+                             [&](auto& b) { return b.set == rb.set && b.binding == rb.binding; });
       if (it == bindings_.end()) {
         bindings_.push_back({rb.set, rb.binding, rb.type, rb.count, stage, rb.name});
       } else {
         if (it->type != rb.type || it->count != rb.count)
-          fail("%s: set %u binding %u is declared differently in another stage of pipeline '%s'", s->display_name.c_str(), rb.set,
-               rb.binding, name_.c_str());
+          fail("%s: set %u binding %u is declared differently in another stage of pipeline '%s'",
+               s->display_name.c_str(), rb.set, rb.binding, name_.c_str());
         it->stages |= stage;
       }
     }
@@ -150,7 +156,8 @@ Pipeline Pipeline::compute(Context& ctx, const ShaderCompiler& compiler, const C
 
 static VkPipelineColorBlendAttachmentState blend_state(BlendMode m) {
   VkPipelineColorBlendAttachmentState s{};
-  s.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  s.colorWriteMask =
+      VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
   if (m == BlendMode::None) return s;
   s.blendEnable = VK_TRUE;
   s.colorBlendOp = s.alphaBlendOp = VK_BLEND_OP_ADD;
@@ -169,12 +176,14 @@ static VkPipelineColorBlendAttachmentState blend_state(BlendMode m) {
       s.srcColorBlendFactor = s.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
       s.dstColorBlendFactor = s.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
       break;
-    default: break;
+    default:
+      break;
   }
   return s;
 }
 
-Pipeline Pipeline::graphics(Context& ctx, const CompiledShader& vs, const CompiledShader& fs, const GraphicsPipelineDesc& desc) {
+Pipeline Pipeline::graphics(Context& ctx, const CompiledShader& vs, const CompiledShader& fs,
+                            const GraphicsPipelineDesc& desc) {
   if (vs.stage != ShaderStage::Vertex) fail("%s: not a vertex shader", vs.display_name.c_str());
   if (fs.stage != ShaderStage::Fragment) fail("%s: not a fragment shader", fs.display_name.c_str());
   Pipeline p;
@@ -254,7 +263,8 @@ Pipeline Pipeline::graphics(Context& ctx, const ShaderCompiler& compiler, const 
 
 void Pipeline::push_constants(VkCommandBuffer cmd, const void* data, uint32_t size, uint32_t offset) const {
   if (offset + size > push_size_)
-    fail("pipeline '%s': push of %u bytes at %u exceeds its %u-byte push-constant block", name_.c_str(), size, offset, push_size_);
+    fail("pipeline '%s': push of %u bytes at %u exceeds its %u-byte push-constant block", name_.c_str(), size, offset,
+         push_size_);
   vkCmdPushConstants(cmd, layout_, push_stages_, offset, size, data);
 }
 

@@ -43,7 +43,7 @@ struct GraphicsPipelineDesc {
   std::filesystem::path vertex, fragment;
   std::vector<ShaderDefine> defines;  // applied to both stages
   std::vector<VkFormat> color_formats;
-  std::vector<BlendMode> blend;       // per color attachment; missing entries = None
+  std::vector<BlendMode> blend;  // per color attachment; missing entries = None
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
   bool depth_test = false, depth_write = false;
   VkCompareOp depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reverse-Z
@@ -70,7 +70,8 @@ class Pipeline {
   static Pipeline graphics(Context& ctx, const ShaderCompiler& compiler, const GraphicsPipelineDesc& desc);
   // From already compiled SPIR-V (the library uses these).
   static Pipeline compute(Context& ctx, const CompiledShader& shader, const std::string& name);
-  static Pipeline graphics(Context& ctx, const CompiledShader& vs, const CompiledShader& fs, const GraphicsPipelineDesc& desc);
+  static Pipeline graphics(Context& ctx, const CompiledShader& vs, const CompiledShader& fs,
+                           const GraphicsPipelineDesc& desc);
 
   Pipeline() = default;
   ~Pipeline() { reset(); }
@@ -98,7 +99,9 @@ class Pipeline {
   void bind(VkCommandBuffer cmd) const { vkCmdBindPipeline(cmd, bind_point_, pipeline_); }
   void push_constants(VkCommandBuffer cmd, const void* data, uint32_t size, uint32_t offset = 0) const;
   template <class T>
-  void push_constants(VkCommandBuffer cmd, const T& value) const { push_constants(cmd, &value, uint32_t(sizeof(T))); }
+  void push_constants(VkCommandBuffer cmd, const T& value) const {
+    push_constants(cmd, &value, uint32_t(sizeof(T)));
+  }
   // vkCmdDispatch with ceil(threads / local_size) groups.
   void dispatch_threads(VkCommandBuffer cmd, uint32_t x, uint32_t y = 1, uint32_t z = 1) const;
 

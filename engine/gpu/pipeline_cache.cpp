@@ -27,8 +27,9 @@ PipelineCache::PipelineCache(Context& ctx, fs::path file) : ctx_(ctx), file_(std
     std::memcpy(&h, data.data(), sizeof h);
     VkPhysicalDeviceProperties p;
     vkGetPhysicalDeviceProperties(ctx.physical_device(), &p);
-    bool ok = h.headerSize >= sizeof h && h.headerVersion == VK_PIPELINE_CACHE_HEADER_VERSION_ONE && h.vendorID == p.vendorID &&
-              h.deviceID == p.deviceID && std::memcmp(h.pipelineCacheUUID, p.pipelineCacheUUID, VK_UUID_SIZE) == 0;
+    bool ok = h.headerSize >= sizeof h && h.headerVersion == VK_PIPELINE_CACHE_HEADER_VERSION_ONE &&
+              h.vendorID == p.vendorID && h.deviceID == p.deviceID &&
+              std::memcmp(h.pipelineCacheUUID, p.pipelineCacheUUID, VK_UUID_SIZE) == 0;
     if (!ok) {
       LOG_INFO("gpu: pipeline cache %s is from another device or driver; starting empty", file_.string().c_str());
       data.clear();

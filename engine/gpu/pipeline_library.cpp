@@ -25,11 +25,12 @@ static std::string defines_key(const std::vector<ShaderDefine>& d) {
 }
 
 static std::string graphics_key(const GraphicsPipelineDesc& g) {
-  std::string k = "G|" + g.vertex.string() + "|" + g.fragment.string() + "|" + defines_key(g.defines) + "|" + g.name + "|";
+  std::string k =
+      "G|" + g.vertex.string() + "|" + g.fragment.string() + "|" + defines_key(g.defines) + "|" + g.name + "|";
   for (auto f : g.color_formats) k += std::to_string(int(f)) + ",";
   for (auto b : g.blend) k += "b" + std::to_string(int(b));
-  k += strf("|%d%d%d%d%u%d%d%d|", int(g.depth_format), g.depth_test, g.depth_write, int(g.depth_compare), g.cull, int(g.front_face),
-            int(g.topology), int(g.polygon));
+  k += strf("|%d%d%d%d%u%d%d%d|", int(g.depth_format), g.depth_test, g.depth_write, int(g.depth_compare), g.cull,
+            int(g.front_face), int(g.topology), int(g.polygon));
   for (auto& b : g.vertex_bindings) k += strf("vb%u,%u,%d;", b.binding, b.stride, int(b.inputRate));
   for (auto& a : g.vertex_attributes) k += strf("va%u,%u,%d,%u;", a.location, a.binding, int(a.format), a.offset);
   return k;
@@ -102,7 +103,8 @@ int PipelineLibrary::poll_reload() {
     auto files = e->pipeline.source_files();
     stamp(*e, files);
     try {
-      Pipeline fresh = e->is_compute ? Pipeline::compute(ctx_, compiler_, e->compute) : Pipeline::graphics(ctx_, compiler_, e->graphics);
+      Pipeline fresh = e->is_compute ? Pipeline::compute(ctx_, compiler_, e->compute)
+                                     : Pipeline::graphics(ctx_, compiler_, e->graphics);
       if (!idle) {
         ctx_.wait_idle();  // frames in flight may still use the old pipeline
         idle = true;
@@ -116,7 +118,8 @@ int PipelineLibrary::poll_reload() {
     } catch (const Error& err) {
       e->error = err.what();
       ++failures_;
-      LOG_ERROR("gpu: reload of pipeline '%s' failed, keeping the old one:\n%s", e->pipeline.name().c_str(), err.what());
+      LOG_ERROR("gpu: reload of pipeline '%s' failed, keeping the old one:\n%s", e->pipeline.name().c_str(),
+                err.what());
     }
   }
   return rebuilt;

@@ -65,8 +65,12 @@ std::vector<uint8_t> convert_to_rgba8(VkFormat format, const void* texels, size_
     out[i * 4 + 3] = to_u8(a, false);
   };
   switch (format) {
-    case VK_FORMAT_R8G8B8A8_UNORM: case VK_FORMAT_R8G8B8A8_SRGB: std::memcpy(out.data(), b, count * 4); break;
-    case VK_FORMAT_B8G8R8A8_UNORM: case VK_FORMAT_B8G8R8A8_SRGB:
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB:
+      std::memcpy(out.data(), b, count * 4);
+      break;
+    case VK_FORMAT_B8G8R8A8_UNORM:
+    case VK_FORMAT_B8G8R8A8_SRGB:
       for (size_t i = 0; i < count; ++i) {
         out[i * 4 + 0] = b[i * 4 + 2];
         out[i * 4 + 1] = b[i * 4 + 1];
@@ -84,7 +88,8 @@ std::vector<uint8_t> convert_to_rgba8(VkFormat format, const void* texels, size_
       for (size_t i = 0; i < count; ++i) {
         uint32_t v;
         std::memcpy(&v, b + i * 4, 4);
-        put(i, float(v & 1023) / 1023.0f, float((v >> 10) & 1023) / 1023.0f, float((v >> 20) & 1023) / 1023.0f, float(v >> 30) / 3.0f);
+        put(i, float(v & 1023) / 1023.0f, float((v >> 10) & 1023) / 1023.0f, float((v >> 20) & 1023) / 1023.0f,
+            float(v >> 30) / 3.0f);
       }
       break;
     case VK_FORMAT_B10G11R11_UFLOAT_PACK32:
@@ -94,7 +99,9 @@ std::vector<uint8_t> convert_to_rgba8(VkFormat format, const void* texels, size_
         put(i, uf11_to_float(v & 0x7ff, 6), uf11_to_float((v >> 11) & 0x7ff, 6), uf11_to_float(v >> 22, 5), 1.0f);
       }
       break;
-    case VK_FORMAT_R16G16B16A16_SFLOAT: case VK_FORMAT_R16G16_SFLOAT: case VK_FORMAT_R16_SFLOAT: {
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+    case VK_FORMAT_R16G16_SFLOAT:
+    case VK_FORMAT_R16_SFLOAT: {
       int n = format == VK_FORMAT_R16G16B16A16_SFLOAT ? 4 : format == VK_FORMAT_R16G16_SFLOAT ? 2 : 1;
       for (size_t i = 0; i < count; ++i) {
         float c[4] = {0, 0, 0, 1};
@@ -108,7 +115,9 @@ std::vector<uint8_t> convert_to_rgba8(VkFormat format, const void* texels, size_
       }
       break;
     }
-    case VK_FORMAT_R32G32B32A32_SFLOAT: case VK_FORMAT_R32_SFLOAT: case VK_FORMAT_D32_SFLOAT: {
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_D32_SFLOAT: {
       int n = format == VK_FORMAT_R32G32B32A32_SFLOAT ? 4 : 1;
       for (size_t i = 0; i < count; ++i) {
         float c[4] = {0, 0, 0, 1};
@@ -118,17 +127,22 @@ std::vector<uint8_t> convert_to_rgba8(VkFormat format, const void* texels, size_
       }
       break;
     }
-    default: fail("gpu: no RGBA8 conversion for format %s (%d)", format_name(format), int(format));
+    default:
+      fail("gpu: no RGBA8 conversion for format %s (%d)", format_name(format), int(format));
   }
   return out;
 }
 
 std::vector<uint8_t> read_image_bytes(Context& ctx, Image& image, uint32_t mip, uint32_t layer) {
   FormatInfo fi = format_info(image.format());
-  if (fi.block_bytes == 0) fail("gpu: readback of unsupported format %s (%d)", format_name(image.format()), int(image.format()));
+  if (fi.block_bytes == 0)
+    fail("gpu: readback of unsupported format %s (%d)", format_name(image.format()), int(image.format()));
   if (mip >= image.mips() || layer >= image.layers()) fail("gpu: readback of mip %u layer %u out of range", mip, layer);
   uint64_t bytes = mip_size_bytes(image.format(), image.extent(), mip);
-  Buffer staging(ctx, {.size = bytes, .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT, .memory = MemoryUsage::Readback, .name = "image readback"});
+  Buffer staging(ctx, {.size = bytes,
+                       .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       .memory = MemoryUsage::Readback,
+                       .name = "image readback"});
   VkImageLayout old = image.layout();
   VkImageLayout back = old == VK_IMAGE_LAYOUT_UNDEFINED ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : old;
   VkImageAspectFlags aspect = image.aspect();
@@ -136,14 +150,14 @@ std::vector<uint8_t> read_image_bytes(Context& ctx, Image& image, uint32_t mip, 
   ctx.submit_and_wait([&](VkCommandBuffer cmd) {
     // Whatever wrote the image in earlier submissions (shaders, attachments, copies) happens before the copy.
     cmd_image_barrier(cmd, image.handle(), image.full_range(), old, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                      VK_ACCESS_2_TRANSFER_READ_BIT);
+                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy r{};
     r.imageSubresource = {aspect, mip, layer, 1};
     r.imageExtent = image.extent(mip);
     vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1, &r);
-    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                       VK_ACCESS_2_HOST_READ_BIT);
+    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
     if (back != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
       cmd_image_barrier(cmd, image.handle(), image.full_range(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, back,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
@@ -167,10 +181,12 @@ Rgba8Image read_image_rgba8(Context& ctx, Image& image, bool srgb_encode) {
 
 void write_png(const std::filesystem::path& path, const Rgba8Image& image) {
   if (image.pixels.size() != size_t(image.width) * image.height * 4 || image.width == 0)
-    fail("%s: cannot write PNG: image is %ux%u with %zu bytes", path.string().c_str(), image.width, image.height, image.pixels.size());
+    fail("%s: cannot write PNG: image is %ux%u with %zu bytes", path.string().c_str(), image.width, image.height,
+         image.pixels.size());
   std::error_code ec;
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
-  if (!stbi_write_png(path.string().c_str(), int(image.width), int(image.height), 4, image.pixels.data(), int(image.width * 4)))
+  if (!stbi_write_png(path.string().c_str(), int(image.width), int(image.height), 4, image.pixels.data(),
+                      int(image.width * 4)))
     fail("%s: cannot write PNG (%s)", path.string().c_str(), ec ? ec.message().c_str() : "write failed");
 }
 

@@ -22,7 +22,9 @@ struct SamplerDesc {
   static SamplerDesc linear_repeat() { return {}; }
   static SamplerDesc linear_clamp() { return {.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE}; }
   static SamplerDesc nearest_clamp() {
-    return {.filter = VK_FILTER_NEAREST, .mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST, .address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE};
+    return {.filter = VK_FILTER_NEAREST,
+            .mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+            .address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE};
   }
 };
 

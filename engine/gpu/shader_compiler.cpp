@@ -1,5 +1,8 @@
 #include "engine/gpu/shader_compiler.h"
 
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -10,10 +13,6 @@
 #include <regex>
 #include <set>
 #include <sstream>
-
-#include <glslang/Public/ResourceLimits.h>
-#include <glslang/Public/ShaderLang.h>
-#include <glslang/SPIRV/GlslangToSpv.h>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -26,9 +25,12 @@ namespace fs = std::filesystem;
 
 const char* stage_name(ShaderStage s) {
   switch (s) {
-    case ShaderStage::Vertex: return "vertex";
-    case ShaderStage::Fragment: return "fragment";
-    case ShaderStage::Compute: return "compute";
+    case ShaderStage::Vertex:
+      return "vertex";
+    case ShaderStage::Fragment:
+      return "fragment";
+    case ShaderStage::Compute:
+      return "compute";
   }
   return "?";
 }
@@ -43,9 +45,12 @@ std::optional<ShaderStage> stage_from_path(const fs::path& p) {
 
 static EShLanguage to_glslang(ShaderStage s) {
   switch (s) {
-    case ShaderStage::Vertex: return EShLangVertex;
-    case ShaderStage::Fragment: return EShLangFragment;
-    case ShaderStage::Compute: return EShLangCompute;
+    case ShaderStage::Vertex:
+      return EShLangVertex;
+    case ShaderStage::Fragment:
+      return EShLangFragment;
+    case ShaderStage::Compute:
+      return EShLangCompute;
   }
   return EShLangCompute;
 }
@@ -57,7 +62,8 @@ static void init_glslang() {
   std::call_once(once, [] { glslang::InitializeProcess(); });
 }
 
-ShaderCompiler::ShaderCompiler(fs::path root, fs::path cache_dir) : root_(std::move(root)), cache_dir_(std::move(cache_dir)) {
+ShaderCompiler::ShaderCompiler(fs::path root, fs::path cache_dir)
+    : root_(std::move(root)), cache_dir_(std::move(cache_dir)) {
   if (root_.empty()) root_ = repo_root() / "shaders";
   root_ = fs::weakly_canonical(root_);
 }
@@ -85,8 +91,8 @@ namespace {
 
 // Scans #include lines (a superset of what the preprocessor will include: lines inside #if blocks
 // count too) to build the cache key before compiling.
-void gather_sources(const ShaderCompiler& c, const fs::path& file, std::vector<fs::path>& order, std::set<fs::path>& seen,
-                    uint64_t& key) {
+void gather_sources(const ShaderCompiler& c, const fs::path& file, std::vector<fs::path>& order,
+                    std::set<fs::path>& seen, uint64_t& key) {
   if (!seen.insert(file).second) return;
   order.push_back(file);
   std::string text = read_file_text(file);
@@ -103,8 +109,10 @@ void gather_sources(const ShaderCompiler& c, const fs::path& file, std::vector<f
     size_t close = line.find_first_of("\">", open + 1);
     if (close == std::string::npos) continue;
     std::string name = line.substr(open + 1, close - open - 1);
-    if (auto resolved = c.resolve_include(name, file)) gather_sources(c, *resolved, order, seen, key);
-    else key = hash64("missing:" + name, key);
+    if (auto resolved = c.resolve_include(name, file))
+      gather_sources(c, *resolved, order, seen, key);
+    else
+      key = hash64("missing:" + name, key);
   }
 }
 
@@ -113,8 +121,12 @@ class Includer : public glslang::TShader::Includer {
   Includer(const ShaderCompiler& c, fs::path main, std::string main_display) : c_(c) {
     by_display_[main_display] = std::move(main);
   }
-  IncludeResult* includeLocal(const char* name, const char* includer, size_t depth) override { return include(name, includer); }
-  IncludeResult* includeSystem(const char* name, const char* includer, size_t depth) override { return include(name, includer); }
+  IncludeResult* includeLocal(const char* name, const char* includer, size_t depth) override {
+    return include(name, includer);
+  }
+  IncludeResult* includeSystem(const char* name, const char* includer, size_t depth) override {
+    return include(name, includer);
+  }
   void releaseInclude(IncludeResult* r) override {
     if (!r) return;
     delete static_cast<std::string*>(r->userData);
@@ -125,12 +137,15 @@ class Includer : public glslang::TShader::Includer {
  private:
   IncludeResult* include(const char* name, const char* includer) {
     fs::path includer_path;
-    if (auto it = by_display_.find(includer ? includer : ""); it != by_display_.end()) includer_path = it->second;
-    else includer_path = c_.root() / "main";
+    if (auto it = by_display_.find(includer ? includer : ""); it != by_display_.end())
+      includer_path = it->second;
+    else
+      includer_path = c_.root() / "main";
     auto resolved = c_.resolve_include(name, includer_path);
     if (!resolved) {
       auto* msg = new std::string(strf("cannot find include \"%s\" (searched %s and %s)", name,
-                                       c_.display_name(includer_path.parent_path()).c_str(), c_.display_name(c_.root()).c_str()));
+                                       c_.display_name(includer_path.parent_path()).c_str(),
+                                       c_.display_name(c_.root()).c_str()));
       return new IncludeResult("", msg->c_str(), msg->size(), msg);
     }
     auto* text = new std::string(read_file_text(*resolved));
@@ -150,7 +165,8 @@ std::string format_log(const std::string& log, const std::string& display) {
   std::istringstream in(log);
   std::string line, out;
   while (std::getline(in, line)) {
-    for (const char* prefix : {"ERROR: ", "WARNING: ", "Linking compute stage: ", "Linking vertex stage: ", "Linking fragment stage: "})
+    for (const char* prefix :
+         {"ERROR: ", "WARNING: ", "Linking compute stage: ", "Linking vertex stage: ", "Linking fragment stage: "})
       if (line.rfind(prefix, 0) == 0) line = line.substr(std::strlen(prefix));
     if (line.empty() || line.find("compilation errors.") != std::string::npos) continue;
     if (!std::regex_search(line, located)) line = display + ": " + line;

@@ -53,10 +53,11 @@ class ShaderCompiler {
 
   const std::filesystem::path& root() const { return root_; }
   const std::filesystem::path& cache_dir() const { return cache_dir_; }
-  std::filesystem::path resolve(const std::filesystem::path& path) const;           // -> absolute
-  std::string display_name(const std::filesystem::path& absolute) const;            // "shaders/..." or the absolute path
+  std::filesystem::path resolve(const std::filesystem::path& path) const;  // -> absolute
+  std::string display_name(const std::filesystem::path& absolute) const;   // "shaders/..." or the absolute path
   // Resolves an #include target the way glslang will: relative to `includer` dir, then the root.
-  std::optional<std::filesystem::path> resolve_include(const std::string& name, const std::filesystem::path& includer) const;
+  std::optional<std::filesystem::path> resolve_include(const std::string& name,
+                                                       const std::filesystem::path& includer) const;
 
   // Statistics (for tests and logs).
   mutable uint32_t cache_hits = 0, compiles = 0;

@@ -84,8 +84,9 @@ void Swapchain::create(VkExtent2D size) {
   info.imageArrayLayers = 1;
   info.imageUsage = usage_;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  info.preTransform = (caps.supportedTransforms & VK_SURFACE_TRANSFORM_IDENTITY_BIT_KHR) ? VK_SURFACE_TRANSFORM_IDENTITY_BIT_KHR
-                                                                                         : caps.currentTransform;
+  info.preTransform = (caps.supportedTransforms & VK_SURFACE_TRANSFORM_IDENTITY_BIT_KHR)
+                          ? VK_SURFACE_TRANSFORM_IDENTITY_BIT_KHR
+                          : caps.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
   if (!(caps.supportedCompositeAlpha & VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR))
     info.compositeAlpha = VkCompositeAlphaFlagBitsKHR(caps.supportedCompositeAlpha & -caps.supportedCompositeAlpha);
@@ -120,8 +121,8 @@ void Swapchain::create(VkExtent2D size) {
   layouts_.assign(n, VK_IMAGE_LAYOUT_UNDEFINED);
   needs_recreate_ = false;
   ++generation_;
-  LOG_DEBUG("gpu: swapchain %ux%u, %u images, format %d, present mode %d", extent_.width, extent_.height, n, int(format_),
-            int(present_mode_));
+  LOG_DEBUG("gpu: swapchain %ux%u, %u images, format %d, present mode %d", extent_.width, extent_.height, n,
+            int(format_), int(present_mode_));
 }
 
 bool Swapchain::recreate(VkExtent2D size) {
@@ -138,8 +139,10 @@ std::optional<uint32_t> Swapchain::acquire(VkSemaphore acquired, uint64_t timeou
     needs_recreate_ = true;
     return std::nullopt;
   }
-  if (r == VK_SUBOPTIMAL_KHR) needs_recreate_ = true;
-  else if (r != VK_SUCCESS) vk_fail(r, "vkAcquireNextImageKHR", __FILE__, __LINE__);
+  if (r == VK_SUBOPTIMAL_KHR)
+    needs_recreate_ = true;
+  else if (r != VK_SUCCESS)
+    vk_fail(r, "vkAcquireNextImageKHR", __FILE__, __LINE__);
   return index;
 }
 

@@ -5,7 +5,8 @@
 
 namespace cumulo::gpu {
 
-GpuTimer::GpuTimer(Context& ctx, uint32_t frame_slots, uint32_t max_ranges) : ctx_(ctx), max_ranges_(max_ranges), slots_(frame_slots) {
+GpuTimer::GpuTimer(Context& ctx, uint32_t frame_slots, uint32_t max_ranges)
+    : ctx_(ctx), max_ranges_(max_ranges), slots_(frame_slots) {
   supported_ = ctx.info().timestamps;
   if (!supported_) return;
   period_ns_ = ctx.info().limits.timestampPeriod;

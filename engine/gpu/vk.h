@@ -14,8 +14,8 @@ const char* vk_result_name(VkResult r);
 
 }  // namespace cumulo::gpu
 
-#define VK_CHECK(expr)                                                                \
-  do {                                                                                \
-    VkResult vk_check_result_ = (expr);                                               \
+#define VK_CHECK(expr)                                                                             \
+  do {                                                                                             \
+    VkResult vk_check_result_ = (expr);                                                            \
     if (vk_check_result_ < 0) ::cumulo::gpu::vk_fail(vk_check_result_, #expr, __FILE__, __LINE__); \
   } while (0)

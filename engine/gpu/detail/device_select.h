@@ -1,17 +1,17 @@
 #pragma once
 // Device choice, separated from Vulkan calls so it can be unit-tested without a device.
+#include <vulkan/vulkan.h>
+
 #include <string>
 #include <vector>
-
-#include <vulkan/vulkan.h>
 
 namespace cumulo::gpu::detail {
 
 struct DeviceCandidate {
   std::string name;
   VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
-  bool suitable = true;     // has Vulkan 1.3, the features we need, a usable queue family
-  std::string why_not;      // when !suitable
+  bool suitable = true;  // has Vulkan 1.3, the features we need, a usable queue family
+  std::string why_not;   // when !suitable
 };
 
 // Rank: discrete > integrated > virtual > CPU > other.

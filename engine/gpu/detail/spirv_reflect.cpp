@@ -12,11 +12,36 @@ namespace cumulo::gpu::detail {
 namespace {
 
 enum Op : uint32_t {
-  OpName = 5, OpExecutionMode = 16, OpExecutionModeId = 331, OpTypeBool = 20, OpTypeInt = 21, OpTypeFloat = 22, OpTypeVector = 23, OpTypeMatrix = 24,
-  OpTypeImage = 25, OpTypeSampler = 26, OpTypeSampledImage = 27, OpTypeArray = 28, OpTypeRuntimeArray = 29, OpTypeStruct = 30,
-  OpTypePointer = 32, OpConstant = 43, OpVariable = 59, OpDecorate = 71, OpMemberDecorate = 72, OpTypeAccelerationStructure = 5341,
+  OpName = 5,
+  OpExecutionMode = 16,
+  OpExecutionModeId = 331,
+  OpTypeBool = 20,
+  OpTypeInt = 21,
+  OpTypeFloat = 22,
+  OpTypeVector = 23,
+  OpTypeMatrix = 24,
+  OpTypeImage = 25,
+  OpTypeSampler = 26,
+  OpTypeSampledImage = 27,
+  OpTypeArray = 28,
+  OpTypeRuntimeArray = 29,
+  OpTypeStruct = 30,
+  OpTypePointer = 32,
+  OpConstant = 43,
+  OpVariable = 59,
+  OpDecorate = 71,
+  OpMemberDecorate = 72,
+  OpTypeAccelerationStructure = 5341,
 };
-enum Decoration : uint32_t { Block = 2, BufferBlock = 3, ArrayStride = 6, MatrixStride = 7, Binding = 33, DescriptorSet = 34, Offset = 35 };
+enum Decoration : uint32_t {
+  Block = 2,
+  BufferBlock = 3,
+  ArrayStride = 6,
+  MatrixStride = 7,
+  Binding = 33,
+  DescriptorSet = 34,
+  Offset = 35
+};
 enum StorageClass : uint32_t { UniformConstant = 0, Uniform = 2, PushConstant = 9, StorageBuffer = 12 };
 
 struct Type {
@@ -51,10 +76,15 @@ struct Parser {
   uint64_t size_of(uint32_t id, uint32_t matrix_stride) const {
     const Type& t = type(id);
     switch (t.op) {
-      case OpTypeBool: return 4;
-      case OpTypeInt: case OpTypeFloat: return t.args[0] / 8;
-      case OpTypeVector: return size_of(t.args[0], 0) * t.args[1];
-      case OpTypeMatrix: return uint64_t(t.args[1]) * (matrix_stride ? matrix_stride : size_of(t.args[0], 0));
+      case OpTypeBool:
+        return 4;
+      case OpTypeInt:
+      case OpTypeFloat:
+        return t.args[0] / 8;
+      case OpTypeVector:
+        return size_of(t.args[0], 0) * t.args[1];
+      case OpTypeMatrix:
+        return uint64_t(t.args[1]) * (matrix_stride ? matrix_stride : size_of(t.args[0], 0));
       case OpTypeArray: {
         uint64_t n = constants.count(t.args[1]) ? constants.at(t.args[1]) : 1;
         uint32_t stride = get(id, ArrayStride);
@@ -73,7 +103,8 @@ struct Parser {
         }
         return size;
       }
-      default: return 0;
+      default:
+        return 0;
     }
   }
 
@@ -87,22 +118,26 @@ struct Parser {
       t = &type(type_id);
     }
     switch (t->op) {
-      case OpTypeSampler: return VK_DESCRIPTOR_TYPE_SAMPLER;
+      case OpTypeSampler:
+        return VK_DESCRIPTOR_TYPE_SAMPLER;
       case OpTypeSampledImage: {
         const Type& img = type(t->args[0]);
         return img.args[1] == 5 ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       }
       case OpTypeImage: {
         uint32_t dim = t->args[1], sampled = t->args[5];
-        if (dim == 5) return sampled == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        if (dim == 5)
+          return sampled == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         if (dim == 6) return VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT;
         return sampled == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
       }
       case OpTypeStruct:
         if (storage == StorageBuffer || has(type_id, BufferBlock)) return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-      case OpTypeAccelerationStructure: return VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-      default: fail("%s: unsupported descriptor declaration (SPIR-V op %u)", where.c_str(), t->op);
+      case OpTypeAccelerationStructure:
+        return VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+      default:
+        fail("%s: unsupported descriptor declaration (SPIR-V op %u)", where.c_str(), t->op);
     }
   }
 };
@@ -114,7 +149,9 @@ ShaderReflection reflect_spirv(const std::vector<uint32_t>& code, const std::str
   Parser p;
   p.where = name;
   ShaderReflection out;
-  struct Var { uint32_t id, type, storage; };
+  struct Var {
+    uint32_t id, type, storage;
+  };
   std::vector<Var> vars;
   std::vector<uint32_t> local_size_ids;
   for (size_t i = 5; i < code.size();) {
@@ -128,7 +165,8 @@ ShaderReflection reflect_spirv(const std::vector<uint32_t>& code, const std::str
         break;
       }
       case OpExecutionMode:
-        if (w[2] == 17 && words >= 6) out.local_size[0] = w[3], out.local_size[1] = w[4], out.local_size[2] = w[5];  // LocalSize
+        if (w[2] == 17 && words >= 6)
+          out.local_size[0] = w[3], out.local_size[1] = w[4], out.local_size[2] = w[5];  // LocalSize
         break;
       case OpExecutionModeId:  // SPIR-V 1.6 (glslang for Vulkan 1.3): LocalSizeId with constant ids
         if (w[2] == 38 && words >= 6) local_size_ids = {w[3], w[4], w[5]};
@@ -139,8 +177,18 @@ ShaderReflection reflect_spirv(const std::vector<uint32_t>& code, const std::str
       case OpMemberDecorate:
         if (words >= 4) p.member_decorations[{w[1], w[2]}][w[3]] = words >= 5 ? w[4] : 1;
         break;
-      case OpTypeBool: case OpTypeInt: case OpTypeFloat: case OpTypeVector: case OpTypeMatrix: case OpTypeImage: case OpTypeSampler:
-      case OpTypeSampledImage: case OpTypeArray: case OpTypeRuntimeArray: case OpTypeStruct: case OpTypePointer:
+      case OpTypeBool:
+      case OpTypeInt:
+      case OpTypeFloat:
+      case OpTypeVector:
+      case OpTypeMatrix:
+      case OpTypeImage:
+      case OpTypeSampler:
+      case OpTypeSampledImage:
+      case OpTypeArray:
+      case OpTypeRuntimeArray:
+      case OpTypeStruct:
+      case OpTypePointer:
       case OpTypeAccelerationStructure:
         p.types[w[1]] = Type{op, std::vector<uint32_t>(w + 2, w + words)};
         break;
@@ -150,17 +198,20 @@ ShaderReflection reflect_spirv(const std::vector<uint32_t>& code, const std::str
       case OpVariable:
         vars.push_back({w[2], w[1], w[3]});
         break;
-      default: break;
+      default:
+        break;
     }
     i += words;
   }
   for (size_t k = 0; k < local_size_ids.size(); ++k) {
     auto c = p.constants.find(local_size_ids[k]);
-    if (c == p.constants.end()) fail("%s: LocalSizeId refers to a non-constant (specialization constants are not supported)", name.c_str());
+    if (c == p.constants.end())
+      fail("%s: LocalSizeId refers to a non-constant (specialization constants are not supported)", name.c_str());
     out.local_size[k] = uint32_t(c->second);
   }
   for (const Var& v : vars) {
-    if (v.storage != UniformConstant && v.storage != Uniform && v.storage != StorageBuffer && v.storage != PushConstant) continue;
+    if (v.storage != UniformConstant && v.storage != Uniform && v.storage != StorageBuffer && v.storage != PushConstant)
+      continue;
     const Type& ptr = p.type(v.type);
     uint32_t pointee = ptr.args[1];
     if (v.storage == PushConstant) {
@@ -172,7 +223,8 @@ ShaderReflection reflect_spirv(const std::vector<uint32_t>& code, const std::str
     b.set = p.get(v.id, DescriptorSet);
     b.binding = p.get(v.id, Binding);
     b.type = p.descriptor_type(pointee, v.storage, b.count);
-    b.name = p.names.count(v.id) && !p.names[v.id].empty() ? p.names[v.id] : (p.names.count(pointee) ? p.names[pointee] : "");
+    b.name = p.names.count(v.id) && !p.names[v.id].empty() ? p.names[v.id]
+                                                           : (p.names.count(pointee) ? p.names[pointee] : "");
     out.bindings.push_back(b);
   }
   std::sort(out.bindings.begin(), out.bindings.end(),

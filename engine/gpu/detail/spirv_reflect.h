@@ -1,11 +1,11 @@
 #pragma once
 // Minimal SPIR-V reflection: descriptor bindings, push-constant block size, compute local size.
 // Enough to derive pipeline layouts from shaders so callers never write layouts by hand.
+#include <vulkan/vulkan.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <vulkan/vulkan.h>
 
 namespace cumulo::gpu::detail {
 

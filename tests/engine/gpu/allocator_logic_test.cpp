@@ -60,7 +60,9 @@ TEST(RangeAllocator, DoubleFreeThrows) {
 TEST(RangeAllocator, RandomizedNoOverlap) {
   std::mt19937 rng(1234);
   RangeAllocator r(1 << 20);
-  struct Live { uint64_t off, size; };
+  struct Live {
+    uint64_t off, size;
+  };
   std::vector<Live> live;
   for (int i = 0; i < 5000; ++i) {
     if (live.empty() || rng() % 3 != 0) {

@@ -1,7 +1,8 @@
+#include "engine/gpu/context.h"
+
 #include <gtest/gtest.h>
 
 #include "engine/core/error.h"
-#include "engine/gpu/context.h"
 #include "engine/gpu/allocator.h"
 #include "engine/gpu/pipeline_cache.h"
 #include "gpu_test_util.h"
@@ -91,7 +92,8 @@ TEST(GpuValidation, SynchronizationValidationCatchesMissingBarrier) {
     vkCmdFillBuffer(cmd, buf, 0, 256, 2);  // hazard: no barrier
   });
   EXPECT_GE(ctx.validation_errors(), 1u);
-  EXPECT_NE(ctx.last_validation_message().find("WRITE_AFTER_WRITE"), std::string::npos) << ctx.last_validation_message();
+  EXPECT_NE(ctx.last_validation_message().find("WRITE_AFTER_WRITE"), std::string::npos)
+      << ctx.last_validation_message();
   vkDestroyBuffer(ctx.device(), buf, nullptr);
   ctx.allocator().free(a);
 }

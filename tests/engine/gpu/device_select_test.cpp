@@ -1,7 +1,8 @@
+#include "engine/gpu/detail/device_select.h"
+
 #include <gtest/gtest.h>
 
 #include "engine/core/error.h"
-#include "engine/gpu/detail/device_select.h"
 
 using namespace cumulo::gpu::detail;
 
@@ -10,7 +11,8 @@ static DeviceCandidate dev(const char* name, VkPhysicalDeviceType t, bool ok = t
 }
 
 TEST(DeviceSelect, PrefersDiscreteThenIntegratedThenCpu) {
-  std::vector<DeviceCandidate> c = {dev("llvmpipe", VK_PHYSICAL_DEVICE_TYPE_CPU), dev("Intel UHD", VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU),
+  std::vector<DeviceCandidate> c = {dev("llvmpipe", VK_PHYSICAL_DEVICE_TYPE_CPU),
+                                    dev("Intel UHD", VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU),
                                     dev("RTX 4090", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU)};
   EXPECT_EQ(choose_device(c, ""), 2);
   c.pop_back();
@@ -20,14 +22,16 @@ TEST(DeviceSelect, PrefersDiscreteThenIntegratedThenCpu) {
 }
 
 TEST(DeviceSelect, SkipsUnsuitable) {
-  std::vector<DeviceCandidate> c = {dev("llvmpipe", VK_PHYSICAL_DEVICE_TYPE_CPU), dev("Old GPU", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, false)};
+  std::vector<DeviceCandidate> c = {dev("llvmpipe", VK_PHYSICAL_DEVICE_TYPE_CPU),
+                                    dev("Old GPU", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, false)};
   EXPECT_EQ(choose_device(c, ""), 0);
   c[0].suitable = false;
   EXPECT_THROW(choose_device(c, ""), cumulo::Error);
 }
 
 TEST(DeviceSelect, OverrideByIndexOrNameSubstring) {
-  std::vector<DeviceCandidate> c = {dev("NVIDIA RTX", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU), dev("llvmpipe (LLVM 15)", VK_PHYSICAL_DEVICE_TYPE_CPU)};
+  std::vector<DeviceCandidate> c = {dev("NVIDIA RTX", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU),
+                                    dev("llvmpipe (LLVM 15)", VK_PHYSICAL_DEVICE_TYPE_CPU)};
   EXPECT_EQ(choose_device(c, "1"), 1);
   EXPECT_EQ(choose_device(c, "0"), 0);
   EXPECT_EQ(choose_device(c, "LLVMPIPE"), 1);
@@ -35,7 +39,8 @@ TEST(DeviceSelect, OverrideByIndexOrNameSubstring) {
 }
 
 TEST(DeviceSelect, BadOverrideNamesTheSpecAndListsDevices) {
-  std::vector<DeviceCandidate> c = {dev("llvmpipe", VK_PHYSICAL_DEVICE_TYPE_CPU), dev("Old", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, false)};
+  std::vector<DeviceCandidate> c = {dev("llvmpipe", VK_PHYSICAL_DEVICE_TYPE_CPU),
+                                    dev("Old", VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, false)};
   try {
     choose_device(c, "radeon");
     FAIL();

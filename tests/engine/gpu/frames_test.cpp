@@ -1,7 +1,8 @@
+#include "engine/gpu/frames.h"
+
 #include <gtest/gtest.h>
 
 #include "engine/gpu/barrier.h"
-#include "engine/gpu/frames.h"
 #include "engine/gpu/image.h"
 #include "engine/gpu/readback.h"
 #include "engine/gpu/timestamps.h"
@@ -14,7 +15,8 @@ using cumulo::gpu::test::GpuTest;
 TEST_F(GpuTest, FrameRingCyclesSlotsWithTimestamps) {
   FrameRing frames(ctx());
   GpuTimer timer(ctx(), frames.size());
-  Image target(ctx(), ImageDesc::tex2d(32, 32, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_TRANSFER_DST_BIT, 1, "frame target"));
+  Image target(ctx(),
+               ImageDesc::tex2d(32, 32, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_TRANSFER_DST_BIT, 1, "frame target"));
   std::vector<uint32_t> slots;
   size_t ranges_seen = 0;
   for (int i = 0; i < 5; ++i) {
@@ -29,9 +31,9 @@ TEST_F(GpuTest, FrameRingCyclesSlotsWithTimestamps) {
     }
     uint32_t t = timer.begin(f.cmd, "clear");
     // Each frame overwrites the whole image: wait for the previous frame's clear (WAW) before clearing.
-    cmd_image_barrier(f.cmd, target.handle(), target.full_range(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                      VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_CLEAR_BIT,
-                      VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    cmd_image_barrier(f.cmd, target.handle(), target.full_range(), VK_IMAGE_LAYOUT_UNDEFINED,
+                      VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                      VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkClearColorValue c{{float(i) / 4.0f, 0.0f, 1.0f, 1.0f}};
     VkImageSubresourceRange range = target.full_range();
     vkCmdClearColorImage(f.cmd, target.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &c, 1, &range);

@@ -3,19 +3,18 @@
 // from CTest), a private cache folder, and a zero-validation-error check after the Context is gone
 // (so messages about leaked objects at vkDestroyDevice count too).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <unistd.h>
 
 #include "engine/gpu/context.h"
 
 namespace cumulo::gpu::test {
 
 inline std::filesystem::path temp_dir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() /
-             ("cumulo_gpu_" + name + "_" + std::to_string(::getpid()));
+  auto dir = std::filesystem::temp_directory_path() / ("cumulo_gpu_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -29,7 +29,9 @@ std::string shader_with(const std::string& expr) {
          "layout(local_size_x = 1) in;\n"
          "layout(std430, set = 0, binding = 0) buffer Out { float v; };\n"
          "void main() {\n"
-         "  v = " + expr + ";\n"
+         "  v = " +
+         expr +
+         ";\n"
          "}\n";
 }
 

@@ -1,8 +1,9 @@
+#include "engine/gpu/pipeline.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
-
 #include <fstream>
 
 #include "engine/core/error.h"
@@ -10,7 +11,6 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/descriptors.h"
 #include "engine/gpu/image.h"
-#include "engine/gpu/pipeline.h"
 #include "engine/gpu/pipeline_cache.h"
 #include "engine/gpu/readback.h"
 #include "engine/gpu/sampler.h"
@@ -25,7 +25,8 @@ namespace fs = std::filesystem;
 // texel by texel against the formula in shaders/test/test_common.glsl.
 TEST_F(GpuTest, ComputeShaderWithIncludeAndDefineWritesImage) {
   ShaderCompiler compiler({}, cache_ / "shaders");
-  Pipeline p = Pipeline::compute(ctx(), compiler, {.shader = "test/fill_pattern.comp", .defines = {{"SCALE", "3.0"}}, .name = "fill"});
+  Pipeline p = Pipeline::compute(ctx(), compiler,
+                                 {.shader = "test/fill_pattern.comp", .defines = {{"SCALE", "3.0"}}, .name = "fill"});
   EXPECT_TRUE(p.set0_is_push());
   const uint32_t W = 64, H = 48;
   Image img(ctx(), ImageDesc::tex2d(W, H, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, 1, "pattern"));
@@ -34,8 +35,9 @@ TEST_F(GpuTest, ComputeShaderWithIncludeAndDefineWritesImage) {
   ctx().submit_and_wait([&](VkCommandBuffer cmd) {
     ctx().cmd_begin_label(cmd, "fill pattern");
     uint32_t t = timer.begin(cmd, "fill");
-    cmd_image_barrier(cmd, img.handle(), img.full_range(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    cmd_image_barrier(cmd, img.handle(), img.full_range(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     p.bind(cmd);
     DescriptorWriter().storage_image(0, img.view()).push(ctx(), cmd, p);
     uint32_t size[2] = {W, H};
@@ -80,16 +82,19 @@ TEST_F(GpuTest, Texture3DWithMipsUploadAndSample) {
   vol.upload(md);
   EXPECT_EQ(vol.layout(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 
-  struct Q { float u, v, w, lod; };
+  struct Q {
+    float u, v, w, lod;
+  };
   std::vector<Q> queries = {
       {0.5f / N, 0.5f, 0.5f, 0.0f},  // texel 0 centre -> 0
       {7.5f / N, 0.5f, 0.5f, 0.0f},  // texel 7 centre -> 1
       {4.0f / N, 0.3f, 0.7f, 0.0f},  // between texels 3 and 4 -> (3/7 + 4/7) / 2 = 0.5 (trilinear along x)
-      {0.5f, 0.5f, 0.5f, 1.0f}, {0.5f, 0.5f, 0.5f, 2.0f}, {0.5f, 0.5f, 0.5f, 3.0f},
-      {0.5f, 0.5f, 0.5f, 1.5f},  // between mips 1 and 2 -> (40 + 80) / 2 / 255
+      {0.5f, 0.5f, 0.5f, 1.0f},     {0.5f, 0.5f, 0.5f, 2.0f},
+      {0.5f, 0.5f, 0.5f, 3.0f},     {0.5f, 0.5f, 0.5f, 1.5f},  // between mips 1 and 2 -> (40 + 80) / 2 / 255
   };
   std::vector<float> expected = {0.0f, 1.0f, 0.5f, 40 / 255.0f, 80 / 255.0f, 120 / 255.0f, 60 / 255.0f};
-  Buffer qbuf(ctx(), {.size = queries.size() * sizeof(Q), .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .name = "queries"});
+  Buffer qbuf(ctx(),
+              {.size = queries.size() * sizeof(Q), .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .name = "queries"});
   qbuf.upload(queries.data(), queries.size() * sizeof(Q));
   Buffer rbuf(ctx(), {.size = queries.size() * 16, .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .name = "results"});
 
@@ -115,15 +120,18 @@ TEST_F(GpuTest, Texture3DWithMipsUploadAndSample) {
 TEST_F(GpuTest, GraphicsPipelineRendersAndWritesPng) {
   ShaderCompiler compiler({}, cache_ / "shaders");
   const VkFormat fmt = VK_FORMAT_R8G8B8A8_UNORM;
-  Pipeline p = Pipeline::graphics(ctx(), compiler, {.vertex = "test/solid_color.vert", .fragment = "test/solid_color.frag",
-                                                    .color_formats = {fmt}, .name = "solid"});
+  Pipeline p = Pipeline::graphics(ctx(), compiler,
+                                  {.vertex = "test/solid_color.vert",
+                                   .fragment = "test/solid_color.frag",
+                                   .color_formats = {fmt},
+                                   .name = "solid"});
   EXPECT_EQ(p.push_constant_size(), 20u);
   const uint32_t W = 64, H = 64;
   Image target(ctx(), ImageDesc::tex2d(W, H, fmt, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, 1, "target"));
   ctx().submit_and_wait([&](VkCommandBuffer cmd) {
-    cmd_image_barrier(cmd, target.handle(), target.full_range(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                      VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    cmd_image_barrier(cmd, target.handle(), target.full_range(), VK_IMAGE_LAYOUT_UNDEFINED,
+                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     color.imageView = target.view();
     color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
@@ -140,7 +148,10 @@ TEST_F(GpuTest, GraphicsPipelineRendersAndWritesPng) {
     VkRect2D sc{{0, 0}, {W, H}};
     vkCmdSetViewport(cmd, 0, 1, &vp);
     vkCmdSetScissor(cmd, 0, 1, &sc);
-    struct { float color[4]; float split; } push = {{1.0f, 0.25f, 0.0f, 1.0f}, 32.0f};
+    struct {
+      float color[4];
+      float split;
+    } push = {{1.0f, 0.25f, 0.0f, 1.0f}, 32.0f};
     p.push_constants(cmd, &push, sizeof push);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
@@ -163,9 +174,7 @@ TEST_F(GpuTest, PipelineCacheFileWrittenAndReloaded) {
   EXPECT_EQ(file, cache_ / "pipelines.bin");
   EXPECT_FALSE(ctx().pipeline_cache().loaded_from_disk());
   ShaderCompiler compiler({}, cache_ / "shaders");
-  {
-    Pipeline p = Pipeline::compute(ctx(), compiler, {.shader = "test/fill_pattern.comp"});
-  }
+  { Pipeline p = Pipeline::compute(ctx(), compiler, {.shader = "test/fill_pattern.comp"}); }
   ctx().pipeline_cache().save();
   ASSERT_TRUE(fs::exists(file));
   EXPECT_GE(fs::file_size(file), sizeof(VkPipelineCacheHeaderVersionOne));  // lavapipe stores just the header
@@ -178,7 +187,8 @@ TEST_F(GpuTest, PipelineCacheFileWrittenAndReloaded) {
   EXPECT_TRUE(ctx().pipeline_cache().loaded_from_disk());
   // A garbled file is ignored, not fatal.
   ctx_.reset();
-  std::ofstream(file, std::ios::binary | std::ios::trunc) << "not a pipeline cache, just some bytes that are long enough";
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      << "not a pipeline cache, just some bytes that are long enough";
   ctx_ = std::make_unique<Context>(desc);
   EXPECT_FALSE(ctx().pipeline_cache().loaded_from_disk());
 }
@@ -187,8 +197,10 @@ TEST_F(GpuTest, PushToWrongBindingIsAnError) {
   ShaderCompiler compiler({}, cache_ / "shaders");
   Pipeline p = Pipeline::compute(ctx(), compiler, {.shader = "test/fill_pattern.comp", .name = "fill"});
   Buffer b(ctx(), {.size = 64, .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
-  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) { DescriptorWriter().storage_buffer(0, b.handle()).push(ctx(), cmd, p); }),
+  EXPECT_THROW(ctx().submit_and_wait(
+                   [&](VkCommandBuffer cmd) { DescriptorWriter().storage_buffer(0, b.handle()).push(ctx(), cmd, p); }),
                cumulo::Error);
-  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer cmd) { DescriptorWriter().storage_buffer(5, b.handle()).push(ctx(), cmd, p); }),
+  EXPECT_THROW(ctx().submit_and_wait(
+                   [&](VkCommandBuffer cmd) { DescriptorWriter().storage_buffer(5, b.handle()).push(ctx(), cmd, p); }),
                cumulo::Error);
 }

@@ -44,7 +44,8 @@ TEST_F(GpuTest, BufferHostVisibleIsMappedAndOverflowIsAnError) {
 TEST_F(GpuTest, AllocatorSuballocatesAndTracksPeak) {
   MemoryStats before = ctx().allocator().stats();
   std::vector<Buffer> bufs;
-  for (int i = 0; i < 32; ++i) bufs.emplace_back(ctx(), BufferDesc{.size = 4096 + uint64_t(i) * 100, .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+  for (int i = 0; i < 32; ++i)
+    bufs.emplace_back(ctx(), BufferDesc{.size = 4096 + uint64_t(i) * 100, .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
   MemoryStats mid = ctx().allocator().stats();
   EXPECT_EQ(mid.allocation_count, before.allocation_count + 32);
   EXPECT_LE(mid.block_count, before.block_count + 1) << "32 small buffers must share one block";
@@ -74,7 +75,8 @@ TEST_F(GpuTest, ImagesAliasOneAllocation) {
   auto db = ImageDesc::tex2d(16, 16, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, 1, "alias b");
   Image a = Image::create_unbound(ctx(), da), b = Image::create_unbound(ctx(), db);
   VkMemoryRequirements ra = a.memory_requirements(), rb = b.memory_requirements();
-  VkMemoryRequirements combined{std::max(ra.size, rb.size), std::max(ra.alignment, rb.alignment), ra.memoryTypeBits & rb.memoryTypeBits};
+  VkMemoryRequirements combined{std::max(ra.size, rb.size), std::max(ra.alignment, rb.alignment),
+                                ra.memoryTypeBits & rb.memoryTypeBits};
   Allocation mem = ctx().allocator().allocate(combined, MemoryUsage::GpuOnly, "alias slot");
   a.bind_memory(mem);
   b.bind_memory(mem);
@@ -145,7 +147,8 @@ TEST_F(GpuTest, GenerateMipsByBlit) {
     ASSERT_EQ(got.size(), size_t(8 >> m) * (8 >> m) * (8 >> m));
     for (uint8_t x : got) EXPECT_NEAR(x, 100, 1) << "mip " << m;
   }
-  Image img(ctx(), ImageDesc::tex2d(4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, kAllMips, "mip 2d"));
+  Image img(ctx(),
+            ImageDesc::tex2d(4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, kAllMips, "mip 2d"));
   std::vector<uint16_t> px(4 * 4 * 4);
   for (int i = 0; i < 16; ++i)
     for (int c = 0; c < 4; ++c) px[i * 4 + c] = ((i % 4 + i / 4) % 2) ? 0x3c00 : 0x0000;  // checkerboard of 1.0 and 0.0

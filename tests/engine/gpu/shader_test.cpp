@@ -47,7 +47,8 @@ TEST(ShaderCompiler, ReflectsSamplersAndBuffers) {
 
 TEST(ShaderCompiler, ErrorNamesFileAndLine) {
   fs::path root = test::temp_dir("shader_error");
-  write(root / "bad" / "broken.comp", "#version 460\nlayout(local_size_x = 1) in;\nvoid main() {\n  float x = undefined_thing;\n}\n");
+  write(root / "bad" / "broken.comp",
+        "#version 460\nlayout(local_size_x = 1) in;\nvoid main() {\n  float x = undefined_thing;\n}\n");
   ShaderCompiler c(root);
   try {
     c.compile("bad/broken.comp");
@@ -73,10 +74,12 @@ TEST(ShaderCompiler, ErrorInsideIncludeNamesTheInclude) {
     FAIL();
   } catch (const cumulo::Error& e) {
     std::string m = e.what();
-    EXPECT_NE(m.find("lib/helpers.glsl:3: "), std::string::npos) << m;  // glslang reports at the '}' after the missing ';'
+    EXPECT_NE(m.find("lib/helpers.glsl:3: "), std::string::npos)
+        << m;  // glslang reports at the '}' after the missing ';'
   }
   write(root / "missing.comp",
-        "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"nope.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n");
+        "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"nope.glsl\"\nlayout(local_size_x = "
+        "1) in;\nvoid main() {}\n");
   try {
     c.compile("missing.comp");
     FAIL();
@@ -93,7 +96,8 @@ TEST(ShaderCompiler, DiskCacheKeyedBySourcesAndDefines) {
   fs::path root = test::temp_dir("shader_cache_src"), cache = test::temp_dir("shader_cache");
   write(root / "inc.glsl", "const float K = 1.0;\n");
   write(root / "a.comp",
-        "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"inc.glsl\"\nlayout(local_size_x = 1) in;\n"
+        "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"inc.glsl\"\nlayout(local_size_x = "
+        "1) in;\n"
         "layout(std430, binding = 0) buffer B { float v; };\nvoid main() { v = K * VALUE; }\n");
   ShaderCompiler c(root, cache);
   auto s1 = c.compile("a.comp", {{"VALUE", "2.0"}});
@@ -102,7 +106,7 @@ TEST(ShaderCompiler, DiskCacheKeyedBySourcesAndDefines) {
   EXPECT_TRUE(s2.from_cache);
   EXPECT_EQ(s1.spirv, s2.spirv);
   EXPECT_FALSE(c.compile("a.comp", {{"VALUE", "3.0"}}).from_cache);  // defines are part of the key
-  write(root / "inc.glsl", "const float K = 2.0;\n");                  // so is every included file
+  write(root / "inc.glsl", "const float K = 2.0;\n");                // so is every included file
   auto s3 = c.compile("a.comp", {{"VALUE", "2.0"}});
   EXPECT_FALSE(s3.from_cache);
   EXPECT_NE(s3.key, s1.key);

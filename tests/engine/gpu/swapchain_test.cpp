@@ -27,9 +27,11 @@ void render_frame(Context& ctx, FrameRing& frames, Swapchain& sc, float shade, V
     return;
   }
   VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  // The acquire semaphore wait covers the presentation engine's read; COLOR_ATTACHMENT_OUTPUT | TRANSFER is the wait stage.
+  // The acquire semaphore wait covers the presentation engine's read; COLOR_ATTACHMENT_OUTPUT | TRANSFER is the wait
+  // stage.
   cmd_image_barrier(f.cmd, sc.image(*idx), range, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT);
   VkClearColorValue c{{shade, 0.3f, 0.6f, 1.0f}};
   vkCmdClearColorImage(f.cmd, sc.image(*idx), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &c, 1, &range);
   cmd_image_barrier(f.cmd, sc.image(*idx), range, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
