@@ -33,6 +33,15 @@ void Compiler::validate() {
       fail("render graph: buffer '%s' has size 0", r.name.c_str());
     }
   }
+  // One Vulkan object imported twice would get two independent barrier chains.
+  for (size_t i = 0; i < resources_.size(); ++i)
+    for (size_t j = 0; j < i; ++j) {
+      const ResourceDecl &a = resources_[i], &b = resources_[j];
+      const bool same_image = a.image && b.image && a.vk_image && a.vk_image == b.vk_image;
+      const bool same_buffer = !a.image && !b.image && a.vk_buffer && a.vk_buffer == b.vk_buffer;
+      if (a.imported && b.imported && (same_image || same_buffer))
+        fail("render graph: '%s' and '%s' import the same Vulkan object", b.name.c_str(), a.name.c_str());
+    }
   std::set<std::string> pass_names;
   std::vector<uint32_t> version(resources_.size(), 0);
   for (uint32_t p = 0; p < passes_.size(); ++p) {

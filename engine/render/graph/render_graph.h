@@ -18,15 +18,15 @@
 //
 // [SECTION] Example
 //   RenderGraph graph({320, 180});                                   // output size
-//   auto out = graph.import_texture("swapchain", {format, {320, 180, 1}}, image, view,
-//                                   ResourceState::undefined(), ResourceState::present());
+//   auto out = graph.import_texture("swapchain", TextureDesc::relative(VK_FORMAT_B8G8R8A8_UNORM), image, view,
+//                                   ResourceState::acquired(), ResourceState::present());
 //   auto hdr = graph.create_texture("hdr", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, 0.5f));
 //   graph.add_pass("march", Queue::Compute,
 //       [&](PassBuilder& b) { hdr = b.write(hdr, Usage::StorageWrite); },
 //       [=](PassContext& c) { /* bind c.view(hdr) as storage image, vkCmdDispatch(c.cmd(), ...) */ });
 //   graph.add_pass("tonemap", Queue::Graphics,
 //       [&](PassBuilder& b) { b.read(hdr, Usage::Sampled); out = b.write(out, Usage::ColorAttachment); },
-//       [=](PassContext& c) { /* vkCmdBeginRendering on c.view(out), sample c.view(hdr) */ });
+//       [=](PassContext& c) { /* vkCmdBeginRendering on c.view(out) in c.layout(out), sample c.view(hdr) */ });
 //   CompiledGraph compiled = graph.compile();   // no device needed: inspect, dump, test
 //   executor.execute(graph, cmd);               // executor.h: records barriers + passes
 //
@@ -36,8 +36,9 @@
 // - a transient must be written before it is read; a write does not preserve the previous content
 //   unless the pass also reads it (use read_write: load ops, blending, read-modify-write);
 // - one image layout per image per pass (Sampled + StorageWrite of the same image is an error);
-// - imported resources are outputs: what a live pass writes into them outlives the graph, so their
-//   writers are never culled. A pass with no live output is culled and its execute never runs.
+// - imported resources are the outputs: the last version written into each outlives the graph, so
+//   the passes it depends on are live. A pass with no live output is culled; its execute never runs;
+// - every imported resource is unique (one VkImage/VkBuffer imported under two names is an error).
 // - per-mip or per-layer states are not tracked: a pass that works mip by mip (mip generation)
 //   places its own, commented barriers inside; the graph sees the whole image.
 #include <cstdint>

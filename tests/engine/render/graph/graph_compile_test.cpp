@@ -507,5 +507,12 @@ TEST(RenderGraphCompile, DeclarationErrorsNameThePassAndResource) {
     g.create_texture("noformat", TextureDesc{});
     EXPECT_NE(compile_error(g).find("texture 'noformat' has no format"), std::string::npos);
   }
+  {
+    RenderGraph g(kSize);
+    VkImage image = reinterpret_cast<VkImage>(uintptr_t(0x42));
+    g.import_texture("one", kRgba16, image, VK_NULL_HANDLE, ResourceState::shader_read_only());
+    g.import_texture("two", kRgba16, image, VK_NULL_HANDLE, ResourceState::shader_read_only());
+    EXPECT_NE(compile_error(g).find("'one' and 'two' import the same Vulkan object"), std::string::npos);
+  }
   EXPECT_THROW(RenderGraph({0, 90}), Error);
 }
