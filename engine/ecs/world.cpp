@@ -13,11 +13,13 @@ uint32_t next_type_id() {
 }
 }  // namespace detail
 
-namespace {
-std::string handle(Entity e) {
+std::string to_string(Entity e) {
   if (e.is_null()) return "null entity";
   return strf("entity %uv%u", e.index, e.generation);
 }
+
+namespace {
+std::string handle(Entity e) { return to_string(e); }
 std::string type_str(std::string_view t) { return std::string(t); }
 }  // namespace
 

@@ -49,6 +49,9 @@ class World;
 template <typename... Ts>
 class View;
 
+// "entity 3v2" (slot 3, generation 2) or "null entity", for logs and messages.
+std::string to_string(Entity e);
+
 // Optional entity name; levels refer to entities (cameras "ground", "mixed", "immersed") by it.
 struct Name {
   std::string value;
@@ -106,26 +109,26 @@ class World {
   // ---- Components
   template <typename T, typename... Args>
   T& emplace(Entity e, Args&&... args) {
-    check_valid(e, "emplace", detail::type_name<T>());
-    check_unlocked(e, "emplace", detail::type_name<T>());
+    check_valid(e, "emplace", detail::type_name_v<T>);
+    check_unlocked(e, "emplace", detail::type_name_v<T>);
     auto& pool = pool_for<T>();
-    if (pool.contains(e.index)) fail_has(e, detail::type_name<T>());
+    if (pool.contains(e.index)) fail_has(e, detail::type_name_v<T>);
     return pool.emplace(e, std::forward<Args>(args)...);
   }
   template <typename T, typename... Args>
   T& emplace_or_replace(Entity e, Args&&... args) {
-    check_valid(e, "emplace_or_replace", detail::type_name<T>());
+    check_valid(e, "emplace_or_replace", detail::type_name_v<T>);
     if (auto* pool = find_pool<T>())
       if (T* existing = pool->find(e.index)) return *existing = T(std::forward<Args>(args)...);
-    check_unlocked(e, "emplace_or_replace", detail::type_name<T>());
+    check_unlocked(e, "emplace_or_replace", detail::type_name_v<T>);
     return pool_for<T>().emplace(e, std::forward<Args>(args)...);
   }
   template <typename T>
   T& get(Entity e) {
-    check_valid(e, "get", detail::type_name<T>());
+    check_valid(e, "get", detail::type_name_v<T>);
     auto* pool = find_pool<T>();
     T* c = pool ? pool->find(e.index) : nullptr;
-    if (!c) fail_missing(e, detail::type_name<T>());
+    if (!c) fail_missing(e, detail::type_name_v<T>);
     return *c;
   }
   template <typename T>
@@ -148,8 +151,8 @@ class World {
   // Returns whether the entity had the component.
   template <typename T>
   bool remove(Entity e) {
-    check_valid(e, "remove", detail::type_name<T>());
-    check_unlocked(e, "remove", detail::type_name<T>());
+    check_valid(e, "remove", detail::type_name_v<T>);
+    check_unlocked(e, "remove", detail::type_name_v<T>);
     auto* pool = find_pool<T>();
     return pool && pool->remove(e.index);
   }
@@ -216,7 +219,7 @@ class World {
   template <typename T>
   T& resource() {
     T* r = try_resource<T>();
-    if (!r) fail_no_resource(detail::type_name<T>());
+    if (!r) fail_no_resource(detail::type_name_v<T>);
     return *r;
   }
   template <typename T>
@@ -271,7 +274,7 @@ class World {
   template <typename T>
   detail::Pool<T>& pool_for() {
     auto& slot = slot_for(pools_, detail::type_id<T>());
-    if (!slot) slot = std::make_unique<detail::Pool<T>>(detail::type_name<T>());
+    if (!slot) slot = std::make_unique<detail::Pool<T>>(detail::type_name_v<T>);
     return static_cast<detail::Pool<T>&>(*slot);
   }
   uint32_t allocate_slot();
@@ -389,7 +392,7 @@ class View {
 
 template <typename T, typename... Args>
 void Commands::emplace(Entity e, Args&&... args) {
-  check_target(e, "defer().emplace", detail::type_name<T>());
+  check_target(e, "defer().emplace", detail::type_name_v<T>);
   struct EmplaceOp final : Op {
     EmplaceOp(Entity e, T v) : e(e), value(std::move(v)) {}
     void apply(World& w) override {
@@ -403,7 +406,7 @@ void Commands::emplace(Entity e, Args&&... args) {
 
 template <typename T>
 void Commands::remove(Entity e) {
-  check_target(e, "defer().remove", detail::type_name<T>());
+  check_target(e, "defer().remove", detail::type_name_v<T>);
   struct RemoveOp final : Op {
     explicit RemoveOp(Entity e) : e(e) {}
     void apply(World& w) override {

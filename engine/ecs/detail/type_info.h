@@ -25,5 +25,8 @@ constexpr std::string_view type_name() {
   size_t e = f.find_first_of(";]", b);
   return f.substr(b, e - b);
 }
+// Forces compile-time evaluation, so hot paths that pass the name along for errors pay nothing.
+template <typename T>
+inline constexpr std::string_view type_name_v = type_name<T>();
 
 }  // namespace cumulo::ecs::detail

@@ -1,5 +1,5 @@
 // Entities, generations, component storage, names and resources.
-#include "engine/ecs/world.h"
+#include "engine/ecs/ecs.h"  // also checks that the umbrella header compiles alone
 
 #include <gtest/gtest.h>
 
@@ -160,6 +160,11 @@ TEST(World, Resources) {
   EXPECT_FLOAT_EQ(w.resource<TimeOfDay>().hours, 12.0f);
   w.remove_resource<TimeOfDay>();
   EXPECT_FALSE(w.has_resource<TimeOfDay>());
+}
+
+TEST(World, EntityToString) {
+  EXPECT_EQ(to_string(Entity{3, 2}), "entity 3v2");
+  EXPECT_EQ(to_string(Entity::null()), "null entity");
 }
 
 TEST(World, TypeNamesAreReadable) {
