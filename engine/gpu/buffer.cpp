@@ -64,6 +64,10 @@ void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
                          .name = "upload staging"});
   std::memcpy(staging.mapped(), data, bytes);
   ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+    // Earlier submissions may still read or write this range (WAR/WAW across submissions).
+    cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                       VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                       VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkBufferCopy region{0, offset, bytes};
     vkCmdCopyBuffer(cmd, staging.handle(), buffer_, 1, &region);
     cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -78,6 +82,12 @@ void Buffer::download(void* out, VkDeviceSize bytes, VkDeviceSize offset) const 
          (unsigned long long)offset, (unsigned long long)size_);
   if (bytes == 0) return;
   if (mapped()) {
+    // Device writes from earlier submissions must be made visible to the host: a fence wait alone
+    // does not do that (on lavapipe every memory type is mapped, so this is the usual path there).
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+      cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                         VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+    });
     std::memcpy(out, static_cast<const char*>(mapped()) + offset, bytes);
     return;
   }

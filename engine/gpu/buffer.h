@@ -48,7 +48,8 @@ class Buffer {
     return {buffer_, offset, range};
   }
 
-  // CPU -> buffer. Host-visible: memcpy. Otherwise a staging copy on the queue, waited for, followed
+  // CPU -> buffer. Host-visible: memcpy (immediately: the GPU must not be using the range; on
+  // lavapipe every buffer is host-visible). Otherwise a staging copy on the queue, waited for, followed
   // by a barrier that makes the data visible to every later command.
   void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
   // Buffer -> CPU; waits for the queue copy when not host-visible. Callers make sure earlier GPU

@@ -21,17 +21,16 @@ const char* vk_result_name(VkResult r) {
   case x:       \
     return #x;
     CASE(VK_SUCCESS)
-    CASE(VK_NOT_READY) CASE(VK_TIMEOUT) CASE(VK_EVENT_SET) CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE)
-        CASE(VK_ERROR_OUT_OF_HOST_MEMORY) CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY) CASE(VK_ERROR_INITIALIZATION_FAILED)
-            CASE(VK_ERROR_DEVICE_LOST) CASE(VK_ERROR_MEMORY_MAP_FAILED) CASE(VK_ERROR_LAYER_NOT_PRESENT)
-                CASE(VK_ERROR_EXTENSION_NOT_PRESENT) CASE(VK_ERROR_FEATURE_NOT_PRESENT)
-                    CASE(VK_ERROR_INCOMPATIBLE_DRIVER) CASE(VK_ERROR_TOO_MANY_OBJECTS)
-                        CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) CASE(VK_ERROR_FRAGMENTED_POOL)
-                            CASE(VK_ERROR_OUT_OF_POOL_MEMORY) CASE(VK_ERROR_SURFACE_LOST_KHR)
-                                CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR) CASE(VK_SUBOPTIMAL_KHR)
-                                    CASE(VK_ERROR_OUT_OF_DATE_KHR) CASE(VK_ERROR_VALIDATION_FAILED_EXT)
+    CASE(VK_NOT_READY)
+    CASE(VK_TIMEOUT) CASE(VK_EVENT_SET) CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE) CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+        CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY) CASE(VK_ERROR_INITIALIZATION_FAILED) CASE(VK_ERROR_DEVICE_LOST)
+            CASE(VK_ERROR_MEMORY_MAP_FAILED) CASE(VK_ERROR_LAYER_NOT_PRESENT) CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+                CASE(VK_ERROR_FEATURE_NOT_PRESENT) CASE(VK_ERROR_INCOMPATIBLE_DRIVER) CASE(VK_ERROR_TOO_MANY_OBJECTS)
+                    CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) CASE(VK_ERROR_FRAGMENTED_POOL) CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
+                        CASE(VK_ERROR_SURFACE_LOST_KHR) CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR) CASE(VK_SUBOPTIMAL_KHR)
+                            CASE(VK_ERROR_OUT_OF_DATE_KHR) CASE(VK_ERROR_VALIDATION_FAILED_EXT)
 #undef CASE
-                                        default : return "VK_ERROR_UNKNOWN";
+                                default : return "VK_ERROR_UNKNOWN";
   }
 }
 
@@ -471,8 +470,16 @@ void Context::submit(const VkSubmitInfo2& info, VkFence fence) const {
   VK_CHECK(vkQueueSubmit2(queue_, 1, &info, fence));
 }
 
+static thread_local bool t_in_submit_and_wait = false;
+
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+  // A nested call (e.g. Buffer::upload inside the record callback) would deadlock on the mutex.
+  if (t_in_submit_and_wait) fail("gpu: submit_and_wait called from inside a submit_and_wait callback");
   std::lock_guard lock(oneoff_mutex_);
+  t_in_submit_and_wait = true;
+  struct Reset {
+    ~Reset() { t_in_submit_and_wait = false; }
+  } reset_flag;
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = oneoff_pool_;
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;

@@ -26,17 +26,27 @@ void Image::create(Context& ctx, const ImageDesc& desc) {
   info.arrayLayers = desc.layers;
   info.samples = desc.samples;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = desc.usage;
-  if (!is_depth_format(desc.format)) info.usage |= VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  // Transfer usage is added so upload/readback helpers always work, unless the format refuses it.
   VkImageFormatProperties fp;
+  info.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   VkResult r = vkGetPhysicalDeviceImageFormatProperties(ctx.physical_device(), info.format, info.imageType, info.tiling,
                                                         info.usage, 0, &fp);
+  if (r != VK_SUCCESS) {
+    info.usage = desc.usage;
+    r = vkGetPhysicalDeviceImageFormatProperties(ctx.physical_device(), info.format, info.imageType, info.tiling,
+                                                 info.usage, 0, &fp);
+  }
   if (r != VK_SUCCESS)
     fail("gpu: image '%s': format %s (%d) with usage 0x%x is not supported as a %uD image on %s", name,
          format_name(desc.format), int(desc.format), info.usage, desc.type == VK_IMAGE_TYPE_3D ? 3u : 2u,
          ctx.info().name.c_str());
+  if (desc.extent.width > fp.maxExtent.width || desc.extent.height > fp.maxExtent.height ||
+      desc.extent.depth > fp.maxExtent.depth || desc_.mips > fp.maxMipLevels || desc.layers > fp.maxArrayLayers)
+    fail("gpu: image '%s': %ux%ux%u with %u mips and %u layers exceeds the device limits for %s", name,
+         desc.extent.width, desc.extent.height, desc.extent.depth, desc_.mips, desc.layers, format_name(desc.format));
+  desc_.usage = info.usage;
   VK_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &image_));
   if (desc.name) ctx.set_name(image_, desc.name);
 }

@@ -139,6 +139,11 @@ std::vector<uint8_t> read_image_bytes(Context& ctx, Image& image, uint32_t mip, 
     fail("gpu: readback of unsupported format %s (%d)", format_name(image.format()), int(image.format()));
   if (mip >= image.mips() || layer >= image.layers()) fail("gpu: readback of mip %u layer %u out of range", mip, layer);
   uint64_t bytes = mip_size_bytes(image.format(), image.extent(), mip);
+  if (is_depth_format(image.format())) {  // only the depth aspect is copied: 2 bytes for D16, else 4
+    VkExtent3D e = image.extent(mip);
+    bytes = uint64_t(e.width) * e.height * e.depth *
+            (image.format() == VK_FORMAT_D16_UNORM || image.format() == VK_FORMAT_D16_UNORM_S8_UINT ? 2 : 4);
+  }
   Buffer staging(ctx, {.size = bytes,
                        .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        .memory = MemoryUsage::Readback,

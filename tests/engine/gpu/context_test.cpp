@@ -97,3 +97,9 @@ TEST(GpuValidation, SynchronizationValidationCatchesMissingBarrier) {
   vkDestroyBuffer(ctx.device(), buf, nullptr);
   ctx.allocator().free(a);
 }
+
+TEST_F(GpuTest, NestedSubmitAndWaitIsAClearError) {
+  EXPECT_THROW(ctx().submit_and_wait([&](VkCommandBuffer) { ctx().submit_and_wait([](VkCommandBuffer) {}); }),
+               cumulo::Error);
+  ctx().submit_and_wait([](VkCommandBuffer) {});  // still usable afterwards
+}

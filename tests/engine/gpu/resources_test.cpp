@@ -160,3 +160,22 @@ TEST_F(GpuTest, GenerateMipsByBlit) {
   std::memcpy(&h, top.data(), 2);
   EXPECT_NEAR(half_to_float(h), 0.5f, 0.01f);
 }
+
+TEST_F(GpuTest, DepthImageReadback) {
+  Image depth(ctx(),
+              ImageDesc::tex2d(16, 8, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, 1, "depth"));
+  ASSERT_NE(depth.view(), VK_NULL_HANDLE);
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    depth.cmd_transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    VkClearDepthStencilValue v{0.25f, 0};
+    VkImageSubresourceRange range = depth.full_range();
+    vkCmdClearDepthStencilImage(cmd, depth.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &v, 1, &range);
+  });
+  std::vector<uint8_t> raw = read_image_bytes(ctx(), depth);
+  ASSERT_EQ(raw.size(), 16u * 8u * 4u);
+  float f;
+  std::memcpy(&f, raw.data() + 4 * 37, 4);
+  EXPECT_EQ(f, 0.25f);
+  Rgba8Image shot = read_image_rgba8(ctx(), depth);
+  EXPECT_EQ(shot.at(3, 3)[0], 64);
+}
