@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/core/error.h"
+#include "engine/ecs/serialize.h"
 #include "engine/ecs/world.h"
 
 namespace cumulo::ecs {
@@ -82,7 +83,11 @@ struct Model {
 
 class RandomModel {
  public:
-  explicit RandomModel(uint32_t seed) : rng_(seed) {}
+  explicit RandomModel(uint32_t seed) : rng_(seed) {
+    with_type(0, [&]<typename T>() { register_type<T>("CA"); });
+    with_type(1, [&]<typename T>() { register_type<T>("CB"); });
+    with_type(2, [&]<typename T>() { register_type<T>("CC"); });
+  }
 
   void run(int steps) {
     for (step_ = 0; step_ < steps; ++step_) {
@@ -375,6 +380,7 @@ class RandomModel {
       Entity d = step_ % 64 == 0 ? model_.dead[i] : model_.dead[rand(int(model_.dead.size()))];
       EXPECT_FALSE(world_.valid(d));
     }
+    if (step_ % 500 == 0) compare_serialized();
     if (step_ % 32 == 0) {
       std::set<Entity> listed;
       world_.each_entity([&](Entity e) { listed.insert(e); });
@@ -384,6 +390,34 @@ class RandomModel {
     }
   }
 
+  template <typename T>
+  void register_type(const char* name) {
+    registry_.register_component<T>(
+        name, [](const T& c) { return Json{{"v", c.v}}; }, [](const JsonView& v) { return T{v["v"].as<int>()}; });
+  }
+
+  // serialize_world -> load_entities into a fresh world -> serialize again: same JSON, and the model's
+  // entities in slot order.
+  void compare_serialized() {
+    Json saved = serialize_world(world_, registry_);
+    ASSERT_EQ(saved.size(), model_.alive.size());
+    size_t i = 0;
+    world_.each_entity([&](Entity e) {
+      const auto& vals = model_.alive.at(e);
+      const Json& comps = saved[i++]["components"];
+      const char* names[kTypes] = {"CA", "CB", "CC"};
+      for (int k = 0; k < kTypes; ++k) {
+        ASSERT_EQ(comps.contains(names[k]), vals[k].has_value());
+        if (vals[k]) EXPECT_EQ(comps[names[k]]["v"].get<int>(), *vals[k]);
+      }
+    });
+    World copy;
+    JsonDocument doc(saved, "random.json");
+    load_entities(doc.view(), copy, registry_);
+    EXPECT_EQ(serialize_world(copy, registry_), saved);
+  }
+
+  ComponentRegistry registry_;
   std::mt19937 rng_;
   World world_;
   Model model_;
