@@ -41,9 +41,10 @@ TEST_F(GpuTest, SubmitAndWaitRunsCommandsWithLabels) {
 // The counting must actually work, or every "zero errors" assertion is vacuous: provoke one error
 // on purpose (a fence created with an invalid flag) and check it is counted, in a separate Context.
 TEST(GpuValidation, MessagesAreCounted) {
+  cumulo::gpu::test::TempDir tmp("validation_counting");
   ContextDesc desc;
   desc.validation = true;
-  desc.cache_dir = cumulo::gpu::test::temp_dir("validation_counting");
+  desc.cache_dir = tmp.path;
   Context ctx(desc);
   ASSERT_TRUE(ctx.validation_enabled());
   uint32_t before = total_validation_errors();
@@ -58,9 +59,10 @@ TEST(GpuValidation, MessagesAreCounted) {
 }
 
 TEST(GpuContext, UnknownDeviceOverrideIsAClearError) {
+  cumulo::gpu::test::TempDir tmp("bad_device");
   ContextDesc desc;
   desc.device = "no-such-gpu-xyz";
-  desc.cache_dir = cumulo::gpu::test::temp_dir("bad_device");
+  desc.cache_dir = tmp.path;
   try {
     Context ctx(desc);
     FAIL() << "expected an error";
@@ -74,9 +76,10 @@ TEST(GpuContext, UnknownDeviceOverrideIsAClearError) {
 // Synchronization validation must be on: two transfer writes to one buffer with no barrier between
 // them are a WRITE_AFTER_WRITE hazard.
 TEST(GpuValidation, SynchronizationValidationCatchesMissingBarrier) {
+  cumulo::gpu::test::TempDir tmp("sync_validation");
   ContextDesc desc;
   desc.validation = true;
-  desc.cache_dir = cumulo::gpu::test::temp_dir("sync_validation");
+  desc.cache_dir = tmp.path;
   Context ctx(desc);
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = 256;

@@ -20,6 +20,17 @@ inline std::filesystem::path temp_dir(const std::string& name) {
   return dir;
 }
 
+// A temp folder removed at scope exit; declare it before the Context that uses it as cache_dir
+// (the Context writes its pipeline cache when destroyed).
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& name) : path(temp_dir(name)) {}
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
 class GpuTest : public ::testing::Test {
  protected:
   void SetUp() override {

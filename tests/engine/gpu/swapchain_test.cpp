@@ -51,12 +51,13 @@ TEST(Swapchain, PresentsAndRecreatesOnResize) {
   GLFWwindow* win = glfwCreateWindow(64, 48, "cumulo gpu swapchain test", nullptr, nullptr);
   ASSERT_NE(win, nullptr);
   uint32_t before = total_validation_errors();
+  test::TempDir tmp("swapchain");
   {
     uint32_t n = 0;
     const char** exts = glfwGetRequiredInstanceExtensions(&n);
     ContextDesc desc;
     desc.validation = true;
-    desc.cache_dir = test::temp_dir("swapchain");
+    desc.cache_dir = tmp.path;
     desc.instance_extensions.assign(exts, exts + n);
     desc.need_present = true;
     desc.create_surface = [&](VkInstance inst) {
