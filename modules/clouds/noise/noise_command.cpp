@@ -129,8 +129,9 @@ std::string format_noise_report(const NoiseSetReport& r) {
     for (const ChannelError& c : q.channels) s += strf(" %.1f", c.psnr_db);
     s += "  max err:";
     for (const ChannelError& c : q.channels) s += strf(" %.4f", c.max_abs);
-    s += strf("\n      up-rez density error vs float: mean %.5f  rmse %.5f  max %.4f  (mean density %.3f)\n",
-              q.uprez.mean_abs, q.uprez.rmse, q.uprez.max_abs, q.uprez.mean_density);
+    s += strf("\n      up-rez density error vs float: mean %.5f  rmse %.5f  max %.4f  >0.05 on %.3f%% of texels"
+              "  (mean density %.3f)\n",
+              q.uprez.mean_abs, q.uprez.rmse, q.uprez.max_abs, 100.0 * q.uprez.frac_above_0_05, q.uprez.mean_density);
   }
   s += strf("  generated in %.2fs, total %.2fs\n", r.generate_seconds, r.total_seconds);
   return s;

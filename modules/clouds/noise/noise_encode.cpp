@@ -116,6 +116,7 @@ UprezError uprez_error(const NoiseTexture& tex, VolumeEncoding encoding) {
   const int w = tex.width, h = tex.height, d = tex.depth;
   struct Acc {
     double sum = 0, sum2 = 0, max = 0, ref = 0;
+    size_t above = 0;
   };
   std::vector<Acc> per_slice(d);
   parallel_for(static_cast<size_t>(d), [&](size_t z0, size_t z1) {
@@ -137,6 +138,7 @@ UprezError uprez_error(const NoiseTexture& tex, VolumeEncoding encoding) {
           a.sum2 += e * e;
           a.max = std::max(a.max, e);
           a.ref += r;
+          a.above += e > 0.05;
         }
       }
     }
@@ -147,9 +149,10 @@ UprezError uprez_error(const NoiseTexture& tex, VolumeEncoding encoding) {
     total.sum2 += a.sum2;
     total.max = std::max(total.max, a.max);
     total.ref += a.ref;
+    total.above += a.above;
   }
   double n = static_cast<double>(w) * h * d;
-  return {total.sum / n, total.max, std::sqrt(total.sum2 / n), total.ref / n};
+  return {total.sum / n, total.max, std::sqrt(total.sum2 / n), static_cast<double>(total.above) / n, total.ref / n};
 }
 
 }  // namespace cumulo::clouds

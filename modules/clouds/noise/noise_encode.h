@@ -57,7 +57,8 @@ struct UprezError {
   double mean_abs = 0.0;
   double max_abs = 0.0;
   double rmse = 0.0;
-  double mean_density = 0.0;  // of the float reference, for scale
+  double frac_above_0_05 = 0.0;  // fraction of texels whose density is off by more than 0.05
+  double mean_density = 0.0;     // of the float reference, for scale
 };
 UprezError uprez_error(const NoiseTexture& voxel_noise, VolumeEncoding encoding);
 
