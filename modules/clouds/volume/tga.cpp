@@ -38,11 +38,13 @@ Rgba8Image decode_tga(std::span<const uint8_t> bytes, const std::string& name, c
 
   const uint32_t pixel_bytes = bpp / 8;
   const size_t count = size_t(width) * height;
+  // Refuse before allocating: raw data needs every pixel, RLE at least one packet per 128 pixels.
+  const size_t min_bytes = rle ? (count + 127) / 128 * (1 + pixel_bytes) : count * pixel_bytes;
+  if (bytes.size() - pos < min_bytes)
+    fail("%s: truncated TGA: %ux%u at %u bits needs %s%zu pixel bytes, file has %zu", n, width, height, bpp,
+         rle ? "at least " : "", min_bytes, bytes.size() - pos);
   std::vector<uint8_t> src(count * pixel_bytes);  // file order, file pixel layout
   if (!rle) {
-    if (bytes.size() - pos < src.size())
-      fail("%s: truncated TGA: %ux%u at %u bits needs %zu pixel bytes, file has %zu", n, width, height, bpp,
-           src.size(), bytes.size() - pos);
     std::memcpy(src.data(), bytes.data() + pos, src.size());
   } else {
     // Packets may cross rows (common in the wild); they may not run past the image.

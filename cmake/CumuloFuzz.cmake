@@ -1,0 +1,87 @@
+# libFuzzer targets, built with clang (-fsanitize=fuzzer,address,undefined) beside the main g++
+# build: each source is compiled by its own custom command (with a depfile, so header edits
+# rebuild it) and linked into build/tests/fuzz/<NAME>. A CTest test `fuzz_<NAME>` runs it briefly.
+#
+#   include(CumuloFuzz)   # from any CMakeLists.txt (CMAKE_MODULE_PATH has cmake/)
+#   cumulo_add_fuzzer(NAME recipe_fuzz
+#     SOURCES tests/fuzz/recipe_fuzz.cpp modules/clouds/bake/recipe.cpp engine/core/json.cpp engine/core/error.cpp
+#     LINK -lzstd                       # extra link flags (optional)
+#     SEED_DIRS content/levels/sample   # existing folders of seed inputs (optional)
+#     FIXTURES my_seed_fixture          # CTest fixtures that must run first, e.g. to write seeds (optional)
+#     RUNS 50000 MAX_SECONDS 20)        # the CTest run stops at whichever comes first (defaults)
+#
+# SOURCES / SEED_DIRS are relative to the repository root (or absolute). The target must define
+# LLVMFuzzerTestOneInput; it is compiled with -DCUMULO_FUZZ=1 and the repo root on the include path.
+# When clang++-14 or libFuzzer is missing, or CUMULO_BUILD_FUZZ is OFF, the call does nothing.
+include_guard(GLOBAL)
+
+set(CUMULO_FUZZ_AVAILABLE OFF)
+if(CUMULO_BUILD_FUZZ)
+  find_program(CUMULO_FUZZ_CXX NAMES clang++-14 clang++)
+  if(CUMULO_FUZZ_CXX)
+    execute_process(COMMAND ${CUMULO_FUZZ_CXX} -print-resource-dir OUTPUT_VARIABLE _cumulo_rt
+                    OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE _cumulo_rt_rc)
+    if(_cumulo_rt_rc EQUAL 0 AND EXISTS "${_cumulo_rt}/lib/linux/libclang_rt.fuzzer-x86_64.a")
+      set(CUMULO_FUZZ_AVAILABLE ON)
+    endif()
+  endif()
+  if(NOT CUMULO_FUZZ_AVAILABLE)
+    message(STATUS "cumulo: clang++-14 with libFuzzer not found: fuzz targets are not built")
+  endif()
+endif()
+
+function(cumulo_add_fuzzer)
+  cmake_parse_arguments(F "" "NAME;RUNS;MAX_SECONDS" "SOURCES;LINK;SEED_DIRS;FIXTURES" ${ARGN})
+  if(NOT CUMULO_FUZZ_AVAILABLE)
+    return()
+  endif()
+  if(NOT F_RUNS)
+    set(F_RUNS 50000)
+  endif()
+  if(NOT F_MAX_SECONDS)
+    set(F_MAX_SECONDS 20)
+  endif()
+  set(dir ${CMAKE_BINARY_DIR}/fuzz/${F_NAME})
+  set(flags -std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+            -DCUMULO_FUZZ=1 -I${PROJECT_SOURCE_DIR})
+  set(objects)
+  foreach(src ${F_SOURCES})
+    if(NOT IS_ABSOLUTE ${src})
+      set(src ${PROJECT_SOURCE_DIR}/${src})
+    endif()
+    file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${src})
+    string(REPLACE "/" "_" obj_name ${rel})
+    set(obj ${dir}/${obj_name}.o)
+    add_custom_command(OUTPUT ${obj}
+      COMMAND ${CUMULO_FUZZ_CXX} ${flags} -fsanitize=fuzzer-no-link -MD -MF ${obj}.d -c ${src} -o ${obj}
+      DEPENDS ${src} DEPFILE ${obj}.d
+      COMMENT "clang fuzz: ${rel}" VERBATIM)
+    list(APPEND objects ${obj})
+  endforeach()
+  set(exe ${dir}/${F_NAME})
+  add_custom_command(OUTPUT ${exe}
+    COMMAND ${CUMULO_FUZZ_CXX} ${flags} -fsanitize=fuzzer ${objects} -o ${exe} ${F_LINK}
+    DEPENDS ${objects} COMMENT "clang fuzz: link ${F_NAME}" VERBATIM)
+  add_custom_target(${F_NAME} ALL DEPENDS ${exe})
+
+  set(seeds)
+  foreach(s ${F_SEED_DIRS})
+    if(NOT IS_ABSOLUTE ${s})
+      set(s ${PROJECT_SOURCE_DIR}/${s})
+    endif()
+    list(APPEND seeds ${s})
+  endforeach()
+  # The first corpus folder is libFuzzer's output; start it empty so every run is the same length.
+  set(corpus ${dir}/corpus)
+  list(JOIN seeds "' '" seed_args)
+  if(seeds)
+    set(seed_args "'${seed_args}'")
+  endif()
+  add_test(NAME fuzz_${F_NAME}
+    COMMAND sh -c "rm -rf '${corpus}' && mkdir -p '${corpus}' && exec '${exe}' -runs=${F_RUNS} -max_total_time=${F_MAX_SECONDS} -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 '${corpus}' ${seed_args}"
+    WORKING_DIRECTORY ${dir})
+  set_tests_properties(fuzz_${F_NAME} PROPERTIES LABELS "fuzz" TIMEOUT 120)
+  if(F_FIXTURES)
+    set_tests_properties(fuzz_${F_NAME} PROPERTIES FIXTURES_REQUIRED "${F_FIXTURES}")
+  endif()
+endfunction()
