@@ -23,9 +23,9 @@ namespace {
 
 struct Track {
   VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
-  VkPipelineStageFlags2 write_stages = 0;  // the last write (or layout transition)
-  VkAccessFlags2 write_access = 0;         // its accesses still to be made available
-  VkPipelineStageFlags2 read_stages = 0;   // reads since that write
+  VkPipelineStageFlags2 write_stages = 0;    // the last write (or layout transition)
+  VkAccessFlags2 write_access = 0;           // its accesses still to be made available
+  VkPipelineStageFlags2 read_stages = 0;     // reads since that write
   VkPipelineStageFlags2 visible_stages = 0;  // where the last write is already visible
   VkAccessFlags2 visible_access = 0;
 };

@@ -68,9 +68,10 @@ void Compiler::validate() {
         fail("render graph: pass '%s': usage %s is not a write of '%s'", pass.name.c_str(), usage_name(a.usage),
              r.name.c_str());
       if (a.version != version[a.resource])
-        fail("render graph: pass '%s' uses version %u of '%s' but version %u is the latest (a write returns the next "
-             "version; use the handle it returned)",
-             pass.name.c_str(), a.version, r.name.c_str(), version[a.resource]);
+        fail(
+            "render graph: pass '%s' uses version %u of '%s' but version %u is the latest (a write returns the next "
+            "version; use the handle it returned)",
+            pass.name.c_str(), a.version, r.name.c_str(), version[a.resource]);
       if (a.read && !r.imported && version[a.resource] == 0)
         fail_pass(p, "reads a transient that no earlier pass wrote:", a.resource);
       if (a.write) ++version[a.resource];
@@ -88,7 +89,8 @@ void Compiler::merge_accesses() {
       VkAccessFlags2 access = (a.read ? u.read_access : 0) | (a.write ? u.write_access : 0);
       // A depth test reads the depth it may overwrite.
       if (a.usage == Usage::DepthWrite) access |= u.read_access;
-      auto it = std::find_if(merged.begin(), merged.end(), [&](const ResourceAccess& m) { return m.resource == a.resource; });
+      auto it =
+          std::find_if(merged.begin(), merged.end(), [&](const ResourceAccess& m) { return m.resource == a.resource; });
       if (it == merged.end()) {
         merged.push_back({a.resource, a.usage, a.read, a.write, u.stages, access, u.layout});
         continue;
@@ -223,7 +225,7 @@ void Compiler::assign_memory() {
     if (options_.alias_memory) {
       for (int b = 0; b < int(out_.memory_blocks.size()); ++b) {
         const MemoryBlock& block = out_.memory_blocks[b];
-        if (block_last_use[b] >= r.first_pass) continue;                   // rule 3
+        if (block_last_use[b] >= r.first_pass) continue;                      // rule 3
         if ((block.memory_type_bits & need.memory_type_bits) == 0) continue;  // rule 4
         // Best fit: the smallest block that is large enough; else the largest (it grows least).
         auto fits = [&](int x) { return out_.memory_blocks[x].size >= need.size; };

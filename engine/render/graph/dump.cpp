@@ -65,16 +65,26 @@ std::string access_names(VkAccessFlags2 a) {
 
 const char* layout_name(VkImageLayout l) {
   switch (l) {
-    case VK_IMAGE_LAYOUT_UNDEFINED: return "UNDEFINED";
-    case VK_IMAGE_LAYOUT_GENERAL: return "GENERAL";
-    case VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL: return "COLOR_ATTACHMENT";
-    case VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL: return "DEPTH_STENCIL_ATTACHMENT";
-    case VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL: return "DEPTH_STENCIL_READ_ONLY";
-    case VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL: return "SHADER_READ_ONLY";
-    case VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL: return "TRANSFER_SRC";
-    case VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL: return "TRANSFER_DST";
-    case VK_IMAGE_LAYOUT_PRESENT_SRC_KHR: return "PRESENT_SRC";
-    default: return "OTHER";
+    case VK_IMAGE_LAYOUT_UNDEFINED:
+      return "UNDEFINED";
+    case VK_IMAGE_LAYOUT_GENERAL:
+      return "GENERAL";
+    case VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL:
+      return "COLOR_ATTACHMENT";
+    case VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL:
+      return "DEPTH_STENCIL_ATTACHMENT";
+    case VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL:
+      return "DEPTH_STENCIL_READ_ONLY";
+    case VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL:
+      return "SHADER_READ_ONLY";
+    case VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL:
+      return "TRANSFER_SRC";
+    case VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL:
+      return "TRANSFER_DST";
+    case VK_IMAGE_LAYOUT_PRESENT_SRC_KHR:
+      return "PRESENT_SRC";
+    default:
+      return "OTHER";
   }
 }
 
@@ -115,10 +125,14 @@ std::string CompiledGraph::to_text() const {
   o << "resources\n";
   for (const CompiledResource& r : resources) {
     o << "  " << r.name << (r.image ? " image " : " buffer ") << (r.imported ? "imported" : "transient");
-    if (r.image) o << " " << r.extent.width << "x" << r.extent.height << "x" << r.extent.depth << " mips " << r.mips;
-    else o << " " << r.size << " bytes";
-    if (r.first_pass < 0) o << " unused";
-    else o << " passes " << r.first_pass << ".." << r.last_pass;
+    if (r.image)
+      o << " " << r.extent.width << "x" << r.extent.height << "x" << r.extent.depth << " mips " << r.mips;
+    else
+      o << " " << r.size << " bytes";
+    if (r.first_pass < 0)
+      o << " unused";
+    else
+      o << " passes " << r.first_pass << ".." << r.last_pass;
     if (r.memory_block >= 0) o << " memory block " << r.memory_block;
     o << "\n";
   }
@@ -137,15 +151,17 @@ std::string CompiledGraph::to_dot() const {
   std::ostringstream o;
   o << "digraph render_graph {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n";
   for (size_t i = 0; i < passes.size(); ++i)
-    o << "  p" << i << " [shape=box, style=filled, fillcolor=\"" << (passes[i].queue == Queue::Compute ? "lightyellow" : "lightgrey")
-      << "\", label=\"" << i << ": " << dot_escape(passes[i].name) << "\"];\n";
+    o << "  p" << i << " [shape=box, style=filled, fillcolor=\""
+      << (passes[i].queue == Queue::Compute ? "lightyellow" : "lightgrey") << "\", label=\"" << i << ": "
+      << dot_escape(passes[i].name) << "\"];\n";
   for (size_t c = 0; c < culled.size(); ++c)
     o << "  c" << c << " [shape=box, style=dashed, label=\"" << dot_escape(culled[c]) << " (culled)\"];\n";
   for (size_t r = 0; r < resources.size(); ++r) {
     const CompiledResource& res = resources[r];
     if (res.first_pass < 0) continue;
     o << "  r" << r << " [shape=ellipse, label=\"" << dot_escape(res.name) << "\\n"
-      << (res.image ? strf("%ux%ux%u", res.extent.width, res.extent.height, res.extent.depth) : strf("%llu B", (unsigned long long)res.size))
+      << (res.image ? strf("%ux%ux%u", res.extent.width, res.extent.height, res.extent.depth)
+                    : strf("%llu B", (unsigned long long)res.size))
       << (res.imported ? "\\nimported" : "") << "\"";
     if (res.memory_block >= 0) o << ", style=filled, fillcolor=\"" << kColors[res.memory_block % 7] << "\"";
     o << "];\n";
@@ -153,7 +169,8 @@ std::string CompiledGraph::to_dot() const {
   for (size_t i = 0; i < passes.size(); ++i)
     for (const ResourceAccess& a : passes[i].accesses) {
       if (a.read) o << "  r" << a.resource << " -> p" << i << " [label=\"" << usage_name(a.usage) << "\"];\n";
-      if (a.write) o << "  p" << i << " -> r" << a.resource << " [label=\"" << usage_name(a.usage) << "\", color=red];\n";
+      if (a.write)
+        o << "  p" << i << " -> r" << a.resource << " [label=\"" << usage_name(a.usage) << "\", color=red];\n";
     }
   o << "}\n";
   return o.str();

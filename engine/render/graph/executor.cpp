@@ -255,9 +255,9 @@ std::vector<PassTiming> Executor::timings() const {
   if (last_passes_.empty()) return out;
   const uint32_t n = uint32_t(last_passes_.size());
   std::vector<uint64_t> data(size_t(4) * n);  // (value, availability) pairs
-  VkResult r = vkGetQueryPoolResults(ctx_.device(), pools_[last_slot_], 0, 2 * n, data.size() * sizeof(uint64_t),
-                                     data.data(), 2 * sizeof(uint64_t),
-                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
+  VkResult r =
+      vkGetQueryPoolResults(ctx_.device(), pools_[last_slot_], 0, 2 * n, data.size() * sizeof(uint64_t), data.data(),
+                            2 * sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
   if (r < 0) return out;
   const double period_ms = double(ctx_.info().limits.timestampPeriod) * 1e-6;
   for (uint32_t i = 0; i < n; ++i) {

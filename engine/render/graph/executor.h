@@ -77,8 +77,8 @@ class Executor {
   std::vector<PhysicalTexture> textures_;  // by resource index, resolved per frame
   std::vector<PhysicalBuffer> buffers_;
   VkQueryPool pools_[kTimestampSlots] = {};
-  uint32_t pool_capacity_ = 0;  // queries per pool
-  uint64_t frame_ = 0;          // frames executed
+  uint32_t pool_capacity_ = 0;            // queries per pool
+  uint64_t frame_ = 0;                    // frames executed
   std::vector<std::string> last_passes_;  // pass names of the last frame, in order
   uint32_t last_slot_ = 0;
   uint32_t compile_count_ = 0, images_created_ = 0, blocks_created_ = 0;

@@ -159,7 +159,8 @@ const std::string& RenderGraph::pass_name(uint32_t declared) const { return impl
 
 PhysicalTexture RenderGraph::imported_texture(uint32_t resource) const {
   const auto& r = impl_->resources.at(resource);
-  return {r.vk_image, r.vk_view, r.texture.format, {r.texture.width, r.texture.height, r.texture.depth}, r.texture.mips};
+  return {
+      r.vk_image, r.vk_view, r.texture.format, {r.texture.width, r.texture.height, r.texture.depth}, r.texture.mips};
 }
 
 PhysicalBuffer RenderGraph::imported_buffer(uint32_t resource) const {
@@ -204,7 +205,8 @@ BufferHandle PassBuilder::create_buffer(const std::string& name, const BufferDes
 VkImageLayout PassContext::layout(TextureHandle h) const {
   for (const ResourceAccess& a : accesses_)
     if (a.resource == h.index) return a.layout;
-  fail("render graph: pass '%s' asks for the layout of a texture (index %u) it did not declare", pass_.c_str(), h.index);
+  fail("render graph: pass '%s' asks for the layout of a texture (index %u) it did not declare", pass_.c_str(),
+       h.index);
 }
 
 // ---- CompiledGraph helpers ------------------------------------------------------------------

@@ -41,13 +41,13 @@
 // - every imported resource is unique (one VkImage/VkBuffer imported under two names is an error).
 // - per-mip or per-layer states are not tracked: a pass that works mip by mip (mip generation)
 //   places its own, commented barriers inside; the graph sees the whole image.
+#include <vulkan/vulkan.h>
+
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <vulkan/vulkan.h>
 
 namespace cumulo::render {
 
@@ -77,16 +77,26 @@ enum class ImageType : uint8_t { Image2D, Image3D };
 // A transient texture: allocated (and possibly aliased) by the graph, contents live for one frame.
 struct TextureDesc {
   VkFormat format = VK_FORMAT_UNDEFINED;
-  float size_scale = 1.0f;             // relative to the graph's output size (when width == 0)
-  uint32_t width = 0, height = 0;      // absolute size when width > 0
-  uint32_t depth = 1;                  // > 1 only for Image3D
+  float size_scale = 1.0f;         // relative to the graph's output size (when width == 0)
+  uint32_t width = 0, height = 0;  // absolute size when width > 0
+  uint32_t depth = 1;              // > 1 only for Image3D
   uint32_t mips = 1;
   ImageType type = ImageType::Image2D;
 
-  static TextureDesc relative(VkFormat f, float scale = 1.0f) { TextureDesc d; d.format = f; d.size_scale = scale; return d; }
+  static TextureDesc relative(VkFormat f, float scale = 1.0f) {
+    TextureDesc d;
+    d.format = f;
+    d.size_scale = scale;
+    return d;
+  }
   static TextureDesc absolute(VkFormat f, uint32_t w, uint32_t h, uint32_t d3 = 1) {
-    TextureDesc d; d.format = f; d.width = w; d.height = h; d.depth = d3;
-    d.type = d3 > 1 ? ImageType::Image3D : ImageType::Image2D; return d;
+    TextureDesc d;
+    d.format = f;
+    d.width = w;
+    d.height = h;
+    d.depth = d3;
+    d.type = d3 > 1 ? ImageType::Image3D : ImageType::Image2D;
+    return d;
   }
 };
 
@@ -103,21 +113,30 @@ struct ResourceState {
   VkAccessFlags2 access = VK_ACCESS_2_NONE;
 
   static ResourceState undefined() { return {}; }
-  // Acquired swapchain image: wait on the acquire semaphore at COLOR_ATTACHMENT_OUTPUT (and
-  // transfer/compute, in case the first writer is a copy or a compute pass).
+  // Acquired swapchain image. The first barrier waits on these stages, so the submit must wait on
+  // the acquire semaphore with a stage mask covering them (COLOR_ATTACHMENT_OUTPUT | TRANSFER |
+  // COMPUTE_SHADER, or ALL_COMMANDS): then the first writer may be a draw, a copy or a dispatch.
   static ResourceState acquired() {
-    return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0};
+    return {VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT |
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+            0};
   }
-  static ResourceState present() { return {VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE}; }
+  static ResourceState present() {
+    return {VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE};
+  }
   static ResourceState shader_read_only() {
-    return {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+    return {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
             VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
   }
   static ResourceState general_storage() {
     return {VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
   }
-  static ResourceState host_read() { return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT}; }
+  static ResourceState host_read() {
+    return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT};
+  }
   bool operator==(const ResourceState&) const = default;
 };
 
@@ -194,7 +213,7 @@ class PassContext {
   const std::string& pass_;
   const std::vector<PhysicalTexture>& textures_;  // by resource index (textures and buffers share indices)
   const std::vector<PhysicalBuffer>& buffers_;
-  const std::vector<ResourceAccess>& accesses_;   // this pass's accesses
+  const std::vector<ResourceAccess>& accesses_;  // this pass's accesses
 };
 
 using SetupFn = std::function<void(PassBuilder&)>;
@@ -239,12 +258,12 @@ struct CompiledResource {
   VkExtent3D extent{0, 0, 0};             // images, resolved against the output size
   uint32_t mips = 1;
   ImageType type = ImageType::Image2D;
-  VkDeviceSize size = 0;                  // buffers
-  VkImageUsageFlags image_usage = 0;      // union over live passes (creation flags)
+  VkDeviceSize size = 0;              // buffers
+  VkImageUsageFlags image_usage = 0;  // union over live passes (creation flags)
   VkBufferUsageFlags buffer_usage = 0;
-  int first_pass = -1, last_pass = -1;    // positions in CompiledGraph::passes; -1: unused
-  int memory_block = -1;                  // index in CompiledGraph::memory_blocks; -1: own memory / imported
-  ResourceState initial, final;           // imported only
+  int first_pass = -1, last_pass = -1;  // positions in CompiledGraph::passes; -1: unused
+  int memory_block = -1;                // index in CompiledGraph::memory_blocks; -1: own memory / imported
+  ResourceState initial, final;         // imported only
 };
 
 // A range of device memory shared by transients whose lifetimes do not overlap (each at offset 0).
@@ -257,14 +276,14 @@ struct MemoryBlock {
 struct CompiledGraph {
   VkExtent2D output_size{0, 0};
   uint64_t hash = 0;
-  std::vector<CompiledPass> passes;       // live passes, in execution order
-  std::vector<std::string> culled;        // culled pass names, declaration order
+  std::vector<CompiledPass> passes;         // live passes, in execution order
+  std::vector<std::string> culled;          // culled pass names, declaration order
   std::vector<CompiledResource> resources;  // by resource index
   std::vector<MemoryBlock> memory_blocks;
-  std::vector<Barrier> final_barriers;    // after the last pass: imported resources to their final state
+  std::vector<Barrier> final_barriers;  // after the last pass: imported resources to their final state
 
   const CompiledPass* find_pass(const std::string& name) const;  // null if culled or unknown
-  int position(const std::string& pass) const;                    // -1 if culled or unknown
+  int position(const std::string& pass) const;                   // -1 if culled or unknown
   bool shares_memory(uint32_t a, uint32_t b) const;
   std::string to_text() const;
   std::string to_dot() const;
@@ -314,8 +333,9 @@ class RenderGraph {
   template <class Data, class Setup, class Execute>
   const Data& add_pass(const std::string& name, Queue queue, Setup&& setup, Execute&& execute) {
     auto data = std::make_shared<Data>();
-    add_pass(name, queue, [&](PassBuilder& b) { setup(b, *data); },
-             [data, exec = std::forward<Execute>(execute)](PassContext& c) { exec(c, static_cast<const Data&>(*data)); });
+    add_pass(
+        name, queue, [&](PassBuilder& b) { setup(b, *data); },
+        [data, exec = std::forward<Execute>(execute)](PassContext& c) { exec(c, static_cast<const Data&>(*data)); });
     return *data;
   }
 

@@ -6,18 +6,30 @@ namespace cumulo::render {
 
 const char* usage_name(Usage usage) {
   switch (usage) {
-    case Usage::Sampled: return "sampled";
-    case Usage::StorageRead: return "storage-read";
-    case Usage::StorageWrite: return "storage-write";
-    case Usage::ColorAttachment: return "color-attachment";
-    case Usage::DepthWrite: return "depth-write";
-    case Usage::DepthRead: return "depth-read";
-    case Usage::TransferSrc: return "transfer-src";
-    case Usage::TransferDst: return "transfer-dst";
-    case Usage::Uniform: return "uniform";
-    case Usage::Vertex: return "vertex";
-    case Usage::Index: return "index";
-    case Usage::Indirect: return "indirect";
+    case Usage::Sampled:
+      return "sampled";
+    case Usage::StorageRead:
+      return "storage-read";
+    case Usage::StorageWrite:
+      return "storage-write";
+    case Usage::ColorAttachment:
+      return "color-attachment";
+    case Usage::DepthWrite:
+      return "depth-write";
+    case Usage::DepthRead:
+      return "depth-read";
+    case Usage::TransferSrc:
+      return "transfer-src";
+    case Usage::TransferDst:
+      return "transfer-dst";
+    case Usage::Uniform:
+      return "uniform";
+    case Usage::Vertex:
+      return "vertex";
+    case Usage::Index:
+      return "index";
+    case Usage::Indirect:
+      return "indirect";
   }
   return "?";
 }
@@ -153,22 +165,43 @@ bool has_stencil(VkFormat f) {
 
 uint32_t format_bytes(VkFormat f) {
   switch (f) {
-    case VK_FORMAT_R8_UNORM: case VK_FORMAT_R8_SNORM: case VK_FORMAT_R8_UINT: case VK_FORMAT_R8_SINT:
+    case VK_FORMAT_R8_UNORM:
+    case VK_FORMAT_R8_SNORM:
+    case VK_FORMAT_R8_UINT:
+    case VK_FORMAT_R8_SINT:
       return 1;
-    case VK_FORMAT_R8G8_UNORM: case VK_FORMAT_R8G8_SNORM: case VK_FORMAT_R16_UNORM: case VK_FORMAT_R16_SFLOAT:
-    case VK_FORMAT_R16_UINT: case VK_FORMAT_D16_UNORM:
+    case VK_FORMAT_R8G8_UNORM:
+    case VK_FORMAT_R8G8_SNORM:
+    case VK_FORMAT_R16_UNORM:
+    case VK_FORMAT_R16_SFLOAT:
+    case VK_FORMAT_R16_UINT:
+    case VK_FORMAT_D16_UNORM:
       return 2;
-    case VK_FORMAT_R8G8B8A8_UNORM: case VK_FORMAT_R8G8B8A8_SRGB: case VK_FORMAT_B8G8R8A8_UNORM:
-    case VK_FORMAT_B8G8R8A8_SRGB: case VK_FORMAT_R8G8B8A8_SNORM: case VK_FORMAT_A2B10G10R10_UNORM_PACK32:
-    case VK_FORMAT_B10G11R11_UFLOAT_PACK32: case VK_FORMAT_E5B9G9R9_UFLOAT_PACK32: case VK_FORMAT_R16G16_SFLOAT:
-    case VK_FORMAT_R16G16_UNORM: case VK_FORMAT_R32_SFLOAT: case VK_FORMAT_R32_UINT: case VK_FORMAT_R32_SINT:
-    case VK_FORMAT_D32_SFLOAT: case VK_FORMAT_X8_D24_UNORM_PACK32: case VK_FORMAT_D24_UNORM_S8_UINT:
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB:
+    case VK_FORMAT_B8G8R8A8_UNORM:
+    case VK_FORMAT_B8G8R8A8_SRGB:
+    case VK_FORMAT_R8G8B8A8_SNORM:
+    case VK_FORMAT_A2B10G10R10_UNORM_PACK32:
+    case VK_FORMAT_B10G11R11_UFLOAT_PACK32:
+    case VK_FORMAT_E5B9G9R9_UFLOAT_PACK32:
+    case VK_FORMAT_R16G16_SFLOAT:
+    case VK_FORMAT_R16G16_UNORM:
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT:
+    case VK_FORMAT_R32_SINT:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D24_UNORM_S8_UINT:
       return 4;
     case VK_FORMAT_D32_SFLOAT_S8_UINT:
       return 5;
-    case VK_FORMAT_R16G16B16A16_SFLOAT: case VK_FORMAT_R16G16B16A16_UNORM: case VK_FORMAT_R32G32_SFLOAT:
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+    case VK_FORMAT_R16G16B16A16_UNORM:
+    case VK_FORMAT_R32G32_SFLOAT:
       return 8;
-    case VK_FORMAT_R32G32B32A32_SFLOAT: case VK_FORMAT_R32G32B32A32_UINT:
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_UINT:
       return 16;
     default:
       return 0;

@@ -11,8 +11,8 @@ struct ResourceDecl {
   std::string name;
   bool image = true;
   bool imported = false;
-  TextureDesc texture;      // images
-  BufferDesc buffer;        // buffers
+  TextureDesc texture;           // images
+  BufferDesc buffer;             // buffers
   ResourceState initial, final;  // imported only
   VkImage vk_image = VK_NULL_HANDLE;
   VkImageView vk_view = VK_NULL_HANDLE;

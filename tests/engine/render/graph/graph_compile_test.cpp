@@ -1,6 +1,5 @@
 // The compiled render graph, with no device: culling, order, exact barriers, aliasing, dumps.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>
@@ -57,23 +56,34 @@ TEST(RenderGraphCompile, CullsPassesWhoseOutputNobodyReads) {
   TextureHandle unused = g.create_texture("unused", kRgba16);
   TextureHandle dead_end = g.create_texture("dead_end", kRgba16);
   std::vector<std::string> ran;
-  g.add_pass("produce", Queue::Compute, [&](PassBuilder& b) { a = b.write(a, Usage::StorageWrite); },
-             [&](PassContext& c) { ran.push_back(c.pass_name()); });
-  g.add_pass("orphan", Queue::Compute, [&](PassBuilder& b) { unused = b.write(unused, Usage::StorageWrite); },
-             [&](PassContext& c) { ran.push_back(c.pass_name()); });
+  g.add_pass(
+      "produce", Queue::Compute, [&](PassBuilder& b) { a = b.write(a, Usage::StorageWrite); },
+      [&](PassContext& c) { ran.push_back(c.pass_name()); });
+  g.add_pass(
+      "orphan", Queue::Compute, [&](PassBuilder& b) { unused = b.write(unused, Usage::StorageWrite); },
+      [&](PassContext& c) { ran.push_back(c.pass_name()); });
   // A chain that leads nowhere: both passes must go, walking back from the outputs.
-  g.add_pass("chain1", Queue::Compute, [&](PassBuilder& b) {
-    b.read(a, Usage::Sampled);
-    unused = b.write(unused, Usage::StorageWrite);
-  }, [&](PassContext& c) { ran.push_back(c.pass_name()); });
-  g.add_pass("chain2", Queue::Compute, [&](PassBuilder& b) {
-    b.read(unused, Usage::Sampled);
-    dead_end = b.write(dead_end, Usage::StorageWrite);
-  }, [&](PassContext& c) { ran.push_back(c.pass_name()); });
-  g.add_pass("present", Queue::Graphics, [&](PassBuilder& b) {
-    b.read(a, Usage::Sampled);
-    out = b.write(out, Usage::ColorAttachment);
-  }, [&](PassContext& c) { ran.push_back(c.pass_name()); });
+  g.add_pass(
+      "chain1", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(a, Usage::Sampled);
+        unused = b.write(unused, Usage::StorageWrite);
+      },
+      [&](PassContext& c) { ran.push_back(c.pass_name()); });
+  g.add_pass(
+      "chain2", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(unused, Usage::Sampled);
+        dead_end = b.write(dead_end, Usage::StorageWrite);
+      },
+      [&](PassContext& c) { ran.push_back(c.pass_name()); });
+  g.add_pass(
+      "present", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(a, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      [&](PassContext& c) { ran.push_back(c.pass_name()); });
 
   CompiledGraph c = g.compile();
   ASSERT_EQ(c.passes.size(), 2u);
@@ -91,9 +101,12 @@ TEST(RenderGraphCompile, CullsPassesWhoseOutputNobodyReads) {
 TEST(RenderGraphCompile, OverwrittenImportedVersionIsNotNeeded) {
   RenderGraph g(kSize);
   TextureHandle out = import_swapchain(g);
-  g.add_pass("first", Queue::Graphics, [&](PassBuilder& b) { out = b.write(out, Usage::ColorAttachment); }, nullptr);
-  g.add_pass("second", Queue::Graphics, [&](PassBuilder& b) { out = b.write(out, Usage::ColorAttachment); }, nullptr);
-  g.add_pass("blend", Queue::Graphics, [&](PassBuilder& b) { out = b.read_write(out, Usage::ColorAttachment); }, nullptr);
+  g.add_pass(
+      "first", Queue::Graphics, [&](PassBuilder& b) { out = b.write(out, Usage::ColorAttachment); }, nullptr);
+  g.add_pass(
+      "second", Queue::Graphics, [&](PassBuilder& b) { out = b.write(out, Usage::ColorAttachment); }, nullptr);
+  g.add_pass(
+      "blend", Queue::Graphics, [&](PassBuilder& b) { out = b.read_write(out, Usage::ColorAttachment); }, nullptr);
   CompiledGraph c = g.compile();
   // "second" overwrites without reading, so "first"'s version is never seen; "blend" keeps "second".
   EXPECT_EQ(c.culled, (std::vector<std::string>{"first"}));
@@ -108,19 +121,28 @@ TEST(RenderGraphCompile, OrderFollowsDependencies) {
   TextureHandle depth = g.create_texture("depth", TextureDesc::relative(VK_FORMAT_D32_SFLOAT));
   TextureHandle color = g.create_texture("color", kRgba16);
   TextureHandle clouds = g.create_texture("clouds", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, 0.5f));
-  g.add_pass("geometry", Queue::Graphics, [&](PassBuilder& b) {
-    depth = b.write(depth, Usage::DepthWrite);
-    color = b.write(color, Usage::ColorAttachment);
-  }, nullptr);
-  g.add_pass("clouds", Queue::Compute, [&](PassBuilder& b) {
-    b.read(depth, Usage::Sampled);
-    clouds = b.write(clouds, Usage::StorageWrite);
-  }, nullptr);
-  g.add_pass("composite", Queue::Graphics, [&](PassBuilder& b) {
-    b.read(clouds, Usage::Sampled);
-    b.read(color, Usage::Sampled);
-    out = b.write(out, Usage::ColorAttachment);
-  }, nullptr);
+  g.add_pass(
+      "geometry", Queue::Graphics,
+      [&](PassBuilder& b) {
+        depth = b.write(depth, Usage::DepthWrite);
+        color = b.write(color, Usage::ColorAttachment);
+      },
+      nullptr);
+  g.add_pass(
+      "clouds", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(depth, Usage::Sampled);
+        clouds = b.write(clouds, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "composite", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(clouds, Usage::Sampled);
+        b.read(color, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   ASSERT_EQ(c.passes.size(), 3u);
   EXPECT_LT(c.position("geometry"), c.position("clouds"));
@@ -146,11 +168,15 @@ TEST(RenderGraphCompile, ExactBarriersComputeToFragmentToPresent) {
   RenderGraph g(kSize);
   TextureHandle out = import_swapchain(g);
   TextureHandle hdr = g.create_texture("hdr", kRgba16);
-  g.add_pass("march", Queue::Compute, [&](PassBuilder& b) { hdr = b.write(hdr, Usage::StorageWrite); }, nullptr);
-  g.add_pass("tonemap", Queue::Graphics, [&](PassBuilder& b) {
-    b.read(hdr, Usage::Sampled);
-    out = b.write(out, Usage::ColorAttachment);
-  }, nullptr);
+  g.add_pass(
+      "march", Queue::Compute, [&](PassBuilder& b) { hdr = b.write(hdr, Usage::StorageWrite); }, nullptr);
+  g.add_pass(
+      "tonemap", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(hdr, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   ASSERT_EQ(c.passes.size(), 2u);
 
@@ -204,21 +230,31 @@ TEST(RenderGraphCompile, ReadAfterReadNeedsNoBarrierButLayoutChangesDo) {
   TextureHandle t = g.create_texture("t", kRgba16);
   TextureHandle x = g.create_texture("x", kRgba16);
   TextureHandle y = g.create_texture("y", kRgba16);
-  g.add_pass("write", Queue::Compute, [&](PassBuilder& b) { t = b.write(t, Usage::StorageWrite); }, nullptr);
-  g.add_pass("read1", Queue::Compute, [&](PassBuilder& b) {
-    b.read(t, Usage::Sampled);
-    x = b.write(x, Usage::StorageWrite);
-  }, nullptr);
-  g.add_pass("read2", Queue::Compute, [&](PassBuilder& b) {
-    b.read(t, Usage::Sampled);
-    b.read(x, Usage::Sampled);
-    y = b.write(y, Usage::StorageWrite);
-  }, nullptr);
-  g.add_pass("read3", Queue::Graphics, [&](PassBuilder& b) {  // read-only layout change: SHADER_READ_ONLY -> GENERAL
-    b.read(t, Usage::StorageRead);
-    b.read(y, Usage::Sampled);
-    out = b.write(out, Usage::ColorAttachment);
-  }, nullptr);
+  g.add_pass(
+      "write", Queue::Compute, [&](PassBuilder& b) { t = b.write(t, Usage::StorageWrite); }, nullptr);
+  g.add_pass(
+      "read1", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(t, Usage::Sampled);
+        x = b.write(x, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "read2", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(t, Usage::Sampled);
+        b.read(x, Usage::Sampled);
+        y = b.write(y, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "read3", Queue::Graphics,
+      [&](PassBuilder& b) {  // read-only layout change: SHADER_READ_ONLY -> GENERAL
+        b.read(t, Usage::StorageRead);
+        b.read(y, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   ASSERT_EQ(c.passes.size(), 4u);
   EXPECT_NE(find_barrier(c.find_pass("read1")->barriers, "t"), nullptr);
@@ -234,22 +270,33 @@ TEST(RenderGraphCompile, ReadAfterReadNeedsNoBarrierButLayoutChangesDo) {
 
 TEST(RenderGraphCompile, WriteAfterReadWaitsForTheReaders) {
   RenderGraph g(kSize);
-  BufferHandle readback = g.import_buffer("readback", VK_NULL_HANDLE, 1024, ResourceState::undefined(), ResourceState::host_read());
+  BufferHandle readback =
+      g.import_buffer("readback", VK_NULL_HANDLE, 1024, ResourceState::undefined(), ResourceState::host_read());
   BufferHandle params = g.create_buffer("params", {256});
   TextureHandle t = g.create_texture("t", kRgba16);
-  g.add_pass("fill", Queue::Compute, [&](PassBuilder& b) { params = b.write(params, Usage::StorageWrite); }, nullptr);
-  g.add_pass("draw", Queue::Graphics, [&](PassBuilder& b) {
-    b.read(params, Usage::Uniform, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT);
-    t = b.write(t, Usage::ColorAttachment);
-  }, nullptr);
-  g.add_pass("refill", Queue::Compute, [&](PassBuilder& b) {
-    b.read(t, Usage::Sampled);
-    params = b.write(params, Usage::StorageWrite);
-  }, nullptr);
-  g.add_pass("copy", Queue::Compute, [&](PassBuilder& b) {
-    b.read(params, Usage::TransferSrc);
-    readback = b.write(readback, Usage::TransferDst);
-  }, nullptr);
+  g.add_pass(
+      "fill", Queue::Compute, [&](PassBuilder& b) { params = b.write(params, Usage::StorageWrite); }, nullptr);
+  g.add_pass(
+      "draw", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(params, Usage::Uniform, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT);
+        t = b.write(t, Usage::ColorAttachment);
+      },
+      nullptr);
+  g.add_pass(
+      "refill", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(t, Usage::Sampled);
+        params = b.write(params, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "copy", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(params, Usage::TransferSrc);
+        readback = b.write(readback, Usage::TransferDst);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   ASSERT_EQ(c.passes.size(), 4u);
   const Barrier* raw = find_barrier(c.find_pass("draw")->barriers, "params");
@@ -276,24 +323,34 @@ TEST(RenderGraphCompile, WriteAfterReadWaitsForTheReaders) {
 // Three transients in a chain: a [0,1], b [1,2], c [2,3]. a and c never live at once.
 static RenderGraph chain_graph(std::vector<std::string>* ran = nullptr) {
   RenderGraph g(kSize);
-  BufferHandle readback = g.import_buffer("readback", VK_NULL_HANDLE, 160 * 90 * 8, ResourceState::undefined(),
-                                          ResourceState::host_read());
+  BufferHandle readback =
+      g.import_buffer("readback", VK_NULL_HANDLE, 160 * 90 * 8, ResourceState::undefined(), ResourceState::host_read());
   TextureHandle a = g.create_texture("a", kRgba16);
   TextureHandle b = g.create_texture("b", kRgba16);
   TextureHandle c = g.create_texture("c", kRgba16);
-  g.add_pass("fill", Queue::Compute, [&](PassBuilder& p) { a = p.write(a, Usage::StorageWrite); }, nullptr);
-  g.add_pass("blur", Queue::Compute, [&](PassBuilder& p) {
-    p.read(a, Usage::Sampled);
-    b = p.write(b, Usage::StorageWrite);
-  }, nullptr);
-  g.add_pass("composite", Queue::Compute, [&](PassBuilder& p) {
-    p.read(b, Usage::StorageRead);
-    c = p.write(c, Usage::StorageWrite);
-  }, nullptr);
-  g.add_pass("readback", Queue::Compute, [&](PassBuilder& p) {
-    p.read(c, Usage::TransferSrc);
-    readback = p.write(readback, Usage::TransferDst);
-  }, nullptr);
+  g.add_pass(
+      "fill", Queue::Compute, [&](PassBuilder& p) { a = p.write(a, Usage::StorageWrite); }, nullptr);
+  g.add_pass(
+      "blur", Queue::Compute,
+      [&](PassBuilder& p) {
+        p.read(a, Usage::Sampled);
+        b = p.write(b, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "composite", Queue::Compute,
+      [&](PassBuilder& p) {
+        p.read(b, Usage::StorageRead);
+        c = p.write(c, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "readback", Queue::Compute,
+      [&](PassBuilder& p) {
+        p.read(c, Usage::TransferSrc);
+        readback = p.write(readback, Usage::TransferDst);
+      },
+      nullptr);
   return g;
 }
 
@@ -345,10 +402,29 @@ TEST(RenderGraphCompile, AliasedBlockTakesTheLargestSize) {
   TextureHandle small = g.create_texture("small", TextureDesc::relative(VK_FORMAT_R8_UNORM, 0.5f));
   TextureHandle mid = g.create_texture("mid", kRgba16);
   TextureHandle big = g.create_texture("big", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT));
-  g.add_pass("p0", Queue::Compute, [&](PassBuilder& b) { small = b.write(small, Usage::StorageWrite); }, nullptr);
-  g.add_pass("p1", Queue::Compute, [&](PassBuilder& b) { b.read(small, Usage::Sampled); mid = b.write(mid, Usage::StorageWrite); }, nullptr);
-  g.add_pass("p2", Queue::Compute, [&](PassBuilder& b) { b.read(mid, Usage::Sampled); big = b.write(big, Usage::StorageWrite); }, nullptr);
-  g.add_pass("p3", Queue::Graphics, [&](PassBuilder& b) { b.read(big, Usage::Sampled); out = b.write(out, Usage::ColorAttachment); }, nullptr);
+  g.add_pass(
+      "p0", Queue::Compute, [&](PassBuilder& b) { small = b.write(small, Usage::StorageWrite); }, nullptr);
+  g.add_pass(
+      "p1", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(small, Usage::Sampled);
+        mid = b.write(mid, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "p2", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(mid, Usage::Sampled);
+        big = b.write(big, Usage::StorageWrite);
+      },
+      nullptr);
+  g.add_pass(
+      "p3", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(big, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   const uint32_t s = index_of(c, "small"), bg = index_of(c, "big");
   ASSERT_TRUE(c.shares_memory(s, bg));
@@ -365,11 +441,16 @@ TEST(RenderGraphCompile, ImportedResourceStatesAndUnusedImports) {
   // An NVDF nobody reads this frame, handed to us in GENERAL and wanted SHADER_READ_ONLY.
   g.import_texture("nvdf", TextureDesc::absolute(VK_FORMAT_R8_UNORM, 64, 64, 16), VK_NULL_HANDLE, VK_NULL_HANDLE,
                    ResourceState::general_storage(), ResourceState::shader_read_only());
-  g.add_pass("accumulate", Queue::Compute, [&](PassBuilder& b) { history = b.read_write(history, Usage::StorageWrite); }, nullptr);
-  g.add_pass("show", Queue::Graphics, [&](PassBuilder& b) {
-    b.read(history, Usage::Sampled);
-    out = b.write(out, Usage::ColorAttachment);
-  }, nullptr);
+  g.add_pass(
+      "accumulate", Queue::Compute, [&](PassBuilder& b) { history = b.read_write(history, Usage::StorageWrite); },
+      nullptr);
+  g.add_pass(
+      "show", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(history, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   const Barrier* in = find_barrier(c.find_pass("accumulate")->barriers, "history");
   ASSERT_NE(in, nullptr);
@@ -393,10 +474,13 @@ TEST(RenderGraphCompile, ImportedResourceStatesAndUnusedImports) {
 
 TEST(RenderGraphCompile, DumpsTextAndGraphviz) {
   RenderGraph g = chain_graph();
-  g.add_pass("lonely", Queue::Compute, [&](PassBuilder& b) {
-    TextureHandle t = b.create_texture("lonely_out", kRgba16);
-    b.write(t, Usage::StorageWrite);
-  }, nullptr);
+  g.add_pass(
+      "lonely", Queue::Compute,
+      [&](PassBuilder& b) {
+        TextureHandle t = b.create_texture("lonely_out", kRgba16);
+        b.write(t, Usage::StorageWrite);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   const std::string text = c.to_text();
   for (const char* s : {"pass 0 fill (compute)", "pass 3 readback", "culled lonely", "barrier c:", "(discard)",
@@ -426,9 +510,10 @@ TEST(RenderGraphCompile, DumpsTextAndGraphviz) {
 TEST(RenderGraphCompile, HashIgnoresCallbacksAndImportedHandles) {
   auto build = [](VkExtent2D size, VkImage image) {
     RenderGraph g(size);
-    TextureHandle out = g.import_texture("swapchain", TextureDesc::relative(VK_FORMAT_B8G8R8A8_UNORM), image, VK_NULL_HANDLE,
-                                         ResourceState::acquired(), ResourceState::present());
-    g.add_pass("clear", Queue::Compute, [&](PassBuilder& b) { out = b.write(out, Usage::TransferDst); }, [](PassContext&) {});
+    TextureHandle out = g.import_texture("swapchain", TextureDesc::relative(VK_FORMAT_B8G8R8A8_UNORM), image,
+                                         VK_NULL_HANDLE, ResourceState::acquired(), ResourceState::present());
+    g.add_pass(
+        "clear", Queue::Compute, [&](PassBuilder& b) { out = b.write(out, Usage::TransferDst); }, [](PassContext&) {});
     return g.hash();
   };
   EXPECT_EQ(build({160, 90}, VK_NULL_HANDLE), build({160, 90}, reinterpret_cast<VkImage>(uintptr_t(0x1234))));
@@ -438,8 +523,11 @@ TEST(RenderGraphCompile, HashIgnoresCallbacksAndImportedHandles) {
 TEST(RenderGraphCompile, FilamentStyleDataPasses) {
   RenderGraph g(kSize);
   TextureHandle out = import_swapchain(g);
-  struct MarchData { TextureHandle clouds; };
-  const MarchData& march = g.add_pass<MarchData>("march", Queue::Compute,
+  struct MarchData {
+    TextureHandle clouds;
+  };
+  const MarchData& march = g.add_pass<MarchData>(
+      "march", Queue::Compute,
       [&](PassBuilder& b, MarchData& d) {
         d.clouds = b.create_texture("clouds", kRgba16);
         d.clouds = b.write(d.clouds, Usage::StorageWrite);
@@ -448,10 +536,13 @@ TEST(RenderGraphCompile, FilamentStyleDataPasses) {
         EXPECT_EQ(c.extent(d.clouds).width, 160u);
         EXPECT_EQ(c.layout(d.clouds), VK_IMAGE_LAYOUT_GENERAL);
       });
-  g.add_pass("show", Queue::Graphics, [&](PassBuilder& b) {
-    b.read(march.clouds, Usage::Sampled);
-    out = b.write(out, Usage::ColorAttachment);
-  }, nullptr);
+  g.add_pass(
+      "show", Queue::Graphics,
+      [&](PassBuilder& b) {
+        b.read(march.clouds, Usage::Sampled);
+        out = b.write(out, Usage::ColorAttachment);
+      },
+      nullptr);
   CompiledGraph c = g.compile();
   EXPECT_EQ(c.passes.size(), 2u);
   g.execute_without_device(c);
@@ -462,32 +553,40 @@ TEST(RenderGraphCompile, DeclarationErrorsNameThePassAndResource) {
     RenderGraph g(kSize);
     TextureHandle t = g.create_texture("t", kRgba16);
     TextureHandle t1 = t;
-    g.add_pass("a", Queue::Compute, [&](PassBuilder& b) { t1 = b.write(t, Usage::StorageWrite); }, nullptr);
-    g.add_pass("b", Queue::Compute, [&](PassBuilder& b) { b.write(t, Usage::StorageWrite); }, nullptr);  // stale
+    g.add_pass(
+        "a", Queue::Compute, [&](PassBuilder& b) { t1 = b.write(t, Usage::StorageWrite); }, nullptr);
+    g.add_pass(
+        "b", Queue::Compute, [&](PassBuilder& b) { b.write(t, Usage::StorageWrite); }, nullptr);  // stale
     const std::string e = compile_error(g);
     EXPECT_NE(e.find("pass 'b' uses version 0 of 't' but version 1 is the latest"), std::string::npos) << e;
   }
   {
     RenderGraph g(kSize);
     TextureHandle t = g.create_texture("t", kRgba16);
-    g.add_pass("early", Queue::Compute, [&](PassBuilder& b) { b.read(t, Usage::Sampled); }, nullptr);
+    g.add_pass(
+        "early", Queue::Compute, [&](PassBuilder& b) { b.read(t, Usage::Sampled); }, nullptr);
     const std::string e = compile_error(g);
     EXPECT_NE(e.find("pass 'early': reads a transient that no earlier pass wrote: 't'"), std::string::npos) << e;
   }
   {
     RenderGraph g(kSize);
     TextureHandle t = g.create_texture("t", kRgba16);
-    g.add_pass("cs", Queue::Compute, [&](PassBuilder& b) { b.write(t, Usage::ColorAttachment); }, nullptr);
+    g.add_pass(
+        "cs", Queue::Compute, [&](PassBuilder& b) { b.write(t, Usage::ColorAttachment); }, nullptr);
     EXPECT_NE(compile_error(g).find("pass 'cs' is a compute pass but uses 't' as color-attachment"), std::string::npos);
   }
   {
     RenderGraph g(kSize);
     TextureHandle t = g.create_texture("t", kRgba16);
-    g.add_pass("w", Queue::Compute, [&](PassBuilder& b) { t = b.write(t, Usage::StorageWrite); }, nullptr);
-    g.add_pass("both", Queue::Compute, [&](PassBuilder& b) {
-      b.read(t, Usage::Sampled);
-      b.write(t, Usage::StorageWrite);
-    }, nullptr);
+    g.add_pass(
+        "w", Queue::Compute, [&](PassBuilder& b) { t = b.write(t, Usage::StorageWrite); }, nullptr);
+    g.add_pass(
+        "both", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(t, Usage::Sampled);
+          b.write(t, Usage::StorageWrite);
+        },
+        nullptr);
     EXPECT_NE(compile_error(g).find("one layout per image per pass"), std::string::npos);
   }
   {
@@ -499,7 +598,8 @@ TEST(RenderGraphCompile, DeclarationErrorsNameThePassAndResource) {
   {
     RenderGraph g(kSize);
     BufferHandle buf = g.create_buffer("buf", {64});
-    g.add_pass("bad", Queue::Compute, [&](PassBuilder& b) { b.write(buf, Usage::ColorAttachment); }, nullptr);
+    g.add_pass(
+        "bad", Queue::Compute, [&](PassBuilder& b) { b.write(buf, Usage::ColorAttachment); }, nullptr);
     EXPECT_NE(compile_error(g).find("usage color-attachment does not apply to buffer 'buf'"), std::string::npos);
   }
   {

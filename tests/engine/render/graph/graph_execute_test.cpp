@@ -46,7 +46,8 @@ bool any_vulkan_device() {
 // in these tests) and a 16-byte push-constant block.
 class Kernel {
  public:
-  Kernel(gpu::Context& ctx, const uint32_t* code, size_t bytes, std::vector<VkDescriptorType> bindings) : ctx_(ctx), types_(bindings) {
+  Kernel(gpu::Context& ctx, const uint32_t* code, size_t bytes, std::vector<VkDescriptorType> bindings)
+      : ctx_(ctx), types_(bindings) {
     VkDevice dev = ctx.device();
     std::vector<VkDescriptorSetLayoutBinding> b;
     std::vector<VkDescriptorPoolSize> sizes;
@@ -71,7 +72,13 @@ class Kernel {
     VkShaderModule module;
     VK_CHECK(vkCreateShaderModule(dev, &sm, nullptr, &module));
     VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cp.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main", nullptr};
+    cp.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                nullptr,
+                0,
+                VK_SHADER_STAGE_COMPUTE_BIT,
+                module,
+                "main",
+                nullptr};
     cp.layout = layout_;
     VkResult r = vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cp, nullptr, &pipeline_);
     vkDestroyShaderModule(dev, module, nullptr);
@@ -117,7 +124,8 @@ class Kernel {
       const bool sampled = types_[i] == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       infos[i] = {sampled ? sampler : VK_NULL_HANDLE, views[i],
                   sampled ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL};
-      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set_, i, 0, 1, types_[i], &infos[i], nullptr, nullptr};
+      writes[i] = {
+          VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set_, i, 0, 1, types_[i], &infos[i], nullptr, nullptr};
     }
     vkUpdateDescriptorSets(ctx_.device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
   }
@@ -137,7 +145,8 @@ class FullscreenPipeline {
  public:
   FullscreenPipeline(gpu::Context& ctx, VkFormat color_format) : ctx_(ctx) {
     VkDevice dev = ctx.device();
-    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                         nullptr};
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = 1;
     dl.pBindings = &binding;
@@ -146,10 +155,12 @@ class FullscreenPipeline {
     pl.setLayoutCount = 1;
     pl.pSetLayouts = &set_layout_;
     VK_CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout_));
-    VkShaderModule vs = module(k_fullscreen_vert, sizeof k_fullscreen_vert), fs = module(k_shade_frag, sizeof k_shade_frag);
-    VkPipelineShaderStageCreateInfo stages[2] = {
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vs, "main", nullptr},
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fs, "main", nullptr}};
+    VkShaderModule vs = module(k_fullscreen_vert, sizeof k_fullscreen_vert),
+                   fs = module(k_shade_frag, sizeof k_shade_frag);
+    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
+                                                  VK_SHADER_STAGE_VERTEX_BIT, vs, "main", nullptr},
+                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
+                                                  VK_SHADER_STAGE_FRAGMENT_BIT, fs, "main", nullptr}};
     VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
@@ -212,8 +223,8 @@ class FullscreenPipeline {
   void draw(VkCommandBuffer cmd, VkImageView source, VkImageView target, VkExtent3D size) {
     VkDescriptorImageInfo info{ctx_.samplers().get(gpu::SamplerDesc::nearest_clamp()), source,
                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set_, 0, 0, 1,
-                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &info, nullptr, nullptr};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,    nullptr, set_,    0,      0, 1,
+                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &info,   nullptr, nullptr};
     vkUpdateDescriptorSets(ctx_.device(), 1, &w, 0, nullptr);
     VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     color.imageView = target;
@@ -307,7 +318,8 @@ class RenderGraphVulkan : public ::testing::Test {
   };
   void make_persistent(uint32_t w, uint32_t h) {
     resources_ = std::make_unique<Persistent>();
-    resources_->bias = gpu::Image(*ctx_, gpu::ImageDesc::tex2d(w, h, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1, "bias"));
+    resources_->bias =
+        gpu::Image(*ctx_, gpu::ImageDesc::tex2d(w, h, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1, "bias"));
     std::vector<float> bias(size_t(w) * h);
     for (uint32_t y = 0; y < h; ++y)
       for (uint32_t x = 0; x < w; ++x) bias[y * w + x] = bias_value(x, y);
@@ -320,9 +332,9 @@ class RenderGraphVulkan : public ::testing::Test {
   RenderGraph build(VkExtent2D size, float frame) {
     RenderGraph g(size);
     const TextureDesc r32 = TextureDesc::relative(VK_FORMAT_R32_SFLOAT);
-    TextureHandle bias = g.import_texture("bias", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, size.width, size.height),
-                                          resources_->bias.handle(), resources_->bias.view(),
-                                          ResourceState::shader_read_only());
+    TextureHandle bias =
+        g.import_texture("bias", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, size.width, size.height),
+                         resources_->bias.handle(), resources_->bias.view(), ResourceState::shader_read_only());
     // The host reads the buffer after each frame: that is the state a frame finds it in, and the
     // one it leaves it in (so a frame in flight waits for the previous frame's copy).
     BufferHandle readback = g.import_buffer("readback", resources_->readback.handle(), resources_->readback.size(),
@@ -332,32 +344,48 @@ class RenderGraphVulkan : public ::testing::Test {
     TextureHandle out = g.create_texture("out", r32);
     TextureHandle debug = g.create_texture("debug", r32);
 
-    g.add_pass("fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
-               [this, field, frame](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), frame); });
-    g.add_pass("blur", Queue::Compute, [&](PassBuilder& b) {
-      b.read(field, Usage::Sampled);
-      blurred = b.write(blurred, Usage::StorageWrite);
-    }, [this, field, blurred](PassContext& c) { blur_->dispatch(c.cmd(), {c.view(field), c.view(blurred)}, c.extent(blurred)); });
-    g.add_pass("debug", Queue::Compute, [&](PassBuilder& b) {
-      b.read(field, Usage::Sampled);
-      debug = b.write(debug, Usage::StorageWrite);
-    }, [this](PassContext&) { debug_ran_ = true; });
-    g.add_pass("composite", Queue::Compute, [&](PassBuilder& b) {
-      b.read(blurred, Usage::StorageRead);
-      b.read(bias, Usage::Sampled);
-      out = b.write(out, Usage::StorageWrite);
-    }, [this, blurred, bias, out](PassContext& c) {
-      composite_->dispatch(c.cmd(), {c.view(blurred), c.view(bias), c.view(out)}, c.extent(out));
-    });
-    g.add_pass("readback", Queue::Compute, [&](PassBuilder& b) {
-      b.read(out, Usage::TransferSrc);
-      readback = b.write(readback, Usage::TransferDst);
-    }, [out, readback](PassContext& c) {
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageExtent = c.extent(out);
-      vkCmdCopyImageToBuffer(c.cmd(), c.image(out), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1, &region);
-    });
+    g.add_pass(
+        "fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
+        [this, field, frame](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), frame); });
+    g.add_pass(
+        "blur", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(field, Usage::Sampled);
+          blurred = b.write(blurred, Usage::StorageWrite);
+        },
+        [this, field, blurred](PassContext& c) {
+          blur_->dispatch(c.cmd(), {c.view(field), c.view(blurred)}, c.extent(blurred));
+        });
+    g.add_pass(
+        "debug", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(field, Usage::Sampled);
+          debug = b.write(debug, Usage::StorageWrite);
+        },
+        [this](PassContext&) { debug_ran_ = true; });
+    g.add_pass(
+        "composite", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(blurred, Usage::StorageRead);
+          b.read(bias, Usage::Sampled);
+          out = b.write(out, Usage::StorageWrite);
+        },
+        [this, blurred, bias, out](PassContext& c) {
+          composite_->dispatch(c.cmd(), {c.view(blurred), c.view(bias), c.view(out)}, c.extent(out));
+        });
+    g.add_pass(
+        "readback", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(out, Usage::TransferSrc);
+          readback = b.write(readback, Usage::TransferDst);
+        },
+        [out, readback](PassContext& c) {
+          VkBufferImageCopy region{};
+          region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+          region.imageExtent = c.extent(out);
+          vkCmdCopyImageToBuffer(c.cmd(), c.image(out), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1,
+                                 &region);
+        });
     return g;
   }
 
@@ -374,7 +402,8 @@ class RenderGraphVulkan : public ::testing::Test {
     size_t bad = 0;
     for (size_t i = 0; i < got.size(); ++i)
       if (std::fabs(got[i] - want[i]) > 1e-4f * std::max(1.0f, std::fabs(want[i]))) {
-        if (bad++ < 5) ADD_FAILURE() << "frame " << frame << " texel " << i << ": got " << got[i] << ", want " << want[i];
+        if (bad++ < 5)
+          ADD_FAILURE() << "frame " << frame << " texel " << i << ": got " << got[i] << ", want " << want[i];
       }
     EXPECT_EQ(bad, 0u) << "frame " << frame;
   }
@@ -444,21 +473,29 @@ TEST_F(RenderGraphVulkan, ComputeToFragmentToReadback) {
                                             ResourceState::undefined(), ResourceState::host_read());
     TextureHandle field = g.create_texture("field", TextureDesc::relative(VK_FORMAT_R32_SFLOAT));
     TextureHandle color = g.create_texture("color", TextureDesc::relative(VK_FORMAT_R32_SFLOAT));
-    g.add_pass("fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
-               [&, field](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), float(frame)); });
-    g.add_pass("shade", Queue::Graphics, [&](PassBuilder& b) {
-      b.read(field, Usage::Sampled);
-      color = b.write(color, Usage::ColorAttachment);
-    }, [&, field, color](PassContext& c) { shade.draw(c.cmd(), c.view(field), c.view(color), c.extent(color)); });
-    g.add_pass("readback", Queue::Graphics, [&](PassBuilder& b) {
-      b.read(color, Usage::TransferSrc);
-      readback = b.write(readback, Usage::TransferDst);
-    }, [color, readback](PassContext& c) {
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageExtent = c.extent(color);
-      vkCmdCopyImageToBuffer(c.cmd(), c.image(color), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1, &region);
-    });
+    g.add_pass(
+        "fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
+        [&, field](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), float(frame)); });
+    g.add_pass(
+        "shade", Queue::Graphics,
+        [&](PassBuilder& b) {
+          b.read(field, Usage::Sampled);
+          color = b.write(color, Usage::ColorAttachment);
+        },
+        [&, field, color](PassContext& c) { shade.draw(c.cmd(), c.view(field), c.view(color), c.extent(color)); });
+    g.add_pass(
+        "readback", Queue::Graphics,
+        [&](PassBuilder& b) {
+          b.read(color, Usage::TransferSrc);
+          readback = b.write(readback, Usage::TransferDst);
+        },
+        [color, readback](PassContext& c) {
+          VkBufferImageCopy region{};
+          region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+          region.imageExtent = c.extent(color);
+          vkCmdCopyImageToBuffer(c.cmd(), c.image(color), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1,
+                                 &region);
+        });
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
     std::vector<float> got(size_t(size.width) * size.height);
     resources_->readback.download(got.data(), got.size() * sizeof(float));
@@ -467,7 +504,8 @@ TEST_F(RenderGraphVulkan, ComputeToFragmentToReadback) {
       for (uint32_t x = 0; x < size.width; ++x) {
         const float want = 3.0f * (0.01f * float(x) + 0.1f * float(y) + float(frame)) + 1.0f;
         if (std::fabs(got[y * size.width + x] - want) > 1e-4f * std::max(1.0f, want) && bad++ < 5)
-          ADD_FAILURE() << "frame " << frame << " (" << x << ", " << y << "): got " << got[y * size.width + x] << ", want " << want;
+          ADD_FAILURE() << "frame " << frame << " (" << x << ", " << y << "): got " << got[y * size.width + x]
+                        << ", want " << want;
       }
     EXPECT_EQ(bad, 0u);
   }
@@ -547,30 +585,34 @@ TEST_F(RenderGraphVulkan, DepthAttachmentThenCopy) {
                                        ResourceState::host_read());
     TextureHandle depth = g.create_texture("depth", TextureDesc::relative(VK_FORMAT_D32_SFLOAT));
     const float clear = 0.25f + 0.5f * float(frame);
-    g.add_pass("depth", Queue::Graphics, [&](PassBuilder& b) { depth = b.write(depth, Usage::DepthWrite); },
-               [depth, clear](PassContext& c) {
-                 VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-                 d.imageView = c.view(depth);
-                 d.imageLayout = c.layout(depth);
-                 d.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-                 d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-                 d.clearValue.depthStencil = {clear, 0};
-                 VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-                 ri.renderArea = {{0, 0}, {c.extent(depth).width, c.extent(depth).height}};
-                 ri.layerCount = 1;
-                 ri.pDepthAttachment = &d;
-                 vkCmdBeginRendering(c.cmd(), &ri);
-                 vkCmdEndRendering(c.cmd());
-               });
-    g.add_pass("copy", Queue::Graphics, [&](PassBuilder& b) {
-      b.read(depth, Usage::TransferSrc);
-      out = b.write(out, Usage::TransferDst);
-    }, [depth, out](PassContext& c) {
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
-      region.imageExtent = c.extent(depth);
-      vkCmdCopyImageToBuffer(c.cmd(), c.image(depth), c.layout(depth), c.buffer(out), 1, &region);
-    });
+    g.add_pass(
+        "depth", Queue::Graphics, [&](PassBuilder& b) { depth = b.write(depth, Usage::DepthWrite); },
+        [depth, clear](PassContext& c) {
+          VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+          d.imageView = c.view(depth);
+          d.imageLayout = c.layout(depth);
+          d.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+          d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+          d.clearValue.depthStencil = {clear, 0};
+          VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+          ri.renderArea = {{0, 0}, {c.extent(depth).width, c.extent(depth).height}};
+          ri.layerCount = 1;
+          ri.pDepthAttachment = &d;
+          vkCmdBeginRendering(c.cmd(), &ri);
+          vkCmdEndRendering(c.cmd());
+        });
+    g.add_pass(
+        "copy", Queue::Graphics,
+        [&](PassBuilder& b) {
+          b.read(depth, Usage::TransferSrc);
+          out = b.write(out, Usage::TransferDst);
+        },
+        [depth, out](PassContext& c) {
+          VkBufferImageCopy region{};
+          region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
+          region.imageExtent = c.extent(depth);
+          vkCmdCopyImageToBuffer(c.cmd(), c.image(depth), c.layout(depth), c.buffer(out), 1, &region);
+        });
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
     std::vector<float> got(size_t(size.width) * size.height);
     readback.download(got.data(), got.size() * sizeof(float));

@@ -45,8 +45,8 @@ RenderGraph random_graph(std::mt19937& rng, std::vector<std::string>& ran) {
   std::vector<bool> written;
   const int resource_count = 3 + pick(6);
   for (int i = 0; i < resource_count; ++i) {
-    textures.push_back(g.create_texture("t" + std::to_string(i), TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT,
-                                                                                         pick(2) ? 1.0f : 0.5f)));
+    textures.push_back(g.create_texture("t" + std::to_string(i),
+                                        TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, pick(2) ? 1.0f : 0.5f)));
     written.push_back(false);
   }
   const Usage reads[] = {Usage::Sampled, Usage::StorageRead, Usage::TransferSrc};
@@ -56,25 +56,28 @@ RenderGraph random_graph(std::mt19937& rng, std::vector<std::string>& ran) {
     const bool last = p + 1 == pass_count;
     const Queue queue = pick(2) ? Queue::Compute : Queue::Graphics;
     const std::string name = "p" + std::to_string(p);
-    g.add_pass(name, last ? Queue::Graphics : queue, [&](PassBuilder& b) {
-      std::vector<int> used;
-      for (int k = pick(3); k > 0; --k) {  // reads of written resources
-        int r = pick(resource_count);
-        if (!written[r] || std::find(used.begin(), used.end(), r) != used.end()) continue;
-        used.push_back(r);
-        b.read(textures[r], reads[pick(3)]);
-      }
-      for (int k = 1 + pick(2); k > 0; --k) {  // writes
-        int r = pick(resource_count);
-        if (std::find(used.begin(), used.end(), r) != used.end()) continue;
-        used.push_back(r);
-        Usage u = writes[pick(3)];
-        if (u == Usage::ColorAttachment && (last ? false : queue == Queue::Compute)) u = Usage::StorageWrite;
-        textures[r] = b.write(textures[r], u);
-        written[r] = true;
-      }
-      if (last) out = b.write(out, Usage::ColorAttachment);
-    }, [&ran, name](PassContext&) { ran.push_back(name); });
+    g.add_pass(
+        name, last ? Queue::Graphics : queue,
+        [&](PassBuilder& b) {
+          std::vector<int> used;
+          for (int k = pick(3); k > 0; --k) {  // reads of written resources
+            int r = pick(resource_count);
+            if (!written[r] || std::find(used.begin(), used.end(), r) != used.end()) continue;
+            used.push_back(r);
+            b.read(textures[r], reads[pick(3)]);
+          }
+          for (int k = 1 + pick(2); k > 0; --k) {  // writes
+            int r = pick(resource_count);
+            if (std::find(used.begin(), used.end(), r) != used.end()) continue;
+            used.push_back(r);
+            Usage u = writes[pick(3)];
+            if (u == Usage::ColorAttachment && (last ? false : queue == Queue::Compute)) u = Usage::StorageWrite;
+            textures[r] = b.write(textures[r], u);
+            written[r] = true;
+          }
+          if (last) out = b.write(out, Usage::ColorAttachment);
+        },
+        [&ran, name](PassContext&) { ran.push_back(name); });
   }
   return g;
 }
