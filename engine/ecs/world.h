@@ -5,6 +5,7 @@
 //   Entities    create() destroy(e) valid(e) alive_count() each_entity(fn)
 //   Components  emplace<T>(e, args...) emplace_or_replace<T> get<T> try_get<T> has<T> remove<T> count<T>
 //   Views       view<const A, B>().each([](Entity e, const A& a, B& b) {...})   (Entity parameter optional)
+//               view<const A>(exclude<C, D>): also skip entities that have C or D
 //   Deferral    defer().create()/destroy(e)/emplace<T>(e, ...)/remove<T>(e); flush()
 //   Names       Name component, find("ground")
 //   Events      emit(T), events<T>(), read(EventReader<T>&), update_events()   (see events.h)
@@ -30,6 +31,7 @@
 //     if (p.y < 0) w.defer().destroy(e);   // applied after each() returns
 //   });
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -48,6 +50,13 @@ namespace cumulo::ecs {
 class World;
 template <typename... Ts>
 class View;
+
+// Entities that have any of these components are skipped: world.view<const Trigger>(exclude<Fired>).
+template <typename... Ts>
+struct Exclude {};
+template <typename... Ts>
+inline constexpr Exclude<Ts...> exclude{};
+inline constexpr size_t kMaxExcluded = 4;
 
 // "entity 3v2" (slot 3, generation 2) or "null entity", for logs and messages.
 std::string to_string(Entity e);
@@ -163,15 +172,15 @@ class World {
   }
 
   // ---- Views: `const` in the type list means read-only (passed as const&).
-  template <typename... Ts>
-  View<Ts...> view() {
-    return View<Ts...>(this, find_pool<std::remove_const_t<Ts>>()...);
+  template <typename... Ts, typename... Ex>
+  View<Ts...> view(Exclude<Ex...> = {}) {
+    static_assert(sizeof...(Ex) <= kMaxExcluded, "too many excluded component types");
+    return View<Ts...>(this, {find_pool<Ex>()...}, find_pool<std::remove_const_t<Ts>>()...);
   }
-  template <typename... Ts>
-  View<Ts...> view() const {
+  template <typename... Ts, typename... Ex>
+  View<Ts...> view(Exclude<Ex...> ex = {}) const {
     static_assert((std::is_const_v<Ts> && ...), "a view of a const World must list only const components");
-    World* self = const_cast<World*>(this);  // only to count the iteration lock; components stay const
-    return View<Ts...>(self, self->find_pool<std::remove_const_t<Ts>>()...);
+    return const_cast<World*>(this)->view<Ts...>(ex);  // only to count the iteration lock; components stay const
   }
 
   // ---- Deferred structural changes
@@ -305,7 +314,12 @@ class View {
   static_assert(sizeof...(Ts) > 0, "a view needs at least one component type");
 
  public:
-  View(World* world, detail::Pool<std::remove_const_t<Ts>>*... pools) : world_(world), pools_(pools...) {}
+  View(World* world, std::initializer_list<const detail::PoolBase*> excluded,
+       detail::Pool<std::remove_const_t<Ts>>*... pools)
+      : world_(world), pools_(pools...) {
+    for (const detail::PoolBase* p : excluded)
+      if (p) excluded_[excluded_count_++] = p;  // an absent pool excludes nothing
+  }
 
   // fn(Entity, C&...) or fn(C&...), C = const T for `const T` in the list. Iterates the smallest pool and
   // skips entities that lack any other component. Structural changes inside go through world.defer().
@@ -328,7 +342,9 @@ class View {
     if (!all_present(std::index_sequence_for<Ts...>{})) return 0;
     return min_size(std::index_sequence_for<Ts...>{});
   }
-  bool contains(Entity e) const { return world_->valid(e) && has_all(e, std::index_sequence_for<Ts...>{}); }
+  bool contains(Entity e) const {
+    return world_->valid(e) && has_all(e, std::index_sequence_for<Ts...>{}) && !excluded(e);
+  }
 
  private:
   template <size_t I>
@@ -368,13 +384,19 @@ class View {
     const std::tuple<std::remove_const_t<Ts>*...> data{std::get<Is>(pools_)->data()...};
     const Entity* entities = std::get<Lead>(pools_)->entities().data();
     const size_t n = std::get<Lead>(pools_)->size();
+    const bool any_excluded = excluded_count_ > 0;
     uint32_t pos[sizeof...(Ts)];
     for (size_t i = 0; i < n; ++i) {
       const Entity e = entities[i];
       const bool match = (((pos[Is] = (Is == Lead ? uint32_t(i) : lookups[Is].position(e.index))) != kAbsent) && ...);
-      if (!match) continue;
+      if (!match || (any_excluded && excluded(e))) continue;
       invoke(fn, e, static_cast<Component<Is>&>(std::get<Is>(data)[pos[Is]])...);
     }
+  }
+  bool excluded(Entity e) const {
+    for (size_t k = 0; k < excluded_count_; ++k)
+      if (excluded_[k]->contains(e.index)) return true;
+    return false;
   }
   template <typename F, typename... Cs>
   static void invoke(F& fn, Entity e, Cs&... cs) {
@@ -385,6 +407,8 @@ class View {
   }
 
   World* world_;
+  const detail::PoolBase* excluded_[kMaxExcluded] = {};
+  size_t excluded_count_ = 0;
   std::tuple<detail::Pool<std::remove_const_t<Ts>>*...> pools_;
 };
 

@@ -83,6 +83,33 @@ TEST(View, IteratesTheSmallestPool) {
   EXPECT_EQ(order, few);
 }
 
+TEST(View, ExcludeSkipsEntitiesWithThoseComponents) {
+  World w;
+  std::vector<Entity> es;
+  for (int i = 0; i < 12; ++i) {
+    Entity e = w.create();
+    w.emplace<Health>(e, i);
+    if (i % 3 == 0) w.emplace<Tag>(e);
+    if (i % 4 == 0) w.emplace<Velocity>(e);
+    es.push_back(e);
+  }
+  std::vector<int> seen;
+  w.view<const Health>(exclude<Tag>).each([&](const Health& h) { seen.push_back(h.hp); });
+  EXPECT_EQ(seen, (std::vector<int>{1, 2, 4, 5, 7, 8, 10, 11}));
+  seen.clear();
+  w.view<const Health>(exclude<Tag, Velocity>).each([&](const Health& h) { seen.push_back(h.hp); });
+  EXPECT_EQ(seen, (std::vector<int>{1, 2, 5, 7, 10, 11}));
+  seen.clear();
+  w.view<const Health>(exclude<Position>).each([&](const Health& h) { seen.push_back(h.hp); });  // no such pool
+  EXPECT_EQ(seen.size(), 12u);
+  EXPECT_FALSE(w.view<const Health>(exclude<Tag>).contains(es[3]));
+  EXPECT_TRUE(w.view<const Health>(exclude<Tag>).contains(es[4]));
+  const World& cw = w;
+  int n = 0;
+  cw.view<const Health>(exclude<Velocity>).each([&](Entity, const Health&) { ++n; });
+  EXPECT_EQ(n, 9);
+}
+
 TEST(View, MissingPoolMeansEmptyView) {
   World w;
   w.emplace<Position>(w.create());
