@@ -22,7 +22,8 @@ const char* vk_result_name(VkResult r) {
     return #x;
     CASE(VK_SUCCESS)
     CASE(VK_NOT_READY)
-    CASE(VK_TIMEOUT) CASE(VK_EVENT_SET) CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE) CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+    CASE(VK_TIMEOUT)
+    CASE(VK_EVENT_SET) CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE) CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
         CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY) CASE(VK_ERROR_INITIALIZATION_FAILED) CASE(VK_ERROR_DEVICE_LOST)
             CASE(VK_ERROR_MEMORY_MAP_FAILED) CASE(VK_ERROR_LAYER_NOT_PRESENT) CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
                 CASE(VK_ERROR_FEATURE_NOT_PRESENT) CASE(VK_ERROR_INCOMPATIBLE_DRIVER) CASE(VK_ERROR_TOO_MANY_OBJECTS)
@@ -60,7 +61,7 @@ static bool env_flag(const char* name, bool* value) {
   return true;
 }
 
-static fs::path default_cache_dir() {
+fs::path default_cache_dir() {
   if (const char* d = std::getenv("CUMULO_CACHE_DIR"); d && *d) return d;
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "cumulo";
   if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "cumulo";

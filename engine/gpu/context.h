@@ -62,6 +62,9 @@ struct DeviceInfo {
 
 const char* device_type_name(VkPhysicalDeviceType type);
 
+// $CUMULO_CACHE_DIR, else $XDG_CACHE_HOME/cumulo, else $HOME/.cache/cumulo (else a temp folder).
+std::filesystem::path default_cache_dir();
+
 // Process-wide validation error/warning counts over all Contexts, including messages emitted while
 // a Context is being destroyed (leaked objects): tests check this after the Context is gone.
 uint32_t total_validation_errors();

@@ -18,6 +18,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
+#include "engine/gpu/context.h"
 
 namespace cumulo::gpu {
 
@@ -62,8 +63,8 @@ static void init_glslang() {
   std::call_once(once, [] { glslang::InitializeProcess(); });
 }
 
-ShaderCompiler::ShaderCompiler(fs::path root, fs::path cache_dir)
-    : root_(std::move(root)), cache_dir_(std::move(cache_dir)) {
+ShaderCompiler::ShaderCompiler(fs::path root, std::optional<fs::path> cache_dir)
+    : root_(std::move(root)), cache_dir_(cache_dir ? *cache_dir : default_cache_dir() / "shaders") {
   if (root_.empty()) root_ = repo_root() / "shaders";
   root_ = fs::weakly_canonical(root_);
 }

@@ -1,10 +1,9 @@
 #pragma once
 // GLSL -> SPIR-V at run time (glslang library), with #include, defines and a disk cache.
 //
-//   gpu::ShaderCompiler compiler;                       // root = <repo>/shaders, cache = <cache dir>/shaders
-//   gpu::CompiledShader cs = compiler.compile("engine/tonemap.frag", {{"USE_ACES", "1"}});
-//   cs.spirv;   // words
-//   cs.files;   // main file + every file it included (absolute), for hot reload
+//   gpu::ShaderCompiler compiler;                       // root = <repo>/shaders, cache =
+//   gpu::default_cache_dir()/shaders gpu::CompiledShader cs = compiler.compile("engine/tonemap.frag", {{"USE_ACES",
+//   "1"}}); cs.spirv;   // words cs.files;   // main file + every file it included (absolute), for hot reload
 //
 // - #include "x.glsl" (needs `#extension GL_GOOGLE_include_directive : require`) is resolved relative to
 //   the including file first, then to the shaders root, like the build-time glslangValidator -I<root>.
@@ -44,8 +43,10 @@ struct CompiledShader {
 
 class ShaderCompiler {
  public:
-  // root: empty = <repo_root()>/shaders. cache_dir: empty = no disk cache.
-  explicit ShaderCompiler(std::filesystem::path root = {}, std::filesystem::path cache_dir = {});
+  // root: empty = <repo_root()>/shaders. cache_dir: not given = default_cache_dir()/shaders (the
+  // Context's default folder); an empty path = no disk cache.
+  explicit ShaderCompiler(std::filesystem::path root = {},
+                          std::optional<std::filesystem::path> cache_dir = std::nullopt);
 
   // `path` relative to the root, or absolute. Throws cumulo::Error (file missing, compile error).
   CompiledShader compile(const std::filesystem::path& path, const std::vector<ShaderDefine>& defines = {},

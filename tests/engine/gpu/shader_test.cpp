@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 
 #include "engine/core/error.h"
@@ -17,7 +18,7 @@ static void write(const fs::path& p, const std::string& text) {
 }
 
 TEST(ShaderCompiler, CompilesWithIncludeAndDefineAndReflects) {
-  ShaderCompiler c;
+  ShaderCompiler c({}, fs::path());  // no disk cache: always compiles
   CompiledShader s = c.compile("test/fill_pattern.comp", {{"SCALE", "3.0"}});
   EXPECT_EQ(s.stage, ShaderStage::Compute);
   EXPECT_EQ(s.display_name, "shaders/test/fill_pattern.comp");
@@ -35,7 +36,7 @@ TEST(ShaderCompiler, CompilesWithIncludeAndDefineAndReflects) {
 }
 
 TEST(ShaderCompiler, ReflectsSamplersAndBuffers) {
-  ShaderCompiler c;
+  ShaderCompiler c({}, fs::path());  // no disk cache: always compiles
   CompiledShader s = c.compile("test/sample_volume.comp");
   auto r = detail::reflect_spirv(s.spirv, s.display_name);
   ASSERT_EQ(r.bindings.size(), 3u);
@@ -49,7 +50,7 @@ TEST(ShaderCompiler, ErrorNamesFileAndLine) {
   fs::path root = test::temp_dir("shader_error");
   write(root / "bad" / "broken.comp",
         "#version 460\nlayout(local_size_x = 1) in;\nvoid main() {\n  float x = undefined_thing;\n}\n");
-  ShaderCompiler c(root);
+  ShaderCompiler c(root, fs::path());
   try {
     c.compile("bad/broken.comp");
     FAIL() << "expected a compile error";
@@ -68,7 +69,7 @@ TEST(ShaderCompiler, ErrorInsideIncludeNamesTheInclude) {
   write(root / "main.comp",
         "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"lib/helpers.glsl\"\n"
         "layout(local_size_x = 1) in;\nvoid main() { helper(); }\n");
-  ShaderCompiler c(root);
+  ShaderCompiler c(root, fs::path());
   try {
     c.compile("main.comp");
     FAIL();
@@ -115,4 +116,14 @@ TEST(ShaderCompiler, DiskCacheKeyedBySourcesAndDefines) {
   EXPECT_FALSE(c.compile("a.comp", {{"VALUE", "2.0"}}).from_cache);
   fs::remove_all(root);
   fs::remove_all(cache);
+}
+
+TEST(ShaderCompiler, DefaultDiskCacheFollowsCumuloCacheDir) {
+  test::TempDir tmp("default_cache");
+  ::setenv("CUMULO_CACHE_DIR", tmp.path.c_str(), 1);
+  ShaderCompiler c;
+  ::unsetenv("CUMULO_CACHE_DIR");
+  EXPECT_EQ(c.cache_dir(), tmp.path / "shaders");
+  EXPECT_FALSE(c.compile("test/fill_pattern.comp").from_cache);
+  EXPECT_TRUE(c.compile("test/fill_pattern.comp").from_cache);
 }
