@@ -1,5 +1,6 @@
 #include "app/commands.h"
 
+#include "engine/app/application.h"
 #include "engine/scene/tools/terrain_gen.h"
 #include "modules/clouds/clouds_commands.h"
 
@@ -10,6 +11,7 @@ namespace cumulo {
 void register_all_commands(CommandRegistry& registry) {
   clouds::register_cloud_commands(registry);
   scene::register_scene_commands(registry);
+  app::register_app_commands(registry);
 }
 
 }  // namespace cumulo

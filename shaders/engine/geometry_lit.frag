@@ -25,14 +25,18 @@ void main() {
   vec3 ambient = mix(frame.ground_color.rgb, mix(frame.sky_horizon.rgb, frame.sky_zenith.rgb, 0.5), up) * frame.sun_color.w;
   vec3 lit = base.rgb * (frame.sun_color.rgb * frame.sun_dir.w * ndl + ambient);
 
-  // Water and wet sand: a little sun glint where the surface is smooth (alpha of the factor < 1 is not
-  // used by glTF opaque materials, so a blue-dominant, flat surface is the cue here).
+  // Sun glint for smooth materials (the ocean): normalized Blinn-Phong with the exponent from the glTF
+  // roughness (alpha = r^2, n = 2/alpha^2 - 2, Walter et al. 2007's mapping) and Schlick Fresnel (F0 0.02).
   vec3 to_cam = frame.camera_pos.xyz - in_world;
   float dist = length(to_cam);
   vec3 v = to_cam / max(dist, 1e-4);
-  float water = step(base.r + 0.05, base.b) * step(0.9, n.y);
+  float rough = clamp(draw.material.x, 0.05, 1.0);
+  float alpha = rough * rough;
+  float spec_n = min(2.0 / (alpha * alpha) - 2.0, 2048.0);
   vec3 h = normalize(l + v);
-  lit += water * frame.sun_color.rgb * frame.sun_dir.w * pow(max(dot(n, h), 0.0), 200.0) * 2.0;
+  float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(v, h), 0.0), 5.0);
+  float spec = (spec_n + 8.0) / 25.1327 * pow(max(dot(n, h), 0.0), spec_n) * fresnel * ndl * (1.0 - rough);
+  lit += frame.sun_color.rgb * frame.sun_dir.w * spec;
 
   vec3 dir = -v;
   float fog = fog_amount(frame, dir, dist);

@@ -7,7 +7,7 @@
 CUMULO_SHARED_BEGIN
 
 struct FrameParams {
-  mat4 view_proj;      // world -> clip (Vulkan clip space, depth 0..1, far plane at depth 1)
+  mat4 view_proj;      // world -> clip (Vulkan clip space, y down, reversed-Z: near 1, far 0)
   mat4 inv_view_proj;  // clip -> world, for sky rays
   vec4 camera_pos;     // xyz: world position (m); w: simulation time (s)
   vec4 sun_dir;        // xyz: unit vector toward the sun; w: sun illuminance scale
@@ -23,8 +23,9 @@ CUMULO_SHARED_SIZE(FrameParams, 240)
 struct DrawParams {
   mat4 model;               // object -> world (uniform scale assumed for normals)
   vec4 base_color_factor;   // glTF baseColorFactor (linear)
+  vec4 material;            // x: glTF roughness, y: metallic, z: 1 = double-sided, w: unused
 };
-CUMULO_SHARED_SIZE(DrawParams, 80)
+CUMULO_SHARED_SIZE(DrawParams, 96)
 
 // Push constants of the tonemap pass.
 struct TonemapParams {

@@ -20,6 +20,7 @@ TEST(SharedParams, FrameParamsOffsetsFollowStd140) {
 TEST(SharedParams, PushConstantBlocksFitTheGuaranteedLimit) {
   // Vulkan guarantees 128 bytes of push constants on every device.
   EXPECT_LE(sizeof(DrawParams), 128u);
+  EXPECT_EQ(offsetof(DrawParams, material), 80u);
   EXPECT_LE(sizeof(TonemapParams), 128u);
   EXPECT_EQ(offsetof(DrawParams, base_color_factor), 64u);
 }

@@ -1,0 +1,68 @@
+#include "engine/app/detail/run_context.h"
+
+#include <cstdio>
+
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/gpu/allocator.h"
+#include "engine/gpu/context.h"
+#include "engine/render/graph/render_graph.h"
+#include "engine/scene/components.h"
+
+namespace cumulo::app::detail {
+
+render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t frame) {
+  rc.sim.extract();
+  render::FrameSnapshot s = render::extract_frame(rc.sim.world(), rc.camera, w, h);
+  s.mode = rc.opt.mode;
+  s.frame_index = frame;
+  s.sim_time = rc.sim.time();
+  s.sim_step = rc.sim.steps();
+  return s;
+}
+
+void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {
+  if (rc.opt.stats.empty()) return;
+  RunStats::Info info;
+  info.width = w;
+  info.height = h;
+  info.mode_hz = render::budget_hz(rc.opt.mode);
+  info.sim_hz = rc.opt.sim_hz;
+  info.seed = rc.opt.seed;
+  info.sim_seconds = rc.sim.time();
+  info.level = rc.opt.level;
+  if (const auto* n = rc.sim.world().try_get<ecs::Name>(rc.camera)) info.camera = n->value;
+  const gpu::DeviceInfo& d = ctx.info();
+  info.device_name = d.name;
+  info.driver_name = d.driver_name;
+  info.driver_info = d.driver_info;
+  info.api_version = strf("%u.%u.%u", VK_API_VERSION_MAJOR(d.api_version), VK_API_VERSION_MINOR(d.api_version),
+                          VK_API_VERSION_PATCH(d.api_version));
+  info.validation_errors = ctx.validation_errors();
+  info.validation_warnings = ctx.validation_warnings();
+  info.peak_gpu_memory_bytes = ctx.allocator().stats().peak_allocated_bytes;
+  write_file_atomic(rc.opt.stats, rc.stats.to_json(info));
+  std::printf("cumulo: wrote stats %s\n", rc.opt.stats.c_str());
+}
+
+void write_graph_dump(const std::string& path, const render::CompiledGraph& g) {
+  bool dot = path.size() >= 4 && path.substr(path.size() - 4) == ".dot";
+  write_file_atomic(path, dot ? g.to_dot() : g.to_text());
+  std::printf("cumulo: wrote render graph %s\n", path.c_str());
+}
+
+void apply_fly_camera(ecs::World& world, ecs::Entity camera, const FlyCamera& fly) {
+  auto& t = world.get<scene::Transform>(camera);
+  t.position = fly.position;
+  t.rotation = fly_rotation(fly);
+}
+
+FlyCamera fly_camera_from(const ecs::World& world, ecs::Entity camera) {
+  const auto& t = world.get<scene::Transform>(camera);
+  FlyCamera fly;
+  fly.position = t.position;
+  fly_look_along(fly, t.forward());
+  return fly;
+}
+
+}  // namespace cumulo::app::detail

@@ -1,0 +1,44 @@
+#pragma once
+// Internals shared by the headless (application.cpp) and windowed (windowed.cpp) loops.
+#include <string>
+
+#include "engine/app/fixed_step.h"
+#include "engine/app/fly_camera.h"
+#include "engine/app/run_options.h"
+#include "engine/app/run_stats.h"
+#include "engine/app/simulation.h"
+#include "engine/render/frame_snapshot.h"
+
+namespace cumulo::gpu {
+class Context;
+}
+namespace cumulo::render {
+struct CompiledGraph;
+}
+
+namespace cumulo::app::detail {
+
+struct RunContext {
+  RunOptions opt;
+  Simulation sim;
+  ecs::Entity camera;
+  FixedStepClock clock;
+  RunStats stats;
+  RunContext(const RunOptions& o, const SimulationDesc& d) : opt(o), sim(d), clock(o.sim_hz) {}
+};
+
+// Extract phase + snapshot of the camera entity at w x h.
+render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t frame);
+// Writes --stats (if asked).
+void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h);
+// Writes --dump-graph: Graphviz when the path ends in .dot, text otherwise.
+void write_graph_dump(const std::string& path, const render::CompiledGraph& graph);
+// Puts the fly camera's pose into the camera entity's Transform.
+void apply_fly_camera(ecs::World& world, ecs::Entity camera, const FlyCamera& fly);
+// The fly camera starting at the camera entity's pose.
+FlyCamera fly_camera_from(const ecs::World& world, ecs::Entity camera);
+
+// Windowed loop (windowed.cpp). Throws WindowUnavailable when no window can be opened.
+int run_windowed(RunContext& rc);
+
+}  // namespace cumulo::app::detail

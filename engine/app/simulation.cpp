@@ -1,0 +1,54 @@
+#include "engine/app/simulation.h"
+
+#include "engine/core/error.h"
+#include "engine/scene/camera.h"
+#include "engine/scene/components.h"
+#include "engine/scene/level.h"
+#include "engine/scene/serialization.h"
+#include "engine/scene/sun.h"
+
+namespace cumulo::app {
+
+void register_engine_systems(ecs::Scheduler& scheduler) {
+  // The day cycle: TimeOfDay components (and a TimeOfDay resource, if the level made one) advance at
+  // their hours_per_second. Update phase: gameplay systems in PreUpdate may set the time first.
+  scheduler.add_system(ecs::Phase::Update, "time_of_day", [](ecs::World& w, const ecs::FrameContext& f) {
+    w.view<scene::TimeOfDay>().each([&](scene::TimeOfDay& tod) { scene::advance_time_of_day(tod, f.dt); });
+    if (auto* tod = w.try_resource<scene::TimeOfDay>()) scene::advance_time_of_day(*tod, f.dt);
+  });
+}
+
+Simulation::Simulation(const SimulationDesc& desc) : sim_hz_(desc.sim_hz) {
+  world_.set_resource<SimulationSeed>(SimulationSeed{desc.seed});
+  auto& registry = world_.set_resource<ecs::ComponentRegistry>();
+  scene::register_components(registry);
+  register_engine_systems(scheduler_);
+  if (desc.register_modules) desc.register_modules(registry, scheduler_);
+  level_ = scene::load_level(desc.level, world_, registry);
+  if (desc.time_of_day) {
+    bool any = false;
+    world_.view<scene::TimeOfDay>().each([&](scene::TimeOfDay& tod) {
+      tod.hours = *desc.time_of_day;
+      any = true;
+    });
+    if (auto* tod = world_.try_resource<scene::TimeOfDay>()) {
+      tod->hours = *desc.time_of_day;
+      any = true;
+    }
+    if (!any) world_.set_resource<scene::TimeOfDay>().hours = *desc.time_of_day;
+  }
+}
+
+void Simulation::step(uint64_t steps) {
+  for (uint64_t i = 0; i < steps; ++i) scheduler_.step(world_, step_seconds());
+}
+
+void Simulation::extract() { scheduler_.extract(world_); }
+
+ecs::Entity Simulation::camera(const std::string& name) const {
+  if (!name.empty()) return scene::find_camera(world_, name);
+  if (level_.cameras.empty()) fail("%s: the level has no camera (an entity with Camera and Transform)", level_.file.string().c_str());
+  return scene::find_camera(world_, level_.cameras.front());
+}
+
+}  // namespace cumulo::app

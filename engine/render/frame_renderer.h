@@ -1,0 +1,82 @@
+#pragma once
+// The engine's frame: builds a render graph per frame from a FrameSnapshot and records it.
+//
+//   geometry  (graphics) glTF meshes -> hdr (R16G16B16A16F) + depth (D32F, reversed-Z), sun + ambient + fog
+//   sky       (graphics) sky gradient + sun disc into hdr where depth is still the cleared far plane
+//   tonemap   (graphics) hdr -> output (swapchain image or offscreen RGBA8), ACES fitted
+//
+// Feature modules (the clouds) add passes between sky and tonemap through add_pass_hook().
+// The renderer reads the snapshot only; it never touches the ECS world.
+//
+//   FrameRenderer r(ctx);
+//   r.record_frame(frame.cmd, snapshot, target, frame.slot);   // gpu::FrameRing slot
+//   ... submit; once that frame completed:
+//   auto timings = r.pass_timings();               // [(pass, ms)] of the last recorded frame (GPU timestamps)
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/gpu/frames.h"
+#include "engine/gpu/vk.h"
+#include "engine/render/frame_snapshot.h"
+#include "engine/render/graph/render_graph.h"
+
+namespace cumulo::gpu {
+class Context;
+}
+
+namespace cumulo::render {
+
+inline constexpr uint32_t kFramesInFlight = gpu::kFramesInFlight;
+
+// Where the tonemap pass writes: an acquired swapchain image or an offscreen image.
+struct RenderTarget {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{0, 0};
+  ResourceState initial, final;  // e.g. acquired() -> present(), or undefined() -> shader_read_only()
+  std::string name = "output";
+};
+
+// Passes a module adds to the frame: called while the graph is built, after sky, before tonemap,
+// with the scene colour and depth (it may return a new version of hdr).
+struct FrameResources {
+  TextureHandle hdr, depth;
+};
+using PassHook = std::function<void(RenderGraph& graph, const FrameSnapshot& snapshot, FrameResources& frame)>;
+
+class FrameRenderer {
+ public:
+  explicit FrameRenderer(gpu::Context& ctx);
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+  // Records the whole frame into `cmd` (begun by the caller). Throws cumulo::Error for an invalid
+  // graph or a model that cannot be uploaded.
+  void record_frame(VkCommandBuffer cmd, const FrameSnapshot& snapshot, const RenderTarget& target, uint32_t slot);
+  // GPU time per pass of the last recorded frame, in execution order; empty until it completed.
+  std::vector<std::pair<std::string, double>> pass_timings() const;
+  // The compiled graph of the last recorded frame.
+  const CompiledGraph& last_compiled() const;
+
+  // Windowed runs: recompiles changed shader files; a failure logs the error and keeps the old pipeline.
+  // Returns true when a pipeline was rebuilt.
+  bool reload_shaders();
+  // Compiler errors of pipelines whose latest reload failed (empty when every pipeline is current).
+  std::string shader_errors() const;
+
+  void add_pass_hook(PassHook hook) { hooks_.push_back(std::move(hook)); }
+  void set_exposure(float exposure) { exposure_ = exposure; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<PassHook> hooks_;
+  float exposure_ = 1.0f;
+};
+
+}  // namespace cumulo::render
