@@ -31,7 +31,11 @@ std::string read_file_text(const fs::path& path) {
 }
 
 void write_file_atomic(const fs::path& path, std::span<const uint8_t> bytes) {
-  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+  if (path.has_parent_path()) {
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) fail("%s: cannot create folder %s: %s", path.c_str(), path.parent_path().c_str(), ec.message().c_str());
+  }
   fs::path tmp = path;
   tmp += ".tmp";
   FILE* f = std::fopen(tmp.c_str(), "wb");

@@ -27,3 +27,7 @@ TEST(FileIo, MissingFileNamesPath) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/cumulo/x.bin"), std::string::npos);
   }
 }
+
+TEST(FileIo, AtomicWriteIntoImpossibleFolderIsCumuloError) {
+  EXPECT_THROW(write_file_atomic("/proc/cumulo/nope/a.txt", std::string("x")), Error);
+}
