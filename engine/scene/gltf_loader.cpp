@@ -504,11 +504,15 @@ Model load_gltf_from_memory(std::span<const uint8_t> bytes, const std::string& n
   std::string err, warn;
   bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   bool ok;
-  if (binary) {
-    ok = loader.LoadBinaryFromMemory(&g, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir.string());
-  } else {
-    ok = loader.LoadASCIIFromString(&g, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                    unsigned(bytes.size()), base_dir.string());
+  try {  // tinygltf reports through err, but its JSON library may still throw on hostile input
+    if (binary) {
+      ok = loader.LoadBinaryFromMemory(&g, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir.string());
+    } else {
+      ok = loader.LoadASCIIFromString(&g, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                      unsigned(bytes.size()), base_dir.string());
+    }
+  } catch (const std::exception& e) {
+    throw Error(name + ": glTF parse error: " + e.what());
   }
   if (!ok) throw Error(name + ": glTF parse error: " + (err.empty() ? std::string("unknown error") : trim(err)));
   if (!warn.empty()) LOG_WARN("%s: %s", name.c_str(), trim(warn).c_str());

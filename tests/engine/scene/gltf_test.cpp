@@ -260,3 +260,49 @@ TEST(Gltf, GenerateNormalsWeighsByArea) {
   EXPECT_TRUE(near(v[3].normal, {1, 0, 0}));
   EXPECT_GT(v[0].normal.y, 0.99f);  // the big face dominates
 }
+
+// Robustness in the spirit of a fuzzer, runnable with GCC: thousands of corrupted copies of a valid asset
+// (byte flips, byte runs, truncations, in both the JSON and the binary chunk). Each must either load or be
+// refused with a cumulo::Error; any crash, hang or other exception fails the test.
+TEST(Gltf, CorruptedAssetsLoadOrFailCleanly) {
+  std::vector<uint8_t> good = make_asset().finish();
+  uint64_t state = 12345;
+  auto rnd = [&](uint64_t n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return (state >> 33) % n;
+  };
+  int loaded = 0, refused = 0;
+  for (int iter = 0; iter < 3000; ++iter) {
+    std::vector<uint8_t> bytes = good;
+    switch (rnd(4)) {
+      case 0:  // a few random bytes
+        for (int k = 0, n = 1 + int(rnd(4)); k < n; ++k) bytes[rnd(bytes.size())] = uint8_t(rnd(256));
+        break;
+      case 1: {  // a digit in the JSON replaced by another: counts, offsets, indices out of range
+        size_t at = rnd(bytes.size());
+        while (at < bytes.size() && !(bytes[at] >= '0' && bytes[at] <= '9')) ++at;
+        if (at < bytes.size()) bytes[at] = uint8_t('0' + rnd(10));
+        break;
+      }
+      case 2:  // truncation
+        bytes.resize(rnd(bytes.size()));
+        break;
+      default: {  // a run of 0xFF or 0x00
+        size_t at = rnd(bytes.size()), len = 1 + rnd(16);
+        uint8_t v = rnd(2) ? 0xFF : 0x00;
+        for (size_t k = at; k < bytes.size() && k < at + len; ++k) bytes[k] = v;
+      }
+    }
+    try {
+      Model m = load_gltf_from_memory(bytes, "fuzz.glb", {});
+      for (const Mesh& mesh : m.meshes)
+        for (uint32_t i : mesh.indices) ASSERT_LT(i, mesh.vertices.size());
+      ++loaded;
+    } catch (const Error& e) {
+      ASSERT_NE(std::string(e.what()).find("fuzz.glb"), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_GT(loaded, 0);
+  EXPECT_GT(refused, 0);
+}
