@@ -11,11 +11,16 @@ namespace cumulo::ecs {
 
 const char* phase_name(Phase phase) {
   switch (phase) {
-    case Phase::Input: return "Input";
-    case Phase::PreUpdate: return "PreUpdate";
-    case Phase::Update: return "Update";
-    case Phase::PostUpdate: return "PostUpdate";
-    case Phase::Extract: return "Extract";
+    case Phase::Input:
+      return "Input";
+    case Phase::PreUpdate:
+      return "PreUpdate";
+    case Phase::Update:
+      return "Update";
+    case Phase::PostUpdate:
+      return "PostUpdate";
+    case Phase::Extract:
+      return "Extract";
   }
   return "?";
 }

@@ -46,8 +46,8 @@ class ComponentRegistry {
     std::string name;
     uint32_t type_id = 0;
     std::function<bool(const World&, Entity)> has;
-    std::function<Json(const World&, Entity)> save;   // entity must have it
-    std::function<Applier(const JsonView&)> parse;    // throws cumulo::Error naming the path
+    std::function<Json(const World&, Entity)> save;  // entity must have it
+    std::function<Applier(const JsonView&)> parse;   // throws cumulo::Error naming the path
     std::function<bool(World&, Entity)> remove;
     void load(World& world, Entity e, const JsonView& v) const { parse(v)(world, e); }  // emplace or replace
   };

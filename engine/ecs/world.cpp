@@ -120,8 +120,10 @@ void World::clear() {
   if (iteration_depth_ > 0) fail("ecs: World::clear() while a view is iterating");
   commands_.ops_.clear();
   for (uint32_t i = 0; i < slots_.size(); ++i) {
-    if (slots_[i].alive) destroy(Entity{i, slots_[i].generation});
-    else if (slots_[i].reserved) release_reserved(Entity{i, slots_[i].generation});
+    if (slots_[i].alive)
+      destroy(Entity{i, slots_[i].generation});
+    else if (slots_[i].reserved)
+      release_reserved(Entity{i, slots_[i].generation});
   }
 }
 

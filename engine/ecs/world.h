@@ -253,10 +253,10 @@ class World {
   }
   void begin_iteration() { ++iteration_depth_; }
   void end_iteration(bool apply_commands);
-  Entity reserve();                  // a handle for Commands::create, not yet alive
-  bool reserved(Entity e) const;     // reserved by Commands::create and not yet applied
-  void activate(Entity e);           // makes a reserved handle alive
-  void release_reserved(Entity e);   // frees a reserved handle that never came alive
+  Entity reserve();                 // a handle for Commands::create, not yet alive
+  bool reserved(Entity e) const;    // reserved by Commands::create and not yet applied
+  void activate(Entity e);          // makes a reserved handle alive
+  void release_reserved(Entity e);  // frees a reserved handle that never came alive
   [[noreturn]] void fail_stale(Entity e, const char* op, std::string_view type) const;
 
  private:

@@ -35,9 +35,15 @@ constexpr int kTypes = 3;
 template <typename F>
 void with_type(int k, F&& fn) {
   switch (k) {
-    case 0: fn.template operator()<CA>(); break;
-    case 1: fn.template operator()<CB>(); break;
-    default: fn.template operator()<CC>(); break;
+    case 0:
+      fn.template operator()<CA>();
+      break;
+    case 1:
+      fn.template operator()<CB>();
+      break;
+    default:
+      fn.template operator()<CC>();
+      break;
   }
 }
 template <typename T>
@@ -48,8 +54,8 @@ constexpr int index_of() {
 struct Model {
   using Values = std::array<std::optional<int>, kTypes>;
   std::map<Entity, Values> alive;
-  std::vector<Entity> dead;      // every handle ever destroyed: must stay invalid
-  std::set<Entity> issued;       // every handle ever handed out: new ones must be new
+  std::vector<Entity> dead;  // every handle ever destroyed: must stay invalid
+  std::set<Entity> issued;   // every handle ever handed out: new ones must be new
   struct Pending {
     enum Kind { Create, Destroy, Emplace, Remove } kind;
     Entity e;
@@ -62,7 +68,9 @@ struct Model {
     for (const Pending& p : pending) {
       auto it = alive.find(p.e);
       switch (p.kind) {
-        case Pending::Create: alive[p.e] = {}; break;
+        case Pending::Create:
+          alive[p.e] = {};
+          break;
         case Pending::Destroy:
           if (it != alive.end()) {
             alive.erase(it);
@@ -99,9 +107,10 @@ class RandomModel {
       }
     }
     // Show that the run exercised what it claims to (and guard against a generator that stopped doing so).
-    printf("  %d steps: %zu alive at end, %zu destroyed, %zu handles issued, %zu views, %zu entities visited, "
-           "%zu deferred commands applied\n",
-           steps, model_.alive.size(), model_.dead.size(), model_.issued.size(), views_, visits_, applied_);
+    printf(
+        "  %d steps: %zu alive at end, %zu destroyed, %zu handles issued, %zu views, %zu entities visited, "
+        "%zu deferred commands applied\n",
+        steps, model_.alive.size(), model_.dead.size(), model_.issued.size(), views_, visits_, applied_);
     EXPECT_GT(visits_, size_t(steps));
     EXPECT_GT(applied_, size_t(steps) / 4);
     EXPECT_GT(model_.dead.size(), size_t(steps) / 20);
@@ -294,8 +303,10 @@ class RandomModel {
     } else if (r < 30) {
       int k = rand(kTypes);
       with_type(k, [&]<typename T>() {
-        if (chance(50)) expect_error([&] { world_.remove<T>(e); }, "remove during each");
-        else if (!model_.alive.at(e)[k]) expect_error([&] { world_.emplace<T>(e); }, "emplace during each");
+        if (chance(50))
+          expect_error([&] { world_.remove<T>(e); }, "remove during each");
+        else if (!model_.alive.at(e)[k])
+          expect_error([&] { world_.emplace<T>(e); }, "emplace during each");
       });
       if (chance(20)) expect_error([&] { world_.destroy(e); }, "destroy during each");
     } else if (r < 33) {
@@ -401,7 +412,11 @@ class RandomModel {
   template <typename T>
   void register_type(const char* name) {
     registry_.register_component<T>(
-        name, [](const T& c) { return Json{{"v", c.v}}; }, [](const JsonView& v) { return T{v["v"].as<int>()}; });
+        name,
+        [](const T& c) {
+          return Json{{"v", c.v}};
+        },
+        [](const JsonView& v) { return T{v["v"].as<int>()}; });
   }
 
   // serialize_world -> load_entities into a fresh world -> serialize again: same JSON, and the model's

@@ -12,13 +12,19 @@ using namespace test;
 
 void register_test_components(ComponentRegistry& reg) {
   reg.register_component<Position>(
-      "Position", [](const Position& p) { return Json::array({p.x, p.y, p.z}); },
+      "Position",
+      [](const Position& p) {
+        return Json::array({p.x, p.y, p.z});
+      },
       [](const JsonView& v) {
         glm::vec3 p = v.as_vec3();
         return Position{p.x, p.y, p.z};
       });
   reg.register_component<Health>(
-      "Health", [](const Health& h) { return Json{{"hp", h.hp}}; },
+      "Health",
+      [](const Health& h) {
+        return Json{{"hp", h.hp}};
+      },
       [](const JsonView& v) { return Health{v.get<int>("hp", 100)}; });
   reg.register_component<Tag>(
       "Tag", [](const Tag&) { return Json::object(); }, [](const JsonView&) { return Tag{}; });
@@ -72,8 +78,9 @@ TEST_F(Serialize, RoundTripsThroughJson) {
 }
 
 TEST_F(Serialize, UnknownComponentNamesThePath) {
-  EXPECT_ERROR_HAS(load(R"([{"components": {"Position": [0,0,0]}}, {"components": {"Camera": {}}}])"),
-                   "level.json: $[1].components.Camera: unknown component \"Camera\" (registered: Position, Health, Tag)");
+  EXPECT_ERROR_HAS(
+      load(R"([{"components": {"Position": [0,0,0]}}, {"components": {"Camera": {}}}])"),
+      "level.json: $[1].components.Camera: unknown component \"Camera\" (registered: Position, Health, Tag)");
   EXPECT_EQ(world.alive_count(), 0u);  // nothing created: the load is all or nothing
 }
 

@@ -165,8 +165,10 @@ TEST(View, DeferredChangesApplyAfterTheOutermostEach) {
   Entity spawned;
   w.view<Health>().each([&](Entity e, Health& h) {
     ++visited;
-    if (h.hp % 2 == 0) w.defer().destroy(e);
-    else w.defer().emplace<Velocity>(e, float(h.hp));
+    if (h.hp % 2 == 0)
+      w.defer().destroy(e);
+    else
+      w.defer().emplace<Velocity>(e, float(h.hp));
     if (h.hp == 7) {
       spawned = w.defer().create();
       w.defer().emplace<Health>(spawned, 1000);
@@ -198,7 +200,7 @@ TEST(View, DeferredRemoveAndOpsOnEntitiesDeadAtApplyTime) {
     if (e == b) {
       w.defer().remove<Velocity>(b);
       w.defer().destroy(a);
-      w.defer().destroy(a);  // a second system destroying the same entity is harmless
+      w.defer().destroy(a);             // a second system destroying the same entity is harmless
       w.defer().emplace<Health>(a, 3);  // a is dead when this applies: skipped
     }
   });

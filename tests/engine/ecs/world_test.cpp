@@ -1,10 +1,9 @@
 // Entities, generations, component storage, names and resources.
-#include "engine/ecs/ecs.h"  // also checks that the umbrella header compiles alone
-
 #include <gtest/gtest.h>
 
 #include <set>
 
+#include "engine/ecs/ecs.h"  // also checks that the umbrella header compiles alone
 #include "tests/engine/ecs/components.h"
 #include "tests/engine/ecs/expect_error.h"
 
@@ -34,7 +33,7 @@ TEST(World, DestroyedHandleIsStaleEvenWhenSlotIsReused) {
   w.destroy(a);
   EXPECT_FALSE(w.valid(a));
   Entity b = w.create();
-  EXPECT_EQ(b.index, a.index);  // slot reused...
+  EXPECT_EQ(b.index, a.index);            // slot reused...
   EXPECT_NE(b.generation, a.generation);  // ...under a new generation
   EXPECT_TRUE(w.valid(b));
   EXPECT_FALSE(w.valid(a));
@@ -84,8 +83,10 @@ TEST(World, ComponentsStayWithTheirEntityAcrossSwapRemoval) {
   for (int i = 0; i < 1000; i += 3) w.destroy(es[i]);
   for (int i = 1; i < 1000; i += 3) w.remove<Health>(es[i]);
   for (int i = 0; i < 1000; ++i) {
-    if (i % 3 == 2) EXPECT_EQ(w.get<Health>(es[i]).hp, i);
-    else EXPECT_FALSE(w.has<Health>(es[i]));
+    if (i % 3 == 2)
+      EXPECT_EQ(w.get<Health>(es[i]).hp, i);
+    else
+      EXPECT_FALSE(w.has<Health>(es[i]));
   }
   EXPECT_EQ(w.count<Health>(), 333u);
 }
