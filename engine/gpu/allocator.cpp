@@ -112,7 +112,7 @@ bool MemoryAllocator::is_host_visible(uint32_t t) const {
   return (props_.memoryTypes[t].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
 }
 
-uint32_t MemoryAllocator::find_memory_type(uint32_t type_bits, MemoryUsage usage) const {
+int detail::choose_memory_type(const VkPhysicalDeviceMemoryProperties& props, uint32_t type_bits, MemoryUsage usage) {
   VkMemoryPropertyFlags required = 0, preferred = 0, avoided = 0;
   switch (usage) {
     case MemoryUsage::GpuOnly:
@@ -133,9 +133,9 @@ uint32_t MemoryAllocator::find_memory_type(uint32_t type_bits, MemoryUsage usage
       break;
   }
   int best = -1, best_score = -1;
-  for (uint32_t i = 0; i < props_.memoryTypeCount; ++i) {
+  for (uint32_t i = 0; i < props.memoryTypeCount; ++i) {
     if (!(type_bits & (1u << i))) continue;
-    VkMemoryPropertyFlags f = props_.memoryTypes[i].propertyFlags;
+    VkMemoryPropertyFlags f = props.memoryTypes[i].propertyFlags;
     if ((f & required) != required) continue;
     if (f & VK_MEMORY_PROPERTY_LAZILY_ALLOCATED_BIT) continue;
     if (f & VK_MEMORY_PROPERTY_PROTECTED_BIT) continue;
@@ -145,6 +145,11 @@ uint32_t MemoryAllocator::find_memory_type(uint32_t type_bits, MemoryUsage usage
       best_score = score;
     }
   }
+  return best;
+}
+
+uint32_t MemoryAllocator::find_memory_type(uint32_t type_bits, MemoryUsage usage) const {
+  int best = detail::choose_memory_type(props_, type_bits, usage);
   if (best < 0) fail("gpu: no memory type for usage %s among type bits 0x%x", usage_name(usage), type_bits);
   return uint32_t(best);
 }

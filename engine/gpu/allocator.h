@@ -80,6 +80,10 @@ class RangeAllocator {
 
 inline uint64_t align_up(uint64_t v, uint64_t a) { return (v + a - 1) & ~(a - 1); }
 
+// Memory type choice for a usage, from the device's memory properties (pure: unit-tested with
+// discrete-GPU-like tables). Returns -1 when no type among `type_bits` qualifies.
+int choose_memory_type(const VkPhysicalDeviceMemoryProperties& props, uint32_t type_bits, MemoryUsage usage);
+
 }  // namespace detail
 
 class MemoryAllocator {

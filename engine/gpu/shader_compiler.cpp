@@ -209,6 +209,7 @@ CompiledShader ShaderCompiler::compile(const fs::path& path, const std::vector<S
         out.spirv.resize(bytes.size() / 4);
         std::memcpy(out.spirv.data(), bytes.data(), bytes.size());
         out.from_cache = true;
+        std::lock_guard lock(g_glslang_mutex);  // counters are shared by threads compiling at once
         cache_hits++;
         return out;
       }

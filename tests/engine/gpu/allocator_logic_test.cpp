@@ -86,3 +86,35 @@ TEST(RangeAllocator, RandomizedNoOverlap) {
   EXPECT_TRUE(r.empty());
   EXPECT_EQ(r.free_range_count(), 1u);
 }
+
+namespace {
+constexpr VkMemoryPropertyFlags DL = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, HV = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                HC = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, CA = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+VkPhysicalDeviceMemoryProperties table(std::initializer_list<VkMemoryPropertyFlags> types) {
+  VkPhysicalDeviceMemoryProperties p{};
+  for (VkMemoryPropertyFlags f : types) p.memoryTypes[p.memoryTypeCount++] = {f, 0};
+  p.memoryHeapCount = 1;
+  return p;
+}
+}  // namespace
+
+using cumulo::gpu::MemoryUsage;
+using cumulo::gpu::detail::choose_memory_type;
+
+// A discrete GPU with a BAR window: device-local, host (coherent), host cached, device-local+host (BAR).
+TEST(MemoryTypeChoice, DiscreteGpuLikeTable) {
+  auto p = table({DL, HV | HC, HV | HC | CA, DL | HV | HC});
+  EXPECT_EQ(choose_memory_type(p, 0xf, MemoryUsage::GpuOnly), 0);   // pure VRAM, not the BAR
+  EXPECT_EQ(choose_memory_type(p, 0xf, MemoryUsage::Upload), 1);    // system memory, BAR kept for Dynamic
+  EXPECT_EQ(choose_memory_type(p, 0xf, MemoryUsage::Readback), 2);  // cached for CPU reads
+  EXPECT_EQ(choose_memory_type(p, 0xf, MemoryUsage::Dynamic), 3);   // BAR
+  EXPECT_EQ(choose_memory_type(p, 0x1, MemoryUsage::Upload), -1);   // the resource allows only VRAM
+  EXPECT_EQ(choose_memory_type(p, 0x2, MemoryUsage::GpuOnly), 1);   // falls back to what the resource allows
+}
+
+// lavapipe: a single type that is everything at once.
+TEST(MemoryTypeChoice, CpuDeviceSingleType) {
+  auto p = table({DL | HV | HC | CA});
+  for (auto u : {MemoryUsage::GpuOnly, MemoryUsage::Upload, MemoryUsage::Readback, MemoryUsage::Dynamic})
+    EXPECT_EQ(choose_memory_type(p, 0x1, u), 0);
+}
