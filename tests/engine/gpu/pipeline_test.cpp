@@ -204,3 +204,38 @@ TEST_F(GpuTest, PushToWrongBindingIsAnError) {
                    [&](VkCommandBuffer cmd) { DescriptorWriter().storage_buffer(5, b.handle()).push(ctx(), cmd, p); }),
                cumulo::Error);
 }
+
+// BC1 (the format of the talk's conservative SDF option): two 4x4 blocks decoded by the device.
+TEST_F(GpuTest, Bc1TextureDecodesWhenSampled) {
+  ASSERT_TRUE(ctx().info().texture_compression_bc);
+  Image tex(ctx(), ImageDesc::tex2d(8, 4, VK_FORMAT_BC1_RGB_UNORM_BLOCK, VK_IMAGE_USAGE_SAMPLED_BIT, 1, "bc1"));
+  // Block layout: color0 (RGB565), color1, then 2-bit indices. color0 > color1 selects 4-colour mode.
+  // Block 0: all texels index 0 (red); block 1: all texels index 1 (blue).
+  const uint8_t blocks[16] = {0x00, 0xF8, 0x1F, 0x00, 0x00, 0x00, 0x00, 0x00,
+                              0x00, 0xF8, 0x1F, 0x00, 0x55, 0x55, 0x55, 0x55};
+  tex.upload({{blocks, sizeof blocks}});
+  struct Q {
+    float u, v, pad, lod;
+  };
+  std::vector<Q> q = {{1.5f / 8, 0.5f, 0, 0}, {6.5f / 8, 0.5f, 0, 0}};
+  Buffer qbuf(ctx(), {.size = sizeof(Q) * q.size(), .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+  qbuf.upload(q.data(), sizeof(Q) * q.size());
+  Buffer rbuf(ctx(), {.size = 16 * q.size(), .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+  ShaderCompiler compiler({}, cache_ / "shaders");
+  Pipeline p = Pipeline::compute(ctx(), compiler, {.shader = "test/sample_texture2d.comp"});
+  ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+    p.bind(cmd);
+    DescriptorWriter()
+        .sampled_image(0, tex.view(), ctx().samplers().get(SamplerDesc::nearest_clamp()))
+        .storage_buffer(1, rbuf.handle())
+        .storage_buffer(2, qbuf.handle())
+        .push(ctx(), cmd, p);
+    p.dispatch_threads(cmd, uint32_t(q.size()));
+  });
+  float r[8];
+  rbuf.download(r, sizeof r);
+  EXPECT_NEAR(r[0], 1.0f, 0.01f);
+  EXPECT_NEAR(r[2], 0.0f, 0.01f);
+  EXPECT_NEAR(r[4], 0.0f, 0.01f);
+  EXPECT_NEAR(r[6], 1.0f, 0.01f);
+}
