@@ -1,0 +1,225 @@
+// `cumulo run` end to end, headless on lavapipe with validation (CUMULO_VALIDATION=1 from CTest):
+// exit code, stats JSON, screenshot pixel statistics, reproducibility, the graph dump, bad inputs.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+
+#include "tests/engine/app/cli_test_util.h"
+
+namespace fs = std::filesystem;
+using cumulo::test::run_cumulo;
+
+namespace {
+
+const std::string kLevel = "content/levels/sample/level.json";
+
+fs::path temp_dir() {
+  fs::path d = fs::temp_directory_path() / ("cumulo_run_cli_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<uint8_t> rgba;
+  const uint8_t* px(int x, int y) const { return &rgba[(size_t(y) * w + x) * 4]; }
+};
+
+Image load_png(const fs::path& p) {
+  Image img;
+  int n = 0;
+  uint8_t* data = stbi_load(p.c_str(), &img.w, &img.h, &n, 4);
+  if (!data) return img;
+  img.rgba.assign(data, data + size_t(img.w) * img.h * 4);
+  stbi_image_free(data);
+  return img;
+}
+
+// Mean RGB over rows [y0, y1).
+std::array<double, 3> mean_rows(const Image& img, int y0, int y1) {
+  std::array<double, 3> m{0, 0, 0};
+  size_t n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < img.w; ++x, ++n)
+      for (int c = 0; c < 3; ++c) m[c] += img.px(x, y)[c];
+  for (auto& v : m) v /= double(std::max<size_t>(n, 1));
+  return m;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+}  // namespace
+
+TEST(RunCli, HelpDocumentsEveryFlag) {
+  auto r = run_cumulo("run --help");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* flag : {"--headless", "--frames", "--size", "--mode", "--screenshot", "--camera", "--time-of-day",
+                           "--seed", "--start-at", "--stats", "--dump-graph"})
+    EXPECT_NE(r.output.find(flag), std::string::npos) << flag << " missing from --help:\n" << r.output;
+}
+
+TEST(RunCli, HeadlessGroundRunWritesStatsAndAPlausibleImage) {
+  fs::path d = temp_dir();
+  fs::path png = d / "ground.png", stats = d / "ground.json";
+  auto r = run_cumulo("run " + kLevel + " --headless --frames 3 --size 320x180 --camera ground --screenshot " +
+                      png.string() + " --stats " + stats.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(png.string()), std::string::npos) << "screenshot path not printed:\n" << r.output;
+
+  auto j = nlohmann::json::parse(read_text(stats));
+  EXPECT_EQ(j["frames"], 3);
+  EXPECT_EQ(j["size"][0], 320);
+  EXPECT_EQ(j["size"][1], 180);
+  EXPECT_EQ(j["mode"], 30);
+  EXPECT_EQ(j["validation_errors"], 0) << r.output;
+  EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
+  EXPECT_GT(j["peak_gpu_memory_bytes"].get<uint64_t>(), 0u);
+  EXPECT_GT(j["cpu_frame_ms"]["mean"].get<double>(), 0.0);
+  for (const char* pass : {"geometry", "sky", "tonemap"}) {
+    ASSERT_TRUE(j["passes"].contains(pass)) << pass << "\n" << j.dump(2);
+    auto& p = j["passes"][pass];
+    EXPECT_GT(p["mean_ms"].get<double>(), 0.0) << pass;
+    EXPECT_LE(p["min_ms"].get<double>(), p["mean_ms"].get<double>()) << pass;
+    EXPECT_GE(p["max_ms"].get<double>(), p["mean_ms"].get<double>()) << pass;
+  }
+
+  Image img = load_png(png);
+  ASSERT_EQ(img.w, 320);
+  ASSERT_EQ(img.h, 180);
+  // Top rows: sky, blue dominant and bright enough to be day.
+  auto top = mean_rows(img, 0, 18);
+  EXPECT_GT(top[2], top[0] + 10) << "sky is not bluish: " << top[0] << " " << top[1] << " " << top[2];
+  EXPECT_GT(top[2], 90.0);
+  // Bottom rows: terrain or ocean, clearly different from the sky above.
+  auto bottom = mean_rows(img, 162, 180);
+  double diff = std::fabs(bottom[0] - top[0]) + std::fabs(bottom[1] - top[1]) + std::fabs(bottom[2] - top[2]);
+  EXPECT_GT(diff, 40.0) << "bottom rows look like the sky";
+  // Not a flat image: per-row means vary.
+  double lo = 1e9, hi = -1e9;
+  for (int y = 0; y < img.h; y += 6) {
+    auto m = mean_rows(img, y, y + 1);
+    double l = m[0] + m[1] + m[2];
+    lo = std::min(lo, l);
+    hi = std::max(hi, l);
+  }
+  EXPECT_GT(hi - lo, 30.0);
+}
+
+TEST(RunCli, SameSeedGivesIdenticalImages) {
+  fs::path d = temp_dir();
+  std::string args = "run " + kLevel + " --headless --frames 2 --size 160x90 --camera mixed --seed 7 --start-at 1.5 --screenshot ";
+  auto a = run_cumulo(args + (d / "a.png").string());
+  auto b = run_cumulo(args + (d / "b.png").string());
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  Image ia = load_png(d / "a.png"), ib = load_png(d / "b.png");
+  ASSERT_EQ(ia.rgba.size(), ib.rgba.size());
+  ASSERT_FALSE(ia.rgba.empty());
+  int max_diff = 0;
+  for (size_t i = 0; i < ia.rgba.size(); ++i) max_diff = std::max(max_diff, std::abs(int(ia.rgba[i]) - int(ib.rgba[i])));
+  EXPECT_LE(max_diff, 1) << "two runs with the same seed differ by more than 1 LSB";
+}
+
+TEST(RunCli, DumpGraphWritesTextAndGraphviz) {
+  fs::path d = temp_dir();
+  auto r = run_cumulo("run " + kLevel + " --headless --frames 1 --size 160x90 --dump-graph " + (d / "g.txt").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string text = read_text(d / "g.txt");
+  for (const char* pass : {"geometry", "sky", "tonemap"}) EXPECT_NE(text.find(pass), std::string::npos) << text;
+  r = run_cumulo("run " + kLevel + " --headless --frames 1 --size 160x90 --dump-graph " + (d / "g.dot").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string dot = read_text(d / "g.dot");
+  EXPECT_NE(dot.find("digraph"), std::string::npos) << dot;
+}
+
+TEST(RunCli, TimeOfDayChangesTheLight) {
+  fs::path d = temp_dir();
+  std::string base = "run " + kLevel + " --headless --frames 1 --size 160x90 --camera ground --screenshot ";
+  ASSERT_EQ(run_cumulo(base + (d / "noon.png").string() + " --time-of-day 12").exit_code, 0);
+  ASSERT_EQ(run_cumulo(base + (d / "night.png").string() + " --time-of-day 0").exit_code, 0);
+  auto noon = mean_rows(load_png(d / "noon.png"), 0, 90), night = mean_rows(load_png(d / "night.png"), 0, 90);
+  EXPECT_GT(noon[0] + noon[1] + noon[2], 3.0 * (night[0] + night[1] + night[2]) + 30.0);
+}
+
+// ---- bad inputs: a clear message, exit code 1, never a crash (a crash would be >= 128)
+
+TEST(RunCliBadInput, MissingLevel) {
+  auto r = run_cumulo("run no/such/level.json --headless");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("no/such/level.json"), std::string::npos) << r.output;
+}
+
+TEST(RunCliBadInput, MalformedJsonNamesLineAndColumn) {
+  fs::path d = temp_dir();
+  fs::path p = d / "broken.json";
+  std::ofstream(p) << "{\n  \"entities\": [\n    { \"name\": \"x\", }\n  ]\n}\n";
+  auto r = run_cumulo("run " + p.string() + " --headless");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(p.string() + ":3:"), std::string::npos) << r.output;
+}
+
+TEST(RunCliBadInput, MissingGltfIsNamed) {
+  fs::path d = temp_dir();
+  // The sample level with its models pointing at a file that does not exist.
+  std::string level = read_text(kLevel);
+  ASSERT_FALSE(level.empty());
+  size_t n = 0;
+  for (size_t pos = 0; (pos = level.find(".glb", pos)) != std::string::npos; pos += 4) {
+    size_t q = level.rfind('"', pos);
+    level.replace(q + 1, pos + 4 - (q + 1), "missing_terrain.glb");
+    ++n;
+  }
+  ASSERT_GT(n, 0u) << "the sample level names no .glb";
+  fs::path p = d / "missing_gltf.json";
+  std::ofstream(p) << level;
+  auto r = run_cumulo("run " + p.string() + " --headless");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("missing_terrain.glb"), std::string::npos) << r.output;
+}
+
+TEST(RunCliBadInput, UnknownCameraListsTheCameras) {
+  auto r = run_cumulo("run " + kLevel + " --headless --camera nowhere");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("nowhere"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ground"), std::string::npos) << r.output;
+}
+
+TEST(RunCliBadInput, BadFlagValues) {
+  auto r = run_cumulo("run " + kLevel + " --headless --size 320by180");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("--size"), std::string::npos) << r.output;
+  r = run_cumulo("run " + kLevel + " --headless --mode 50");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("30, 40 or 60"), std::string::npos) << r.output;
+}
+
+TEST(RunCliBadInput, BrokenShaderNamesFileAndLine) {
+  // A copy of the repository's shaders with one broken line, used through CUMULO_ROOT.
+  fs::path root = temp_dir() / "root";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  fs::copy("shaders", root / "shaders", fs::copy_options::recursive);
+  fs::create_directory_symlink(fs::absolute("content"), root / "content");
+  fs::path frag = root / "shaders/engine/geometry_lit.frag";
+  std::string src = read_text(frag);
+  size_t main_pos = src.find("void main() {");
+  ASSERT_NE(main_pos, std::string::npos);
+  src.insert(main_pos + 13, "\n  this is not glsl;");
+  std::ofstream(frag) << src;
+  // The engine compiles its shaders from <repo root>/shaders at run time; point the root at the copy.
+  auto r = run_cumulo("run " + fs::absolute(kLevel).string() + " --headless --size 160x90", "CUMULO_ROOT=" + root.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("geometry_lit.frag:"), std::string::npos) << r.output;
+}
