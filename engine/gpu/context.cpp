@@ -24,7 +24,8 @@ const char* vk_result_name(VkResult r) {
     CASE(VK_NOT_READY)
     CASE(VK_TIMEOUT)
     CASE(VK_EVENT_SET)
-    CASE(VK_EVENT_RESET) CASE(VK_INCOMPLETE) CASE(VK_ERROR_OUT_OF_HOST_MEMORY) CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    CASE(VK_EVENT_RESET)
+    CASE(VK_INCOMPLETE) CASE(VK_ERROR_OUT_OF_HOST_MEMORY) CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
         CASE(VK_ERROR_INITIALIZATION_FAILED) CASE(VK_ERROR_DEVICE_LOST) CASE(VK_ERROR_MEMORY_MAP_FAILED)
             CASE(VK_ERROR_LAYER_NOT_PRESENT) CASE(VK_ERROR_EXTENSION_NOT_PRESENT) CASE(VK_ERROR_FEATURE_NOT_PRESENT)
                 CASE(VK_ERROR_INCOMPATIBLE_DRIVER) CASE(VK_ERROR_TOO_MANY_OBJECTS) CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
@@ -339,6 +340,7 @@ void Context::pick_device(const ContextDesc& desc) {
 }
 
 void Context::create_device(const ContextDesc& desc) {
+  VkPhysicalDevicePushDescriptorPropertiesKHR push{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PUSH_DESCRIPTOR_PROPERTIES_KHR};
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   props.pNext = &driver;
@@ -363,6 +365,10 @@ void Context::create_device(const ContextDesc& desc) {
   if (has_extension(avail, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) {
     exts.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
     info_.push_descriptors = true;
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &push;
+    vkGetPhysicalDeviceProperties2(physical_, &p2);
+    info_.max_push_descriptors = push.maxPushDescriptors;
   }
 
   VkPhysicalDeviceVulkan12Features s12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};

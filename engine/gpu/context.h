@@ -55,6 +55,7 @@ struct DeviceInfo {
   // Optional features/extensions actually enabled.
   bool texture_compression_bc = false;
   bool push_descriptors = false;
+  uint32_t max_push_descriptors = 0;  // VkPhysicalDevicePushDescriptorPropertiesKHR (lavapipe: 32)
   bool storage_image_write_without_format = false;
   bool sampler_anisotropy = false;
   bool timestamps = false;  // timestampValidBits > 0 on our queue

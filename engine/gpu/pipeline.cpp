@@ -110,6 +110,16 @@ void Pipeline::build_layout(Context& ctx, const std::vector<const CompiledShader
   uint32_t sets = 0;
   for (auto& b : bindings_) sets = std::max(sets, b.set + 1);
   set0_push_ = ctx.info().push_descriptors && sets > 0;
+  if (set0_push_) {
+    uint32_t n = 0;
+    for (auto& b : bindings_)
+      if (b.set == 0) n += b.count;
+    if (n > ctx.info().max_push_descriptors)
+      fail(
+          "pipeline '%s': set 0 has %u descriptors, more than the %u a push-descriptor set may hold on %s; move some "
+          "to set 1",
+          name_.c_str(), n, ctx.info().max_push_descriptors, ctx.info().name.c_str());
+  }
   set_layouts_.assign(sets, VK_NULL_HANDLE);
   for (uint32_t s = 0; s < sets; ++s) {
     std::vector<VkDescriptorSetLayoutBinding> lb;

@@ -25,6 +25,7 @@ TEST_F(GpuTest, ContextCreatesDeviceWithZeroValidationErrors) {
     EXPECT_TRUE(info.is_cpu());
   }
   EXPECT_TRUE(ctx().debug_utils());
+  if (info.push_descriptors) EXPECT_GE(info.max_push_descriptors, 32u);
 }
 
 TEST_F(GpuTest, SubmitAndWaitRunsCommandsWithLabels) {
