@@ -300,11 +300,16 @@ Recipe parse_root(const JsonView& root, const std::filesystem::path& base_dir, c
       for (const JsonView& h : s["heights"].elements()) r.slices.heights.push_back(h.as_float_in(-kMaxCoord, kMaxCoord));
     if (s.has("vertical"))
       for (const JsonView& v : s["vertical"].elements()) {
-        check_keys(v, {"name", "axis", "at"});
+        check_keys(v, {"name", "axis", "at", "range"});
         VerticalSlice vs;
         vs.name = v.get<std::string>("name", "vertical");
         vs.axis = v["axis"].as_enum({"x", "z"}) == 0 ? 0 : 2;
         vs.at = v["at"].as_float_in(-kMaxCoord, kMaxCoord);
+        if (v.has("range")) {
+          glm::vec2 rg = v["range"].as_vec2();
+          if (!(rg.x < rg.y)) v["range"].fail("expected [from, to] with from < to");
+          vs.from = rg.x, vs.to = rg.y;
+        }
         r.slices.vertical.push_back(vs);
       }
   }

@@ -129,6 +129,7 @@ struct VerticalSlice {
   std::string name;
   int axis = 0;      // 0: plane of constant x, 2: plane of constant z
   float at = 0.0f;   // world coordinate of that plane
+  float from = 0.0f, to = 0.0f;  // optional crop along the image's horizontal axis (world), from < to
 };
 
 struct SliceSpec {

@@ -41,6 +41,7 @@ void put(std::vector<uint8_t>& img, size_t i, glm::vec3 c) {
 struct Plane {
   std::string name;
   uint32_t w, h;
+  uint32_t scale = 1;  // nearest-neighbour upscale so thin vertical slices stay readable
   // texel (u, v) of the image (v = 0 at the top) -> voxel index
   std::function<size_t(uint32_t, uint32_t)> voxel;
 };
@@ -65,7 +66,7 @@ std::vector<std::filesystem::path> write_slices(const Recipe& recipe, const Bake
     int y = static_cast<int>(std::floor((h - g.bounds_min().y) / g.spacing.y));
     if (y < 0 || y >= static_cast<int>(d.y)) continue;
     // Looking down: +x to the right, +z down the image.
-    planes.push_back({strf("y%04d", static_cast<int>(std::lround(h))), d.x, d.z,
+    planes.push_back({strf("y%04d", static_cast<int>(std::lround(h))), d.x, d.z, 1,
                       [&g, y](uint32_t u, uint32_t v) { return g.index(u, uint32_t(y), v); }});
   }
   std::vector<VerticalSlice> verticals = recipe.slices.vertical;
@@ -78,19 +79,29 @@ std::vector<std::filesystem::path> write_slices(const Recipe& recipe, const Bake
     int k = static_cast<int>(std::floor((vs.at - g.bounds_min()[a]) / g.spacing[a]));
     if (k < 0 || k >= static_cast<int>(d[a])) continue;
     uint32_t ny = d.y;
+    int ha = a == 0 ? 2 : 0;  // the image's horizontal axis: z for planes of constant x, x otherwise
+    uint32_t u0 = 0, u1 = d[ha];
+    if (vs.to > vs.from) {
+      u0 = static_cast<uint32_t>(std::clamp((vs.from - g.bounds_min()[ha]) / g.spacing[ha], 0.0f, float(d[ha] - 1)));
+      u1 = static_cast<uint32_t>(std::clamp((vs.to - g.bounds_min()[ha]) / g.spacing[ha], float(u0 + 1), float(d[ha])));
+    }
+    uint32_t scale = std::clamp(256u / std::max(ny, 1u), 1u, 4u);
     if (a == 0)  // plane of constant x: +z to the right, up is up
-      planes.push_back({"v_" + vs.name, d.z, ny, [&g, k, ny](uint32_t u, uint32_t v) { return g.index(uint32_t(k), ny - 1 - v, u); }});
+      planes.push_back({"v_" + vs.name, u1 - u0, ny, scale,
+                        [&g, k, ny, u0](uint32_t u, uint32_t v) { return g.index(uint32_t(k), ny - 1 - v, u0 + u); }});
     else
-      planes.push_back({"v_" + vs.name, d.x, ny, [&g, k, ny](uint32_t u, uint32_t v) { return g.index(u, ny - 1 - v, uint32_t(k)); }});
+      planes.push_back({"v_" + vs.name, u1 - u0, ny, scale,
+                        [&g, k, ny, u0](uint32_t u, uint32_t v) { return g.index(u0 + u, ny - 1 - v, uint32_t(k)); }});
   }
 
   std::vector<std::filesystem::path> written;
   const float voxel = std::min(g.spacing.x, g.spacing.z);
   for (const Plane& p : planes) {
-    std::vector<uint8_t> prof(size_t(p.w) * p.h * 3), sdf(prof.size()), model(prof.size());
-    for (uint32_t v = 0; v < p.h; ++v)
-      for (uint32_t u = 0; u < p.w; ++u) {
-        size_t i = p.voxel(u, v), o = size_t(v) * p.w + u;
+    const uint32_t W = p.w * p.scale, H = p.h * p.scale;
+    std::vector<uint8_t> prof(size_t(W) * H * 3), sdf(prof.size()), model(prof.size());
+    for (uint32_t v = 0; v < H; ++v)
+      for (uint32_t u = 0; u < W; ++u) {
+        size_t i = p.voxel(u / p.scale, v / p.scale), o = size_t(v) * W + u;
         put(prof, o, profile_color(r.modeling[3 * i]));
         put(sdf, o, sdf_color(r.field[i], voxel));
         float pr = r.modeling[3 * i];
@@ -100,7 +111,7 @@ std::vector<std::filesystem::path> write_slices(const Recipe& recipe, const Bake
                                 {"sdf", &sdf},
                                 {"modeling", &model}}) {
       std::filesystem::path path = dir / (p.name + "_" + suffix + ".png");
-      write_png_rgb(path, p.w, p.h, *img);
+      write_png_rgb(path, W, H, *img);
       written.push_back(path);
     }
   }
