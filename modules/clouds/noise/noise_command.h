@@ -1,7 +1,8 @@
 #pragma once
 // `cumulo noise -o DIR [--seed N] [--size N] [--format 4|8|both] [--no-previews]`: generates every cloud
 // noise texture and writes them as .nvdf volumes (clouds/volume) with PNG previews:
-//   voxel_noise.nvdf          2023 voxel-cloud noise, 4 channels, full mips, in the chosen format
+//   voxel_noise.nvdf          2023 voxel-cloud noise, 4 channels, full mips; RGBA8 by default, the
+//                             talk's 4-bit R4G4B4A4 with --format 4
 //                             (--format both also writes voxel_noise_r4g4b4a4.nvdf and voxel_noise_rgba8.nvdf)
 //   sky_noise_base.nvdf       2015 128^3 RGBA8: Perlin-Worley + 3 Worley fBm
 //   sky_noise_detail.nvdf     2015 32^3 RGB Worley fBm (stored RGBA8, alpha unused)
@@ -18,7 +19,7 @@
 namespace cumulo::clouds {
 
 // The voxel noise's default GPU format (see noise_command.cpp for the measurements behind it).
-extern const VolumeEncoding kVoxelNoiseEncoding;
+inline constexpr VolumeEncoding kVoxelNoiseEncoding = VolumeEncoding::RGBA8;
 
 enum class NoiseFormat { Bits4, Bits8, Both };
 

@@ -5,7 +5,9 @@
 // The 2023 talk stores the 4-channel voxel noise "Uncompressed, 2 Bytes / Texel, 4.194 Megabytes"
 // (128^3 x 2 B = 4,194,304 B): 4 bits per channel, i.e. VK_FORMAT_R4G4B4A4_UNORM_PACK16. We produce
 // that and RGBA8 (8,388,608 B at level 0) and measure both (`cumulo noise` prints the figures; the
-// numbers measured for the default seed are in noise_command.cpp's header comment).
+// measured numbers and the choice, RGBA8 by default, are in noise_command.cpp's header comment).
+// On Vulkan, R4G4B4A4_UNORM_PACK16 sampling is optional (lavapipe lacks it): upload the same bytes as
+// B4G4R4A4_UNORM_PACK16 (mandatory) with a view swizzle r <- b, b <- r (see tests/.../noise_gpu_util.h).
 //
 // Each mip level is quantised from the float level (not from the quantised parent), round to nearest,
 // so a level's error is at most half a step: 1/30 for 4 bits, 1/510 for 8 bits.
