@@ -9,33 +9,41 @@ namespace cumulo::gpu {
 namespace detail {
 
 RangeAllocator::RangeAllocator(uint64_t capacity) : capacity_(capacity) {
-  if (capacity > 0) free_[0] = capacity;
+  if (capacity > 0) add_free(0, capacity);
+}
+
+void RangeAllocator::add_free(uint64_t offset, uint64_t size) {
+  free_[offset] = size;
+  by_size_.emplace(size, offset);
+}
+
+void RangeAllocator::remove_free(std::map<uint64_t, uint64_t>::iterator it) {
+  auto [lo, hi] = by_size_.equal_range(it->second);
+  for (auto s = lo; s != hi; ++s)
+    if (s->second == it->first) {
+      by_size_.erase(s);
+      break;
+    }
+  free_.erase(it);
 }
 
 std::optional<uint64_t> RangeAllocator::allocate(uint64_t size, uint64_t alignment) {
   if (size == 0) size = 1;
   if (alignment == 0) alignment = 1;
   // Best fit: the smallest free range that holds the aligned request keeps big ranges whole.
-  auto best = free_.end();
-  uint64_t best_size = UINT64_MAX;
-  for (auto it = free_.begin(); it != free_.end(); ++it) {
-    uint64_t start = align_up(it->first, alignment);
-    if (start + size > it->first + it->second) continue;
-    if (it->second < best_size) {
-      best = it;
-      best_size = it->second;
-      if (best_size == size) break;
-    }
+  // Ranges are visited by increasing size; alignment padding may make a small one too short.
+  for (auto s = by_size_.lower_bound(size); s != by_size_.end(); ++s) {
+    uint64_t range_off = s->second, range_size = s->first;
+    uint64_t start = align_up(range_off, alignment);
+    if (start + size > range_off + range_size) continue;
+    remove_free(free_.find(range_off));
+    if (start > range_off) add_free(range_off, start - range_off);  // alignment gap stays free
+    uint64_t end = start + size, range_end = range_off + range_size;
+    if (range_end > end) add_free(end, range_end - end);
+    used_ += size;
+    return start;
   }
-  if (best == free_.end()) return std::nullopt;
-  uint64_t range_off = best->first, range_size = best->second;
-  uint64_t start = align_up(range_off, alignment);
-  free_.erase(best);
-  if (start > range_off) free_[range_off] = start - range_off;  // alignment gap stays free
-  uint64_t end = start + size, range_end = range_off + range_size;
-  if (range_end > end) free_[end] = range_end - end;
-  used_ += size;
-  return start;
+  return std::nullopt;
 }
 
 void RangeAllocator::free(uint64_t offset, uint64_t size) {
@@ -44,37 +52,50 @@ void RangeAllocator::free(uint64_t offset, uint64_t size) {
     fail("RangeAllocator::free: range [%llu, %llu) outside capacity %llu", (unsigned long long)offset,
          (unsigned long long)(offset + size), (unsigned long long)capacity_);
   auto next = free_.lower_bound(offset);
-  if (next != free_.end() && next->first < offset + size)
-    fail("RangeAllocator::free: range [%llu, %llu) overlaps a free range (double free?)", (unsigned long long)offset,
-         (unsigned long long)(offset + size));
+  bool overlap = next != free_.end() && next->first < offset + size;
   if (next != free_.begin()) {
     auto prev = std::prev(next);
-    if (prev->first + prev->second > offset)
-      fail("RangeAllocator::free: range [%llu, %llu) overlaps a free range (double free?)", (unsigned long long)offset,
-           (unsigned long long)(offset + size));
+    overlap = overlap || prev->first + prev->second > offset;
   }
+  if (overlap)
+    fail("RangeAllocator::free: range [%llu, %llu) overlaps a free range (double free?)", (unsigned long long)offset,
+         (unsigned long long)(offset + size));
   uint64_t start = offset, len = size;
   if (next != free_.end() && next->first == offset + size) {  // merge with the following range
     len += next->second;
-    next = free_.erase(next);
+    auto after = std::next(next);
+    remove_free(next);
+    next = after;
   }
   if (next != free_.begin()) {
     auto prev = std::prev(next);
     if (prev->first + prev->second == offset) {  // merge with the preceding range
       start = prev->first;
       len += prev->second;
-      free_.erase(prev);
+      remove_free(prev);
     }
   }
-  free_[start] = len;
+  add_free(start, len);
   used_ -= size;
 }
 
-uint64_t RangeAllocator::largest_free() const {
-  uint64_t m = 0;
-  for (auto& [o, s] : free_) m = std::max(m, s);
-  return m;
+bool RangeAllocator::consistent() const {
+  if (free_.size() != by_size_.size()) return false;
+  uint64_t total = 0, prev_end = 0;
+  bool first = true;
+  for (auto& [o, sz] : free_) {
+    if (sz == 0 || o + sz > capacity_) return false;
+    if (!first && o <= prev_end) return false;  // overlapping or adjacent (unmerged)
+    first = false;
+    prev_end = o + sz;
+    total += sz;
+    auto [lo, hi] = by_size_.equal_range(sz);
+    if (std::none_of(lo, hi, [&](auto& e) { return e.second == o; })) return false;
+  }
+  return total + used_ == capacity_;
 }
+
+uint64_t RangeAllocator::largest_free() const { return by_size_.empty() ? 0 : by_size_.rbegin()->first; }
 
 }  // namespace detail
 

@@ -57,7 +57,7 @@ struct MemoryStats {
 
 namespace detail {
 
-// Free-list allocator over [0, capacity): best fit, alignment-aware, merges neighbours on free.
+// Free-list allocator over [0, capacity): best fit (size-indexed), alignment-aware, merges neighbours on free.
 // Pure logic, unit-tested without a device.
 class RangeAllocator {
  public:
@@ -71,11 +71,18 @@ class RangeAllocator {
   bool empty() const { return used_ == 0; }
   uint64_t largest_free() const;
   size_t free_range_count() const { return free_.size(); }
+  // Internal invariants (for tests): free ranges disjoint and merged, the size index mirrors them,
+  // used + free == capacity.
+  bool consistent() const;
 
  private:
+  void add_free(uint64_t offset, uint64_t size);
+  void remove_free(std::map<uint64_t, uint64_t>::iterator it);
+
   uint64_t capacity_;
   uint64_t used_ = 0;
-  std::map<uint64_t, uint64_t> free_;  // offset -> size, non-adjacent (merged)
+  std::map<uint64_t, uint64_t> free_;          // offset -> size, non-adjacent (merged)
+  std::multimap<uint64_t, uint64_t> by_size_;  // size -> offset: best fit in O(log n)
 };
 
 inline uint64_t align_up(uint64_t v, uint64_t a) { return (v + a - 1) & ~(a - 1); }

@@ -81,7 +81,9 @@ TEST(RangeAllocator, RandomizedNoOverlap) {
     uint64_t sum = 0;
     for (auto& l : live) sum += l.size;
     ASSERT_EQ(r.used(), sum);
+    if (i % 50 == 0) ASSERT_TRUE(r.consistent()) << "step " << i;
   }
+  ASSERT_TRUE(r.consistent());
   for (auto& l : live) r.free(l.off, l.size);
   EXPECT_TRUE(r.empty());
   EXPECT_EQ(r.free_range_count(), 1u);
