@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <unordered_set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -25,11 +26,14 @@
 #pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #pragma GCC diagnostic ignored "-Wsign-compare"
+#ifndef __clang__
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_NO_STDIO
 #define STBI_FAILURE_USERMSG
+#define STBI_MAX_DIMENSIONS 16384  // refuses absurd headers before allocating (a 16k RGBA8 texture is 1 GiB)
 #include <stb/stb_image.h>
 
 #define TINYGLTF_IMPLEMENTATION
@@ -128,10 +132,13 @@ bool fs_write(std::string* err, const std::string&, const std::vector<unsigned c
 }
 
 // Every image becomes RGBA8, whatever its source format (16-bit PNGs are reduced by stb_image).
-bool decode_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
-                  const unsigned char* bytes, int size, void*) {
+bool decode_rgba8(tinygltf::Image* image, int index, const unsigned char* bytes, size_t size, std::string* err) {
+  if (size > size_t(std::numeric_limits<int>::max())) {
+    if (err) *err += strf("images[%d]: %zu bytes is too large\n", index, size);
+    return false;
+  }
   int w = 0, h = 0, comp = 0;
-  stbi_uc* pixels = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+  stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
   if (!pixels) {
     if (err) *err += strf("images[%d] (\"%s\"): cannot decode: %s\n", index, image->uri.c_str(), stbi_failure_reason());
     return false;
@@ -146,9 +153,20 @@ bool decode_image(tinygltf::Image* image, const int index, std::string* err, std
   return true;
 }
 
+// tinygltf's image callback. Images stored in a bufferView are decoded later, by decode_buffer_images():
+// tinygltf 2.7 hands over bufferView.byteOffset/byteLength without checking them against the buffer
+// (a fuzzer found the out-of-bounds read), so we check the range ourselves first.
+bool decode_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                  const unsigned char* bytes, int size, void*) {
+  if (image->bufferView >= 0) return true;
+  return decode_rgba8(image, index, bytes, size_t(std::max(size, 0)), err);
+}
+
 // ---- accessor reading -------------------------------------------------------------------------------
 class Reader {
  public:
+  static constexpr size_t kMaxZeroElements = size_t(1) << 24;
+
   Reader(const tinygltf::Model& g, std::string file) : g_(g), file_(std::move(file)) {}
 
   [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
@@ -169,9 +187,13 @@ class Reader {
     int comps = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
     if (comps != out_components)
       fail(here, strf("expected %d components per element, got %d", out_components, comps));
+    if (acc.bufferView < 0) {  // glTF: no bufferView means all zeros (unless sparse)
+      if (acc.sparse.isSparse) fail(here, "sparse accessors are not supported");
+      if (acc.count > kMaxZeroElements) fail(here, strf("count %zu without a bufferView is implausible", acc.count));
+      return std::vector<float>(acc.count * size_t(comps), 0.0f);
+    }
+    const uint8_t* base = element_base(acc, index);  // validates the range before anything is allocated
     std::vector<float> out(acc.count * size_t(comps), 0.0f);
-    if (acc.bufferView < 0) return out;  // glTF: no bufferView means all zeros (unless sparse)
-    const uint8_t* base = element_base(acc, index);
     size_t stride = element_stride(acc);
     for (size_t i = 0; i < acc.count; ++i) {
       const uint8_t* p = base + i * stride;
@@ -429,12 +451,33 @@ glm::mat4 local_matrix(const tinygltf::Node& n) {
   return m;
 }
 
-Model convert(const tinygltf::Model& g, const std::string& file) {
+void decode_buffer_images(const Reader& r, tinygltf::Model& g) {
+  for (size_t i = 0; i < g.images.size(); ++i) {
+    tinygltf::Image& img = g.images[i];
+    if (img.bufferView < 0 || !img.image.empty()) continue;
+    std::string where = strf("images[%zu]", i);
+    if (size_t(img.bufferView) >= g.bufferViews.size()) r.fail(where, strf("bufferView %d out of range", img.bufferView));
+    const auto& view = g.bufferViews[size_t(img.bufferView)];
+    if (view.buffer < 0 || size_t(view.buffer) >= g.buffers.size())
+      r.fail(strf("bufferViews[%d]", img.bufferView), strf("buffer %d out of range", view.buffer));
+    const auto& buffer = g.buffers[size_t(view.buffer)];
+    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
+      r.fail(strf("bufferViews[%d]", img.bufferView),
+             strf("range %zu+%zu exceeds buffers[%d] (%zu bytes)", view.byteOffset, view.byteLength, view.buffer,
+                  buffer.data.size()));
+    std::string err;
+    if (!decode_rgba8(&img, int(i), buffer.data.data() + view.byteOffset, view.byteLength, &err))
+      r.fail(where, err.substr(0, err.find_last_not_of('\n') + 1));
+  }
+}
+
+Model convert(tinygltf::Model& g, const std::string& file) {
   Reader r(g, file);
   for (auto& ext : g.extensionsRequired) r.fail("extensionsRequired", "extension " + ext + " is not supported");
   Model model;
   model.source = file;
 
+  decode_buffer_images(r, g);
   for (size_t i = 0; i < g.textures.size(); ++i) model.textures.push_back(load_texture(r, g, i));
   for (size_t i = 0; i < g.materials.size(); ++i) model.materials.push_back(load_material(r, g, i));
   // glTF 2.0 spec 3.9.2: base-color textures are sRGB; a texture used only elsewhere would be linear.

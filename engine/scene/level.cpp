@@ -42,8 +42,8 @@ void load_models(const JsonView& entities, const std::vector<ecs::Entity>& made,
 
 }  // namespace
 
-LevelInfo load_level(const std::filesystem::path& path, ecs::World& world, const ecs::ComponentRegistry& registry) {
-  JsonDocument doc = load_json_file(path);  // "FILE: cannot open" / "FILE:LINE:COL: JSON syntax error"
+LevelInfo load_level_document(const JsonDocument& doc, const std::filesystem::path& directory, ecs::World& world,
+                              const ecs::ComponentRegistry& registry, bool with_models) {
   JsonView root = doc.view();
   check_keys(root, {"$schema", "version", "name", "description", "entities"});
   JsonView version = root["version"];
@@ -51,14 +51,19 @@ LevelInfo load_level(const std::filesystem::path& path, ecs::World& world, const
     version.fail(strf("unsupported level version %d (this build reads version %d)", version.as<int>(), kLevelVersion));
 
   LevelInfo info;
-  info.file = path;
-  info.directory = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-  info.name = root.get<std::string>("name", path.parent_path().filename().string());
+  info.file = doc.file();
+  info.directory = directory.empty() ? std::filesystem::path(".") : directory;
+  info.name = root.get<std::string>("name", std::filesystem::absolute(info.directory).lexically_normal().filename().string());
   info.description = root.get<std::string>("description", "");
   JsonView entities = root["entities"];
   info.entities = ecs::load_entities(entities, world, registry);  // parses everything before creating
   try {
-    load_models(entities, info.entities, world, info);
+    if (with_models) {
+      load_models(entities, info.entities, world, info);
+    } else {
+      for (ecs::Entity e : info.entities)
+        if (ModelRef* ref = world.try_get<ModelRef>(e)) ref->resolved = resolve(info.directory, ref->path);
+    }
   } catch (...) {
     for (ecs::Entity e : info.entities)  // leave the world as it was
       if (world.valid(e)) world.destroy(e);
@@ -69,7 +74,14 @@ LevelInfo load_level(const std::filesystem::path& path, ecs::World& world, const
       const auto* n = world.try_get<ecs::Name>(e);
       info.cameras.push_back(n ? n->value : std::string());
     }
-  LOG_INFO("level %s: %zu entities, %zu models, cameras: %zu", path.string().c_str(), info.entities.size(),
+  return info;
+}
+
+LevelInfo load_level(const std::filesystem::path& path, ecs::World& world, const ecs::ComponentRegistry& registry) {
+  JsonDocument doc = load_json_file(path);  // "FILE: cannot open" / "FILE:LINE:COL: JSON syntax error"
+  LevelInfo info = load_level_document(doc, path.parent_path(), world, registry);
+  info.file = path;
+  LOG_INFO("level %s: %zu entities, %zu models, %zu cameras", path.string().c_str(), info.entities.size(),
            info.models.size(), info.cameras.size());
   return info;
 }

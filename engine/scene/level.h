@@ -44,6 +44,11 @@ struct LevelInfo {
 LevelInfo load_level(const std::filesystem::path& path, ecs::World& world);
 LevelInfo load_level(const std::filesystem::path& path, ecs::World& world, const ecs::ComponentRegistry& registry);
 
+// The same from a parsed document (relative paths resolve against `directory`). With load_models false,
+// ModelRef paths are resolved but no file is opened (fuzzing, tools that only need the entities).
+LevelInfo load_level_document(const JsonDocument& doc, const std::filesystem::path& directory, ecs::World& world,
+                              const ecs::ComponentRegistry& registry, bool load_models = true);
+
 // Writes the world's entities in the level format (atomically: a failed save keeps the old file).
 void save_level(const std::filesystem::path& path, const ecs::World& world, const ecs::ComponentRegistry& registry,
                 const std::string& name, const std::string& description = "");

@@ -306,3 +306,21 @@ TEST(Gltf, CorruptedAssetsLoadOrFailCleanly) {
   EXPECT_GT(loaded, 0);
   EXPECT_GT(refused, 0);
 }
+
+TEST(Gltf, CommittedTestAssetsLoadTheSameAsGlbAndGltf) {
+  // tests/engine/scene/data/gltf: one asset as .glb and as .gltf with a base64 data-URI buffer.
+  fs::path dir = repo_root() / "tests/engine/scene/data/gltf";
+  Model a = load_gltf(dir / "quad.glb"), b = load_gltf(dir / "quad.gltf");
+  ASSERT_EQ(a.meshes.size(), 1u);
+  ASSERT_EQ(b.meshes.size(), 1u);
+  EXPECT_EQ(a.meshes[0].indices, b.meshes[0].indices);
+  ASSERT_EQ(a.meshes[0].vertices.size(), b.meshes[0].vertices.size());
+  for (size_t i = 0; i < a.meshes[0].vertices.size(); ++i) {
+    EXPECT_EQ(a.meshes[0].vertices[i].position, b.meshes[0].vertices[i].position);
+    EXPECT_EQ(a.meshes[0].vertices[i].normal, b.meshes[0].vertices[i].normal);
+  }
+  EXPECT_FALSE(a.meshes[0].generated_normals);
+  EXPECT_EQ(a.textures.at(0).rgba, b.textures.at(0).rgba);
+  EXPECT_TRUE(near(a.bounds.min, {10, 0, -2}));
+  EXPECT_TRUE(near(b.bounds.max, {12, 0, 0}));
+}

@@ -199,3 +199,26 @@ TEST(Level, MissingOrBrokenModelNamesTheModelRefAndLeavesTheWorldAsItWas) {
                {"$.entities[1].components.ModelRef.path", "nowhere.glb", "glTF parse error"});
   EXPECT_EQ(world.alive_count(), 1u);
 }
+
+TEST(Level, SmallTestLevelUsesEveryComponentForm) {
+  ecs::World world;
+  LevelInfo level = load_level(repo_root() / "tests/engine/scene/data/levels/small.json", world);
+  EXPECT_EQ(level.cameras, (std::vector<std::string>{"cam"}));
+  const ModelRef& ref = world.get<ModelRef>(world.find("model"));
+  EXPECT_FALSE(ref.cast_shadows);
+  ASSERT_TRUE(ref.model);
+  EXPECT_EQ(ref.model->meshes.size(), 1u);
+  // The model's bounds (x 10..12, z -2..0) scaled by (1, 2, 1).
+  EXPECT_NEAR(level.bounds.min.x, 10.0f, 1e-4f);
+  EXPECT_NEAR(level.bounds.min.z, -2.0f, 1e-4f);
+  EXPECT_EQ(find_sun_light(world).elevation_deg, sun_position(world.get<TimeOfDay>(find_time_of_day(world))).elevation_deg);
+
+  // Without models: entities only, the path resolved but not opened.
+  ecs::World bare;
+  ecs::ComponentRegistry reg;
+  register_components(reg);
+  JsonDocument doc = load_json_file(repo_root() / "tests/engine/scene/data/levels/small.json");
+  LevelInfo info = load_level_document(doc, "/nonexistent/dir", bare, reg, false);
+  EXPECT_EQ(info.models.size(), 0u);
+  EXPECT_EQ(bare.get<ModelRef>(bare.find("model")).resolved, fs::path("/nonexistent/gltf/quad.gltf"));
+}
