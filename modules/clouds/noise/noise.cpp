@@ -134,11 +134,15 @@ inline void for_each_feature(glm::vec3 p, int period, const Cells& cells, float 
   glm::vec3 f = p - glm::vec3(ix, iy, iz);
   int wx[3], wy[3], wz[3];
   float bx[3], by[3], bz[3];  // squared distance from f to the slab of cell offset -1, 0, +1
-  for (int k = 0; k < 3; ++k) {
-    wx[k] = wrap_index(ix + k - 1, period);
-    wy[k] = wrap_index(iy + k - 1, period);
-    wz[k] = wrap_index(iz + k - 1, period);
-  }
+  // One modulo per axis; the neighbours wrap by +-1 (the modulo is the costly part of a cell visit).
+  auto neighbours = [period](int i, int* w) {
+    w[1] = wrap_index(i, period);
+    w[0] = w[1] == 0 ? period - 1 : w[1] - 1;
+    w[2] = w[1] == period - 1 ? 0 : w[1] + 1;
+  };
+  neighbours(ix, wx);
+  neighbours(iy, wy);
+  neighbours(iz, wz);
   bx[0] = f.x * f.x, bx[1] = 0.0f, bx[2] = (1.0f - f.x) * (1.0f - f.x);
   by[0] = f.y * f.y, by[1] = 0.0f, by[2] = (1.0f - f.y) * (1.0f - f.y);
   bz[0] = f.z * f.z, bz[1] = 0.0f, bz[2] = (1.0f - f.z) * (1.0f - f.z);
