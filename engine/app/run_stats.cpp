@@ -15,6 +15,18 @@ void MinMaxMean::add(double v) {
   }
   sum += v;
   ++count;
+  samples.push_back(v);
+}
+
+double MinMaxMean::median() const {
+  if (samples.empty()) return 0.0;
+  std::vector<double> s = samples;
+  size_t mid = s.size() / 2;
+  std::nth_element(s.begin(), s.begin() + long(mid), s.end());
+  if (s.size() % 2) return s[mid];
+  double hi = s[mid];
+  double lo = *std::max_element(s.begin(), s.begin() + long(mid));
+  return 0.5 * (lo + hi);
 }
 
 void RunStats::add_gpu_frame(const std::vector<std::pair<std::string, double>>& passes) {
@@ -34,7 +46,7 @@ void RunStats::add_gpu_frame(const std::vector<std::pair<std::string, double>>& 
 
 std::string RunStats::to_json(const Info& in) const {
   using J = nlohmann::ordered_json;
-  auto stat = [](const MinMaxMean& s) { return J{{"mean", s.mean()}, {"min", s.min}, {"max", s.max}}; };
+  auto stat = [](const MinMaxMean& s) { return J{{"mean", s.mean()}, {"min", s.min}, {"max", s.max}, {"median", s.median()}}; };
   J j;
   j["frames"] = frames_;
   j["size"] = {in.width, in.height};
@@ -52,7 +64,7 @@ std::string RunStats::to_json(const Info& in) const {
   j["gpu_frame_ms"] = stat(gpu_total_);
   J passes = J::object();
   for (auto& [name, s] : passes_)
-    passes[name] = {{"mean_ms", s.mean()}, {"min_ms", s.min}, {"max_ms", s.max}, {"frames", s.count}};
+    passes[name] = {{"mean_ms", s.mean()}, {"min_ms", s.min}, {"max_ms", s.max}, {"median_ms", s.median()}, {"frames", s.count}};
   j["passes"] = passes;
   return j.dump(2) + "\n";
 }

@@ -2,8 +2,8 @@
 // Statistics of a run, written by `cumulo run --stats PATH` as JSON:
 //   { "frames", "size": [w, h], "mode", "sim_hz", "seed", "device": {name, driver, api},
 //     "validation_errors", "peak_gpu_memory_bytes",
-//     "cpu_frame_ms": {mean, min, max}, "gpu_frame_ms": {mean, min, max},
-//     "passes": { "<pass>": {mean_ms, min_ms, max_ms, frames}, ... } }   (passes in frame order)
+//     "cpu_frame_ms": {mean, min, max, median}, "gpu_frame_ms": {mean, min, max, median},
+//     "passes": { "<pass>": {mean_ms, min_ms, max_ms, median_ms, frames}, ... } }   (passes in frame order)
 #include <cstdint>
 #include <map>
 #include <string>
@@ -12,11 +12,15 @@
 
 namespace cumulo::app {
 
+// Mean, min, max and median of a series (the median resists lavapipe's first-frame shader JIT and its
+// rare 3x outliers: LAVAPIPE.md says quote medians).
 struct MinMaxMean {
   double sum = 0, min = 0, max = 0;
   uint64_t count = 0;
+  std::vector<double> samples;
   void add(double v);
   double mean() const { return count ? sum / static_cast<double>(count) : 0.0; }
+  double median() const;
 };
 
 class RunStats {

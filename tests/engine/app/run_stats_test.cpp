@@ -30,7 +30,19 @@ TEST(RunStats, JsonHasPerPassMeanMinMaxInFrameOrder) {
   EXPECT_DOUBLE_EQ(j["passes"]["geometry"]["min_ms"].get<double>(), 2.0);
   EXPECT_DOUBLE_EQ(j["passes"]["sky"]["max_ms"].get<double>(), 3.0);
   EXPECT_DOUBLE_EQ(j["gpu_frame_ms"]["mean"].get<double>(), 5.5);
+  EXPECT_DOUBLE_EQ(j["passes"]["geometry"]["median_ms"].get<double>(), 3.0);
   std::vector<std::string> order;
   for (auto& [k, v] : j["passes"].items()) order.push_back(k);
   EXPECT_EQ(order, (std::vector<std::string>{"geometry", "sky", "tonemap"}));
+}
+
+TEST(RunStats, MedianIgnoresAFirstFrameOutlier) {
+  MinMaxMean m;
+  for (double v : {250.0, 4.0, 3.0, 5.0, 4.0}) m.add(v);
+  EXPECT_DOUBLE_EQ(m.median(), 4.0);
+  EXPECT_DOUBLE_EQ(m.max, 250.0);
+  MinMaxMean even;
+  for (double v : {1.0, 2.0, 3.0, 10.0}) even.add(v);
+  EXPECT_DOUBLE_EQ(even.median(), 2.5);
+  EXPECT_DOUBLE_EQ(MinMaxMean{}.median(), 0.0);
 }

@@ -1,0 +1,137 @@
+// FrameRenderer on the default device (lavapipe on CI) with validation on: the engine's frame
+// (geometry, sky, tonemap) renders with zero validation errors, empty depth shows sky only, the
+// sample terrain shows below the horizon, and the compiled graph has the three passes.
+#include "engine/render/frame_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/frames.h"
+#include "engine/gpu/image.h"
+#include "engine/gpu/readback.h"
+#include "engine/render/sky_model.h"
+#include "engine/scene/camera.h"
+#include "engine/scene/gltf.h"
+#include "engine/scene/sun.h"
+
+using namespace cumulo;
+using namespace cumulo::render;
+
+namespace {
+
+struct FrameRendererTest : ::testing::Test {
+  gpu::Context ctx{[] {
+    gpu::ContextDesc d;
+    d.validation = true;
+    return d;
+  }()};
+  static constexpr uint32_t kW = 160, kH = 90;
+
+  FrameSnapshot snapshot(glm::vec3 pos, glm::vec3 target, float hours) {
+    FrameSnapshot s;
+    s.width = kW;
+    s.height = kH;
+    scene::Camera cam;
+    s.camera = scene::make_camera_view(scene::Transform::look_at(pos, target), cam, float(kW) / kH);
+    scene::TimeOfDay tod;
+    tod.hours = hours;
+    scene::SunPosition p = scene::sun_position(tod);
+    s.sun.direction = p.direction;
+    s.sun.elevation_deg = p.elevation_deg;
+    s.sun.color = scene::sun_transmittance(p.elevation_deg);
+    return s;
+  }
+
+  gpu::Rgba8Image render(FrameRenderer& r, const FrameSnapshot& s) {
+    gpu::Image out(ctx, gpu::ImageDesc::tex2d(kW, kH, VK_FORMAT_R8G8B8A8_UNORM,
+                                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, 1, "test out"));
+    RenderTarget t;
+    t.image = out.handle();
+    t.view = out.view();
+    t.format = out.format();
+    t.extent = {kW, kH};
+    t.initial = ResourceState::undefined();
+    t.final = {VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT};
+    gpu::FrameRing ring(ctx, 1);
+    gpu::Frame& f = ring.begin();
+    r.record_frame(f.cmd, s, t, f.slot);
+    ring.submit(f);
+    ring.wait_all();
+    out.set_layout(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    return gpu::read_image_rgba8(ctx, out);
+  }
+};
+
+double luminance_rows(const gpu::Rgba8Image& img, uint32_t y0, uint32_t y1, int channel = -1) {
+  double sum = 0;
+  for (uint32_t y = y0; y < y1; ++y)
+    for (uint32_t x = 0; x < img.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (channel < 0 || channel == c) sum += img.at(x, y)[c];
+  return sum / double((y1 - y0) * img.width * (channel < 0 ? 3 : 1));
+}
+
+}  // namespace
+
+TEST_F(FrameRendererTest, EmptySceneIsAllSkyBlueAboveAndDarkerBelow) {
+  FrameRenderer r(ctx);
+  auto img = render(r, snapshot({0, 10, 0}, {0, 10, -100}, 12.0f));  // level view at noon
+  EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+  // Top rows: blue sky (blue clearly above red).
+  EXPECT_GT(luminance_rows(img, 0, 10, 2), luminance_rows(img, 0, 10, 0) + 20.0);
+  // Below the horizon (no geometry): the ground colour, darker than the sky above the horizon.
+  EXPECT_LT(luminance_rows(img, 80, 90), luminance_rows(img, 30, 44));
+  // The graph: geometry, sky, tonemap, in that order.
+  const CompiledGraph& g = r.last_compiled();
+  EXPECT_LT(g.position("geometry"), g.position("sky"));
+  EXPECT_LT(g.position("sky"), g.position("tonemap"));
+  auto t = r.pass_timings();
+  ASSERT_EQ(t.size(), 3u);
+  for (auto& [name, ms] : t) EXPECT_GE(ms, 0.0) << name;
+}
+
+TEST_F(FrameRendererTest, SampleTerrainCoversTheLowerHalf) {
+  auto model = std::make_shared<const scene::Model>(scene::load_gltf("content/levels/sample/terrain.glb"));
+  FrameRenderer r(ctx);
+  FrameSnapshot s = snapshot({900, 420, 1600}, {-100, 360, -200}, 16.5f);  // the sample level's "mixed" view
+  s.models.push_back({model, glm::mat4(1.0f)});
+  auto with = render(r, s);
+  s.models.clear();
+  auto without = render(r, s);
+  EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+  // Sky rows are the same with or without the terrain; the lower rows change (islands and ocean).
+  EXPECT_NEAR(luminance_rows(with, 0, 10), luminance_rows(without, 0, 10), 2.0);
+  double diff = 0;
+  for (uint32_t y = 60; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x)
+      for (int c = 0; c < 3; ++c) diff += std::abs(int(with.at(x, y)[c]) - int(without.at(x, y)[c]));
+  EXPECT_GT(diff / (30.0 * kW * 3), 10.0);
+}
+
+TEST_F(FrameRendererTest, NightIsDarkerThanNoon) {
+  FrameRenderer r(ctx);
+  auto noon = render(r, snapshot({0, 10, 0}, {0, 60, -100}, 12.0f));
+  auto night = render(r, snapshot({0, 10, 0}, {0, 60, -100}, 0.0f));
+  EXPECT_GT(luminance_rows(noon, 0, kH), 3.0 * luminance_rows(night, 0, kH));
+  EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+}
+
+TEST(SkyModel, FrameParamsCarryCameraAndSun) {
+  FrameSnapshot s;
+  s.width = 320;
+  s.height = 180;
+  s.sun.direction = glm::normalize(glm::vec3(0.3f, 0.8f, -0.2f));
+  s.sun.elevation_deg = 50.0f;
+  s.sim_time = 2.5;
+  shared::FrameParams p = make_frame_params(s, 1.5f);
+  EXPECT_FLOAT_EQ(p.viewport.x, 320.0f);
+  EXPECT_FLOAT_EQ(p.viewport.w, 1.0f / 180.0f);
+  EXPECT_FLOAT_EQ(p.camera_pos.w, 2.5f);
+  EXPECT_FLOAT_EQ(p.ground_color.w, 1.5f);
+  EXPECT_NEAR(glm::length(glm::vec3(p.sun_dir)), 1.0f, 1e-5f);
+  // Day sky: zenith bluer than red; night sky far darker than day.
+  EXPECT_GT(p.sky_zenith.z, p.sky_zenith.x);
+  SunLight night;
+  night.elevation_deg = -30.0f;
+  EXPECT_LT(sky_colors(night).zenith.z, 0.1f * sky_colors(s.sun).zenith.z);
+}
