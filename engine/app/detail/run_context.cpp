@@ -16,7 +16,7 @@ render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t f
   render::FrameSnapshot s = render::extract_frame(rc.sim.world(), rc.camera, w, h);
   s.mode = rc.opt.mode;
   s.frame_index = frame;
-  s.sim_time = rc.sim.time();
+  s.sim_time = rc.clock.sim_seconds();  // ticks / rate: exact, unlike a running sum of dt
   s.sim_step = rc.sim.steps();
   return s;
 }
@@ -29,7 +29,7 @@ void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {
   info.mode_hz = render::budget_hz(rc.opt.mode);
   info.sim_hz = rc.opt.sim_hz;
   info.seed = rc.opt.seed;
-  info.sim_seconds = rc.sim.time();
+  info.sim_seconds = rc.clock.sim_seconds();
   info.level = rc.opt.level;
   if (const auto* n = rc.sim.world().try_get<ecs::Name>(rc.camera)) info.camera = n->value;
   const gpu::DeviceInfo& d = ctx.info();
