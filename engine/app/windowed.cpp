@@ -118,8 +118,11 @@ int run_windowed(RunContext& rc) {
     }
 
     if (title_clock.seconds() > 0.5) {
-      window->set_title(strf("cumulo - %s - %.1f ms (%s budget %.1f ms)", rc.sim.level().name.c_str(), dt * 1000.0,
-                             render::budget_mode_name(o.mode), target_s * 1000.0));
+      // A failed hot reload keeps the old pipeline; say so where the user is looking (details in the log).
+      std::string errors = renderer.shader_errors();
+      window->set_title(strf("cumulo - %s - %.1f ms (%s budget %.1f ms)%s", rc.sim.level().name.c_str(), dt * 1000.0,
+                             render::budget_mode_name(o.mode), target_s * 1000.0,
+                             errors.empty() ? "" : " - SHADER ERROR, old pipeline kept (see log)"));
       title_clock.reset();
     }
     // Frame pacing: never faster than the budget mode (FIFO present also caps at the display rate).
