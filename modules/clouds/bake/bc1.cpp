@@ -70,10 +70,22 @@ void encode_sdf_block(const double t[16], uint8_t out[8]) {
   double best_err = std::numeric_limits<double>::infinity();
   uint16_t best_c0 = lo, best_c1 = lo;
   uint32_t best_bits = 0;
-  uint16_t tried[16];
-  int ntried = 0;
+  // Candidates for the high endpoint: each texel's own round-down, and the endpoints that put an
+  // interpolated entry (1/3 or 2/3 of the way from the low endpoint) right at a texel's value.
+  const double slo = sdf_unpack(glm::dvec3(bc1_expand(lo)) / 255.0);
+  double cand[48];
+  int ncand = 0;
   for (int k = 0; k < 16; ++k) {
-    uint16_t hi = sdf_endpoint_round_down(t[k]);
+    cand[ncand++] = t[k];
+    if (t[k] > slo) {
+      cand[ncand++] = std::min(1.0, slo + 3.0 * (t[k] - slo));
+      cand[ncand++] = std::min(1.0, slo + 1.5 * (t[k] - slo));
+    }
+  }
+  uint16_t tried[48];
+  int ntried = 0;
+  for (int k = 0; k < ncand; ++k) {
+    uint16_t hi = sdf_endpoint_round_down(cand[k]);
     if (std::find(tried, tried + ntried, hi) != tried + ntried) continue;
     tried[ntried++] = hi;
     if (hi == lo) {

@@ -21,6 +21,7 @@ constexpr int kMaxDepth = 16;  // group nesting
 
 struct Ctx {
   std::filesystem::path base_dir;
+  bool allow_files = true;
   size_t edit_count = 0;
   size_t particle_count = 0;
 };
@@ -180,6 +181,7 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
     }
     case EditKind::Mesh: {
       keys.insert({"file", "resolution"});
+      if (!ctx.allow_files) e["file"].fail("file edits are not allowed here");
       std::filesystem::path file = ctx.base_dir / e["file"].as<std::string>();
       float res = e.has("resolution") ? positive(e["resolution"], 1000.0f) : 0.0f;
       out.source = file.string();
@@ -192,6 +194,7 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
     }
     case EditKind::Volume: {
       keys.insert({"file", "iso"});
+      if (!ctx.allow_files) e["file"].fail("file edits are not allowed here");
       std::filesystem::path file = ctx.base_dir / e["file"].as<std::string>();
       float iso = e.has("iso") ? e["iso"].as_float_in(0.0f, 1.0f) : 0.05f;
       out.source = file.string();
@@ -313,7 +316,7 @@ Recipe parse_root(const JsonView& root, const std::filesystem::path& base_dir, c
         r.slices.vertical.push_back(vs);
       }
   }
-  Ctx ctx{base_dir};
+  Ctx ctx{base_dir, opt.allow_files};
   Edit defaults;
   defaults.detail_type = r.default_detail_type;
   defaults.density_scale = r.default_density_scale;

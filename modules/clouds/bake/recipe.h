@@ -156,6 +156,7 @@ struct Recipe {
 // against the recipe's folder.
 struct RecipeOptions {
   std::optional<uint64_t> seed;  // overrides the recipe's "seed" (particles and noise derive from it)
+  bool allow_files = true;       // false: mesh and volume edits are refused (fuzzing untrusted text)
 };
 Recipe load_recipe(const std::filesystem::path& path, const RecipeOptions& options = {});
 Recipe parse_recipe_text(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,

@@ -201,3 +201,37 @@ TEST(Slices, WritesPngCrossSections) {
   }
   std::filesystem::remove_all(dir);
 }
+
+TEST(SampleCloudscape, HasTheAuthoredFeatures) {
+  Recipe r = load_recipe(cumulo::repo_root() / "content/levels/sample/cloudscape.json");
+  // The box the level documents (content/README.md): 4096 m square, base 600 m, top 1112 m, 8 m voxels.
+  EXPECT_EQ(r.bounds_min, glm::vec3(-2048, 600, -2048));
+  EXPECT_EQ(r.bounds_max, glm::vec3(2048, 1112, 2048));
+  EXPECT_EQ(make_grid(r).dims, glm::uvec3(512, 64, 512));
+  auto inside = [&](glm::vec3 p) { return evaluate_point(r, p).d < 0.0f; };
+  EXPECT_TRUE(inside({-650, 840, -850})) << "hero cumulus core";
+  EXPECT_FALSE(inside({-300, 900, 400})) << "the immersed camera sits in clear air inside the layer";
+  // Stormbird: base (1000, 620, -700), egg at y = 840 inside a hollow chamber.
+  EXPECT_TRUE(inside({1000, 840, -700})) << "egg";
+  EXPECT_FALSE(inside({1080, 845, -700})) << "chamber around the egg";
+  EXPECT_TRUE(inside({1100, 700, -700})) << "plume wall";
+  for (float y = 606; y < 800; y += 8) EXPECT_FALSE(inside({1000, y, -700})) << "lightning hole under the egg at y " << y;
+  EXPECT_FALSE(inside({1075, 1020, -650})) << "opening to the sky";
+  EXPECT_TRUE(inside({1000, 1000, -580})) << "crown";
+  // Tunnel cloud: the main tunnel runs along the immersed camera's view through the cloud body.
+  EXPECT_FALSE(inside({-1011, 890, -100})) << "main tunnel";
+  EXPECT_TRUE(inside({-1011, 955, -100})) << "tunnel ceiling";
+  EXPECT_FALSE(inside({-900, 900, 0})) << "central cave";
+}
+
+TEST(SampleCloudscape, ReducedBakeIsConservative) {
+  Recipe r = load_recipe(cumulo::repo_root() / "content/levels/sample/cloudscape.json");
+  BakeSettings s = quiet();
+  s.dims = {128, 32, 128};  // 32 x 16 x 32 m voxels
+  BakeResult b = bake_recipe(r, s);
+  EXPECT_GT(b.field_stats.inside_voxels, 5000u);
+  EXPECT_EQ(b.field_bc1_report.violations, 0u);
+  EXPECT_EQ(b.field_bc1_report.midpoint_violations, 0u);
+  EXPECT_EQ(b.field_bc1_report.texels, b.grid.count());
+  EXPECT_LT(b.field_bc1_report.mean_error_m, 16.0);
+}
