@@ -15,20 +15,23 @@
 # When clang++-14 or libFuzzer is missing, or CUMULO_BUILD_FUZZ is OFF, the call does nothing.
 include_guard(GLOBAL)
 
-set(CUMULO_FUZZ_AVAILABLE OFF)
+# Decided once per configure and kept in the cache, so every directory that includes this file
+# (include_guard makes the body run only for the first) sees the same answer.
+set(_cumulo_fuzz OFF)
 if(CUMULO_BUILD_FUZZ)
   find_program(CUMULO_FUZZ_CXX NAMES clang++-14 clang++)
   if(CUMULO_FUZZ_CXX)
     execute_process(COMMAND ${CUMULO_FUZZ_CXX} -print-resource-dir OUTPUT_VARIABLE _cumulo_rt
                     OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE _cumulo_rt_rc)
     if(_cumulo_rt_rc EQUAL 0 AND EXISTS "${_cumulo_rt}/lib/linux/libclang_rt.fuzzer-x86_64.a")
-      set(CUMULO_FUZZ_AVAILABLE ON)
+      set(_cumulo_fuzz ON)
     endif()
   endif()
-  if(NOT CUMULO_FUZZ_AVAILABLE)
+  if(NOT _cumulo_fuzz)
     message(STATUS "cumulo: clang++-14 with libFuzzer not found: fuzz targets are not built")
   endif()
 endif()
+set(CUMULO_FUZZ_AVAILABLE ${_cumulo_fuzz} CACHE INTERNAL "clang libFuzzer available")
 
 function(cumulo_add_fuzzer)
   cmake_parse_arguments(F "" "NAME;RUNS;MAX_SECONDS" "SOURCES;LINK;SEED_DIRS;FIXTURES" ${ARGN})

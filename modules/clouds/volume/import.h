@@ -22,25 +22,37 @@ struct CloudscapeVolumes {
 
 // Defaults for modeling channels the source does not carry.
 struct DeriveOptions {
-  float profile_depth_m = 64.0f;  // dimensional profile reaches 1 this far inside (8 voxels at 8 m)
+  float profile_depth_m = 96.0f;  // dimensional profile reaches 1 this far inside (the baker's default)
+  float profile_exponent = 1.0f;
   float detail_type = 0.5f;       // 0 wispy .. 1 billowy (2023 talk, "Detail Type")
   float density_scale = 1.0f;
 };
 
 // sdf: metres, negative inside, one value per voxel (x fastest). Values outside the field range
-// (kSdfRangeMin..kSdfRangeMax) are clamped to it.
+// (kSdfRangeMin..kSdfRangeMax) are clamped to it; the 16-bit field is rounded down (nvdf.h).
 CloudscapeVolumes nvdfs_from_sdf(const std::vector<float>& sdf, glm::uvec3 size, float voxel_size,
                                  glm::vec3 bounds_min, const DeriveOptions& derive);
 
 // ---- TGA slices ----------------------------------------------------------------------------
 
+// Which volume axis the slice number runs along. The talk's NVDFs are 512 x 512 x 64 with Z up, so
+// their slices are horizontal layers: SliceAxis::Y puts them into our Y-up layout (bake/recipe.h:
+// texel (i, j, k) = world (x, y up, z)), a 512x512 image stack of 64 slices becoming 512 x 64 x 512;
+// each image is a map view from above, x to the right and -z (north) at the top row.
+// SliceAxis::Z keeps slices as vertical layers of constant z (the baker's own "z slice"), with the
+// image's top row at the highest y.
+enum class SliceAxis { Y, Z };
+
 struct SliceImportOptions {
+  SliceAxis axis = SliceAxis::Y;
   // Components (0 = R .. 3 = A) of the modeling and field slices.
   uint32_t profile_channel = 0, detail_channel = 1, density_channel = 2;
   uint32_t sdf_channel = 0;
   float sdf_min = kSdfRangeMin, sdf_max = kSdfRangeMax;  // metres that 0 and 255 stand for
   float voxel_size = 8.0f;
-  glm::vec3 origin{0.0f};  // world position of the volume's min corner
+  // World position of the volume's min corner; default: centred on x and z with its base at y = 0,
+  // where the baker's default box sits (-2048, 0, -2048)..(2048, 512, 2048).
+  std::optional<glm::vec3> origin;
   DeriveOptions derive;    // used for whichever NVDF is missing
 };
 

@@ -7,6 +7,7 @@
 #include "engine/core/error.h"
 #include "engine/core/time.h"
 #include "modules/clouds/volume/import.h"
+#include "modules/clouds/volume/import_outputs.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/volume_file.h"
 
@@ -81,13 +82,20 @@ int run_import(int argc, char** argv) {
                 so.sdf_min = f[0];
                 so.sdf_max = f[1];
               })
-      .option("--origin", "X,Y,Z", "slices: world position of the volume's min corner (0,0,0)",
+      .option("--slice-axis", "y|z", "slices: volume axis the slice number runs along (y: horizontal layers, up)",
+              [&](const std::string& s) {
+                if (s == "y") so.axis = SliceAxis::Y;
+                else if (s == "z") so.axis = SliceAxis::Z;
+                else fail("--slice-axis: '%s' (expected y or z)", s.c_str());
+              })
+      .option("--origin", "X,Y,Z", "slices: world position of the min corner (default: centred on x/z, base at y 0)",
               [&](const std::string& s) {
                 auto f = parse_floats("--origin", s, 3);
                 so.origin = glm::vec3(f[0], f[1], f[2]);
               })
-      .option("--profile-depth", "M", "derived profile: metres inside the surface where it reaches 1 (64)",
+      .option("--profile-depth", "M", "derived profile: metres inside the surface where it reaches 1 (96)",
               &derive.profile_depth_m)
+      .option("--profile-exponent", "E", "derived profile: saturate(depth / M) ^ E (1)", &derive.profile_exponent)
       .option("--detail-type", "V", "derived modeling: detail type 0 wispy..1 billowy (0.5)", &derive.detail_type)
       .option("--density-scale", "V", "derived modeling: density scale (1)", &derive.density_scale)
       .flag("--no-compress", "store the payload without zstd", &no_compress);
@@ -117,10 +125,14 @@ int run_import(int argc, char** argv) {
     else fail("--filter: '%s' (expected box or trilinear)", filter.c_str());
     result = import_vdb(vdb, vo);
   }
-  save_cloudscape(out, result, !no_compress);
+  const ImportOutputReport report = write_imported_cloudscape(out, result, !no_compress);
   std::printf("cumulo import: %s in %.2f s\n", slices ? "TGA slices" : vdb.c_str(), clock.seconds());
-  print_volume(fs::path(out) / kModelingFileName, result.modeling);
-  print_volume(fs::path(out) / kFieldFileName, result.field);
+  for (std::string_view f : {kModelingFileName, kModelingBc1FileName, kFieldFileName, kFieldBc1FileName})
+    print_volume(fs::path(out) / f, load_volume(fs::path(out) / f));
+  std::printf("  field BC1 vs 16-bit: mean error %.3f m, max %.3f m, %llu values above the 16-bit field\n",
+              report.field_bc1_mean_error_m, report.field_bc1_max_error_m,
+              static_cast<unsigned long long>(report.field_bc1_violations));
+  if (report.field_bc1_violations != 0) fail("%s: the BC1 field is not conservative", out.c_str());
   return 0;
 }
 

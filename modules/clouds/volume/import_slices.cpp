@@ -23,19 +23,22 @@ CloudscapeVolumes nvdfs_from_sdf(const std::vector<float>& sdf, glm::uvec3 size,
   const uint32_t cp = out.modeling.channel(kDimensionalProfile, "modeling");
   const uint32_t cd = out.modeling.channel(kDetailType, "modeling");
   const uint32_t cs = out.modeling.channel(kDensityScale, "modeling");
-  const uint32_t cf = out.field.channel(kSignedDistance, "field");
+  if (out.field.encoding != VolumeEncoding::R16 || out.field.channel(kSignedDistance, "field") != 0)
+    fail("nvdfs_from_sdf: field layout changed");
   parallel_for(size.z, [&](size_t z0, size_t z1) {
     for (uint32_t z = uint32_t(z0); z < z1; ++z)
       for (uint32_t y = 0; y < size.y; ++y)
         for (uint32_t x = 0; x < size.x; ++x) {
           const float d = sdf[(size_t(z) * size.y + y) * size.x + x];
-          const float p = dimensional_profile_from_sdf(d, derive.profile_depth_m);
+          const float p = dimensional_profile_from_sdf(d, derive.profile_depth_m, derive.profile_exponent);
           out.modeling.set_texel(x, y, z, cp, p);
           // Detail type and density scale only matter inside; outside they stay 0 so that the
           // texture compresses well and bilinear filtering at the edge fades them with the profile.
           out.modeling.set_texel(x, y, z, cd, p > 0.0f ? derive.detail_type : 0.0f);
           out.modeling.set_texel(x, y, z, cs, p > 0.0f ? derive.density_scale : 0.0f);
-          out.field.set_decoded(x, y, z, cf, std::clamp(d, kSdfRangeMin, kSdfRangeMax));
+          const uint16_t q = sdf_to_unorm16_floor(d);
+          uint8_t* f = &out.field.levels[0][((size_t(z) * size.y + y) * size.x + x) * 2];
+          f[0] = uint8_t(q & 0xff), f[1] = uint8_t(q >> 8);
         }
   });
   return out;
@@ -122,10 +125,14 @@ SliceStack load_stack(const fs::path& dir) {
   return s;
 }
 
-// TGA rows run top to bottom; the volume's y runs with the image's rows (row 0 = y 0), so a slice
-// viewed as an image shows the volume from +z with y pointing down, the usual slice convention.
-uint8_t component(const SliceStack& s, uint32_t x, uint32_t y, uint32_t z, uint32_t c) {
-  return s.slices[z].pixel(x, y)[c];
+// Volume size of a stack of `n` W x H slices, and the slice pixel of volume texel (x, y, z); see
+// SliceAxis in import.h.
+glm::uvec3 volume_size(glm::uvec3 stack, SliceAxis axis) {
+  return axis == SliceAxis::Y ? glm::uvec3(stack.x, stack.z, stack.y) : stack;
+}
+uint8_t component(const SliceStack& s, SliceAxis axis, uint32_t x, uint32_t y, uint32_t z, uint32_t c) {
+  if (axis == SliceAxis::Y) return s.slices[y].pixel(x, z)[c];
+  return s.slices[z].pixel(x, s.size.y - 1 - y)[c];
 }
 
 }  // namespace
@@ -145,7 +152,7 @@ CloudscapeVolumes import_tga_slices(const std::optional<fs::path>& modeling_dir,
     fail("%s: field slices are %ux%ux%u, modeling slices (%s) are %ux%ux%u", field_dir->string().c_str(), field->size.x,
          field->size.y, field->size.z, modeling_dir->string().c_str(), modeling->size.x, modeling->size.y,
          modeling->size.z);
-  const glm::uvec3 size = modeling ? modeling->size : field->size;
+  const glm::uvec3 size = volume_size(modeling ? modeling->size : field->size, o.axis);
   const size_t count = size_t(size.x) * size.y * size.z;
   auto index = [&](uint32_t x, uint32_t y, uint32_t z) { return (size_t(z) * size.y + y) * size.x + x; };
 
@@ -156,15 +163,17 @@ CloudscapeVolumes import_tga_slices(const std::optional<fs::path>& modeling_dir,
     for (uint32_t z = 0; z < size.z; ++z)
       for (uint32_t y = 0; y < size.y; ++y)
         for (uint32_t x = 0; x < size.x; ++x)
-          sdf[index(x, y, z)] = o.sdf_min + scale * float(component(*field, x, y, z, o.sdf_channel));
+          sdf[index(x, y, z)] = o.sdf_min + scale * float(component(*field, o.axis, x, y, z, o.sdf_channel));
   } else {
     std::vector<uint8_t> inside(count);
     for (uint32_t z = 0; z < size.z; ++z)
       for (uint32_t y = 0; y < size.y; ++y)
-        for (uint32_t x = 0; x < size.x; ++x) inside[index(x, y, z)] = component(*modeling, x, y, z, o.profile_channel) > 0;
+        for (uint32_t x = 0; x < size.x; ++x) inside[index(x, y, z)] = component(*modeling, o.axis, x, y, z, o.profile_channel) > 0;
     sdf = signed_distance_from_mask(inside, size, o.voxel_size);
   }
-  CloudscapeVolumes out = nvdfs_from_sdf(sdf, size, o.voxel_size, o.origin, o.derive);
+  const glm::vec3 extent = glm::vec3(size) * o.voxel_size;
+  const glm::vec3 origin = o.origin ? *o.origin : glm::vec3(-0.5f * extent.x, 0.0f, -0.5f * extent.z);
+  CloudscapeVolumes out = nvdfs_from_sdf(sdf, size, o.voxel_size, origin, o.derive);
 
   if (modeling) {  // the authored modeling data replaces the derived defaults, byte for byte
     Volume& m = out.modeling;
@@ -173,9 +182,9 @@ CloudscapeVolumes import_tga_slices(const std::optional<fs::path>& modeling_dir,
     for (uint32_t z = 0; z < size.z; ++z)
       for (uint32_t y = 0; y < size.y; ++y)
         for (uint32_t x = 0; x < size.x; ++x) {
-          m.set_texel(x, y, z, cp, component(*modeling, x, y, z, o.profile_channel) / 255.0f);
-          m.set_texel(x, y, z, cd, component(*modeling, x, y, z, o.detail_channel) / 255.0f);
-          m.set_texel(x, y, z, cs, component(*modeling, x, y, z, o.density_channel) / 255.0f);
+          m.set_texel(x, y, z, cp, component(*modeling, o.axis, x, y, z, o.profile_channel) / 255.0f);
+          m.set_texel(x, y, z, cd, component(*modeling, o.axis, x, y, z, o.detail_channel) / 255.0f);
+          m.set_texel(x, y, z, cs, component(*modeling, o.axis, x, y, z, o.density_channel) / 255.0f);
         }
   }
   LOG_INFO("import: %ux%ux%u slices at %g m (%s%s%s)", size.x, size.y, size.z, o.voxel_size, modeling ? "modeling" : "",

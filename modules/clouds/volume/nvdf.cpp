@@ -1,5 +1,7 @@
 #include "modules/clouds/volume/nvdf.h"
 
+#include <cmath>
+
 #include "engine/core/error.h"
 
 namespace cumulo::clouds {
@@ -24,6 +26,18 @@ Volume make_field_volume(glm::uvec3 size, float voxel_size, glm::vec3 bounds_min
   return placed(Volume::create(size, voxel_size, VolumeEncoding::R16,
                                {{"r", std::string(kSignedDistance), kSdfRangeMin, kSdfRangeMax}}),
                 bounds_min);
+}
+
+float dimensional_profile_from_sdf(float sdf_m, float depth_m, float exponent) {
+  float t = -sdf_m / depth_m;
+  t = t <= 0.0f ? 0.0f : (t >= 1.0f ? 1.0f : t);  // also maps NaN to 0
+  return exponent == 1.0f ? t : std::pow(t, exponent);
+}
+
+uint16_t sdf_to_unorm16_floor(float metres) {
+  double v = (double(metres) - kSdfRangeMin) / (double(kSdfRangeMax) - kSdfRangeMin);
+  v = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
+  return static_cast<uint16_t>(v * 65535.0);  // truncation = floor for v >= 0
 }
 
 void check_modeling_volume(const Volume& v, std::string_view what) {

@@ -3,9 +3,11 @@
 // importers, the renderer), so a baked and an imported cloudscape are interchangeable in a level.
 //
 // A cloudscape folder holds (2023 talk, "NVDF's"):
-//   modeling.nvdf   channels dimensional_profile, detail_type, density_scale (0..1 each)
-//   field.nvdf      channel sdf: signed distance, stored 0..1, decoded -256..4096 m, 16-bit (R16)
-//   field_bc1.nvdf  optional: the same SDF in the conservative BC1 form (written by the baker)
+//   modeling.nvdf      RGBA8: dimensional_profile, detail_type, density_scale (0..1 each), a unused
+//   modeling_bc1.nvdf  the same three channels in BC1 (GPUs)
+//   field.nvdf         R16, channel sdf: signed distance stored 0..1 (rounded down), decoded -256..4096 m
+//   field_bc1.nvdf     the same SDF in the conservative BC1 form (bake/bc1.h: unpack weights)
+// Axes (bake/recipe.h): texel (i, j, k) is world (x, y up, z); bounds are the world box.
 // The header of each file carries size, voxel size, world bounds and channel decode ranges; a reader
 // finds channels by semantic, never by position.
 #include <string_view>
@@ -15,6 +17,7 @@
 namespace cumulo::clouds {
 
 inline constexpr std::string_view kModelingFileName = "modeling.nvdf";
+inline constexpr std::string_view kModelingBc1FileName = "modeling_bc1.nvdf";
 inline constexpr std::string_view kFieldFileName = "field.nvdf";
 inline constexpr std::string_view kFieldBc1FileName = "field_bc1.nvdf";
 
@@ -24,12 +27,16 @@ Volume make_modeling_volume(glm::uvec3 size, float voxel_size, glm::vec3 bounds_
 Volume make_field_volume(glm::uvec3 size, float voxel_size, glm::vec3 bounds_min);
 
 // Dimensional profile from a signed distance (metres, negative inside): 0 at and outside the
-// surface, rising linearly to 1 at `depth_m` inside. The talk builds the profile "from a
-// signed-distance field of the cloud to ensure that we get a gradient from outside to inside".
-inline float dimensional_profile_from_sdf(float sdf_m, float depth_m) {
-  float t = -sdf_m / depth_m;
-  return t <= 0.0f ? 0.0f : (t >= 1.0f ? 1.0f : t);
-}
+// surface, saturate(-sdf / depth_m) ^ exponent below it -- the same rule as the baker's
+// profile_from_field (bake/field.h), so imported and baked cloudscapes shade alike. The talk builds
+// the profile "from a signed-distance field of the cloud to ensure that we get a gradient from
+// outside to inside".
+inline constexpr float kDefaultProfileDepth = 96.0f;  // the baker's default (bake/recipe.h ProfileParams)
+float dimensional_profile_from_sdf(float sdf_m, float depth_m, float exponent = 1.0f);
+
+// The field NVDF's 16-bit storage of a distance, rounded DOWN so a stored value never exceeds the
+// true distance (a sphere tracer may step by it); clamps to kSdfRangeMin..kSdfRangeMax.
+uint16_t sdf_to_unorm16_floor(float metres);
 
 // Checks that a loaded volume is a usable modeling / field NVDF (has the channels by semantic);
 // throws cumulo::Error naming `what`.

@@ -187,27 +187,46 @@ struct SliceSet {
 
 TEST(ImportSlices, ModelingAndFieldDefaults) {
   SliceSet s;
-  SliceImportOptions o;
-  o.origin = {100, 200, 300};
+  SliceImportOptions o;  // slices are horizontal layers: volume texel (x, y, z) = pixel (x, row z) of slice y
+  o.origin = glm::vec3(100, 200, 300);
   CloudscapeVolumes v = import_tga_slices(s.modeling.path, s.field.path, o);
   const Volume& m = v.modeling;
   const Volume& f = v.field;
-  EXPECT_EQ(m.size, glm::uvec3(16, 12, 6));
+  EXPECT_EQ(m.size, glm::uvec3(16, 6, 12));
   EXPECT_EQ(m.bounds_min, glm::vec3(100, 200, 300));
-  EXPECT_EQ(m.bounds_max, glm::vec3(100 + 128, 200 + 96, 300 + 48));
+  EXPECT_EQ(m.bounds_max, glm::vec3(100 + 128, 200 + 48, 300 + 96));
   check_modeling_volume(m, "m");
   check_field_volume(f, "f");
   const uint32_t cp = m.channel(kDimensionalProfile, ""), cd = m.channel(kDetailType, ""),
                  cs = m.channel(kDensityScale, ""), cf = f.channel(kSignedDistance, "");
-  for (uint32_t z : {0u, 2u, 5u})
-    for (uint32_t y : {0u, 4u, 11u})
+  for (uint32_t z : {0u, 4u, 11u})
+    for (uint32_t y : {0u, 2u, 5u})
       for (uint32_t x : {0u, 5u, 15u}) {
-        EXPECT_FLOAT_EQ(m.texel(x, y, z, cp), SliceSet::profile(x, y, z) / 255.0f);
-        EXPECT_FLOAT_EQ(m.texel(x, y, z, cd), float(y * 20) / 255.0f);
+        EXPECT_FLOAT_EQ(m.texel(x, y, z, cp), SliceSet::profile(x, z, y) / 255.0f);
+        EXPECT_FLOAT_EQ(m.texel(x, y, z, cd), float(z * 20) / 255.0f);
         EXPECT_FLOAT_EQ(m.texel(x, y, z, cs), float(255 - x) / 255.0f);
-        const float want = -256.0f + 4352.0f * SliceSet::sdf(x, y, z) / 255.0f;
-        EXPECT_NEAR(f.decoded(x, y, z, cf), want, 4352.0f / 65535.0f);
+        // The 16-bit field rounds down: never above the source value, less than a step below.
+        const float want = -256.0f + 4352.0f * SliceSet::sdf(x, z, y) / 255.0f;
+        EXPECT_LE(f.decoded(x, y, z, cf), want + 1e-3f);
+        EXPECT_GE(f.decoded(x, y, z, cf), want - 4352.0f / 65535.0f - 1e-3f);
       }
+}
+
+TEST(ImportSlices, DefaultOriginAndVerticalSliceAxis) {
+  SliceSet s;
+  SliceImportOptions o;
+  CloudscapeVolumes v = import_tga_slices(s.modeling.path, std::nullopt, o);
+  // Centred on x and z with its base at y = 0, like the baker's default box.
+  EXPECT_EQ(v.modeling.bounds_min, glm::vec3(-64, 0, -48));
+  EXPECT_EQ(v.modeling.bounds_max, glm::vec3(64, 48, 48));
+  // Slices as vertical layers of constant z, the image's top row at the highest y.
+  o.axis = SliceAxis::Z;
+  v = import_tga_slices(s.modeling.path, std::nullopt, o);
+  EXPECT_EQ(v.modeling.size, glm::uvec3(16, 12, 6));
+  for (uint32_t z : {0u, 3u})
+    for (uint32_t y : {0u, 5u, 11u})
+      for (uint32_t x : {4u, 9u})
+        EXPECT_FLOAT_EQ(v.modeling.texel(x, y, z, 0), SliceSet::profile(x, 11 - y, z) / 255.0f);
 }
 
 TEST(ImportSlices, ChannelMappingAndRangeOptions) {
@@ -217,10 +236,10 @@ TEST(ImportSlices, ChannelMappingAndRangeOptions) {
   o.sdf_min = 0.0f, o.sdf_max = 255.0f;  // 1 m per step
   CloudscapeVolumes v = import_tga_slices(s.modeling.path, s.field.path, o);
   EXPECT_FLOAT_EQ(v.modeling.texel(3, 0, 0, 0), float(255 - 3) / 255.0f);
-  EXPECT_FLOAT_EQ(v.modeling.texel(3, 5, 2, 2), 100.0f / 255.0f);
+  EXPECT_FLOAT_EQ(v.modeling.texel(3, 5, 2, 2), 40.0f / 255.0f);  // G = row * 20, row = z
   // Stored in the standard -256..4096 field range whatever the source range was.
   EXPECT_EQ(v.field.channels[0].decode_min, kSdfRangeMin);
-  EXPECT_NEAR(v.field.decoded(7, 1, 3, 0), float(SliceSet::sdf(7, 1, 3)), 0.07f);
+  EXPECT_NEAR(v.field.decoded(7, 1, 3, 0), float(SliceSet::sdf(7, 3, 1)), 0.07f);
   EXPECT_EQ(parse_channel_letter("A"), 3u);
   EXPECT_THROW(parse_channel_letter("x"), Error);
 }
@@ -230,10 +249,10 @@ TEST(ImportSlices, MissingFieldIsDerivedFromProfile) {
   SliceImportOptions o;
   o.voxel_size = 4.0f;
   CloudscapeVolumes v = import_tga_slices(s.modeling.path, std::nullopt, o);
-  // Inside block x 4..11 (profile > 0 needs 40z + x > 0: true inside), voxel (8,6,2) is 3 voxels
-  // from the nearest outside voxel (y = 9 or z = 0 at distance 2 -> z=0 is 2 away).
-  EXPECT_NEAR(v.field.decoded(8, 6, 2, 0), -(2 * 4.0f - 2.0f), 0.07f);
-  EXPECT_NEAR(v.field.decoded(0, 6, 2, 0), 4 * 4.0f - 2.0f, 0.07f);  // 4 voxels left of x = 4
+  // Inside: columns 4..11, rows (z) 3..8, slices (y) 1..4. Voxel (8, 2, 6) is 2 voxels above the
+  // outside layer y = 0; voxel (0, 2, 6) is 4 voxels left of x = 4. Surface halfway: -+half voxel.
+  EXPECT_NEAR(v.field.decoded(8, 2, 6, 0), -(2 * 4.0f - 2.0f), 0.07f);
+  EXPECT_NEAR(v.field.decoded(0, 2, 6, 0), 4 * 4.0f - 2.0f, 0.07f);
   // Missing modeling: derived from the field's SDF with defaults.
   CloudscapeVolumes w = import_tga_slices(std::nullopt, s.field.path, o);
   EXPECT_FLOAT_EQ(w.modeling.texel(0, 0, 0, w.modeling.channel(kDimensionalProfile, "")), 1.0f);  // sdf -256

@@ -102,8 +102,8 @@ TEST_F(VdbImport, FogVolumeIsThresholdedAtIso) {
   // sdfToFogVolume maps sdf 0 -> 0 and sdf -band -> 1, so density 0.5 lies 1.5 m inside.
   expect_sphere(v, kRadius - 0.5f * kHalfWidth, 2.0f, 2.0f, 0.0f);
   const glm::uvec3 c = glm::uvec3((kCentre - v.modeling.bounds_min) / v.modeling.voxel_size);
-  // Default 64 m profile depth; the distance transform is good to about a voxel (2 m).
-  EXPECT_NEAR(v.modeling.texel(c.x, c.y, c.z, 0), 38.5f / 64.0f, 2.0f / 64.0f);
+  // Default 96 m profile depth; the distance transform is good to about a voxel (2 m).
+  EXPECT_NEAR(v.modeling.texel(c.x, c.y, c.z, 0), 38.5f / 96.0f, 2.0f / 96.0f);
 }
 
 TEST_F(VdbImport, AutomaticVoxelSizeAndBounds) {

@@ -1,0 +1,108 @@
+// `cumulo import` end to end on TGA slices the test writes: the four files a bake writes, loadable,
+// with a conservative BC1 field; command-line errors.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "modules/clouds/volume/import_command.h"
+#include "modules/clouds/volume/import_outputs.h"
+#include "modules/clouds/volume/nvdf.h"
+#include "modules/clouds/volume/tga.h"
+#include "modules/clouds/volume/volume_file.h"
+
+namespace cumulo::clouds {
+namespace {
+
+namespace fs = std::filesystem;
+
+int run_import(std::vector<std::string> args) {
+  CommandRegistry registry;
+  register_import_command(registry);
+  const Command* c = registry.find("import");
+  EXPECT_NE(c, nullptr);
+  args.insert(args.begin(), "import");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  return c->run(int(argv.size()), argv.data());
+}
+
+// A 32 x 32 x 8 field stack holding the distance to a sphere (radius 40 m at 4 m voxels), encoded
+// in the talk's -256..4096 m range.
+fs::path write_sphere_field(const fs::path& dir) {
+  fs::create_directories(dir);
+  for (uint32_t k = 0; k < 8; ++k) {
+    Rgba8Image img{32, 32, std::vector<uint8_t>(32 * 32 * 4, 255)};
+    for (uint32_t r = 0; r < 32; ++r)
+      for (uint32_t x = 0; x < 32; ++x) {
+        const glm::vec3 p = (glm::vec3(x, k, r) + 0.5f) * 4.0f - glm::vec3(64, 16, 64);
+        const float d = glm::length(p) - 40.0f;
+        img.rgba[(r * 32 + x) * 4] = uint8_t(std::lround((d + 256.0f) / 4352.0f * 255.0f));
+      }
+    write_file_atomic(dir / ("sdf." + std::to_string(k) + ".tga"), encode_tga(img, true));
+  }
+  return dir;
+}
+
+TEST(ImportCommand, SlicesToTheBakersFourFiles) {
+  const fs::path root = fs::temp_directory_path() / "cumulo_volume_import_command";
+  fs::remove_all(root);
+  const fs::path field = write_sphere_field(root / "field");
+  ASSERT_EQ(run_import({"--field", field.string(), "-o", (root / "out").string(), "--voxel-size", "4"}), 0);
+  Volume m = load_volume(root / "out" / kModelingFileName);
+  Volume mb = load_volume(root / "out" / kModelingBc1FileName);
+  Volume f = load_volume(root / "out" / kFieldFileName);
+  Volume fb = load_volume(root / "out" / kFieldBc1FileName);
+  check_modeling_volume(m, "m");
+  check_modeling_volume(mb, "mb");
+  check_field_volume(f, "f");
+  check_field_volume(fb, "fb");
+  EXPECT_EQ(m.size, glm::uvec3(32, 8, 32));
+  EXPECT_EQ(mb.encoding, VolumeEncoding::BC1);
+  EXPECT_EQ(fb.encoding, VolumeEncoding::BC1);
+  EXPECT_EQ(fb.bounds_min, f.bounds_min);
+  EXPECT_EQ(f.bounds_min, glm::vec3(-64, 0, -64));
+  // Profile at the sphere's centre row: SDF about -40 + 16 -> profile (40 - 16) / 96 > 0; far corner 0.
+  EXPECT_GT(m.texel(16, 4, 16, 0), 0.2f);
+  EXPECT_EQ(m.texel(0, 0, 0, 0), 0.0f);
+  // BC1 profile close to RGBA8's.
+  EXPECT_NEAR(mb.texel(16, 4, 16, 0), m.texel(16, 4, 16, 0), 0.05f);
+  fs::remove_all(root);
+}
+
+TEST(ImportCommand, WriterReportsConservativeBc1) {
+  const fs::path root = fs::temp_directory_path() / "cumulo_volume_import_writer";
+  fs::remove_all(root);
+  write_sphere_field(root / "field");
+  SliceImportOptions o;
+  o.voxel_size = 4.0f;
+  CloudscapeVolumes v = import_tga_slices(std::nullopt, root / "field", o);
+  ImportOutputReport r = write_imported_cloudscape(root / "out", v);
+  EXPECT_EQ(r.field_bc1_violations, 0u);
+  EXPECT_LT(r.field_bc1_max_error_m, 17.1f);  // at most one 8-bit source step
+  EXPECT_GT(r.bytes_written, 0u);
+  fs::remove_all(root);
+}
+
+TEST(ImportCommand, CommandLineErrors) {
+  auto error_of = [](std::vector<std::string> args) {
+    try {
+      run_import(std::move(args));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(error_of({"x.vdb"}).find("-o DIR is required"), std::string::npos);
+  EXPECT_NE(error_of({"-o", "/tmp/x"}).find("give either FILE.vdb or --modeling/--field"), std::string::npos);
+  EXPECT_NE(error_of({"x.vdb", "--modeling", "d", "-o", "/tmp/x"}).find("give either"), std::string::npos);
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-range", "1,b"}).find("--sdf-range: 'b' is not a number"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-channel", "q"}).find("channel 'q'"), std::string::npos);
+  EXPECT_NE(error_of({"--field", "/nonexistent/slices", "-o", "/tmp/x"}).find("/nonexistent/slices: not a folder"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace cumulo::clouds
