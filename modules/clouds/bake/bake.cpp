@@ -64,8 +64,8 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
 
   sw.reset();
   {
-    Stage st(settings.show_progress, "bake: distance field", 1.0);
-    r.field = build_field(composed.sdf, g, &r.field_stats);
+    Stage st(settings.show_progress, "bake: distance field (exact EDT)", 4.0);
+    r.field = build_field(composed.sdf, g, &r.field_stats, st.get());
     r.field16.resize(n);
     std::vector<double> row_err(g.dims.z, 0.0);
     parallel_for(g.dims.z, [&](size_t b, size_t e) {
@@ -95,18 +95,18 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
 
   sw.reset();
   {
-    Stage st(settings.show_progress, "bake: BC1 field (conservative)", 1.0);
-    r.field_bc1 = encode_sdf_bc1(r.field16, g.dims);
-    st.add(1.0);
+    const double blocks = double((g.dims.x + 3) / 4) * ((g.dims.y + 3) / 4) * g.dims.z;
+    Stage st(settings.show_progress, "bake: BC1 field (conservative)", blocks);
+    r.field_bc1 = encode_sdf_bc1(r.field16, g.dims, st.get());
   }
   r.timings.bc1_field = sw.seconds();
 
   sw.reset();
   {
-    Stage st(settings.show_progress, "bake: BC1 modeling", 1.0);
+    const double blocks = double((g.dims.x + 3) / 4) * ((g.dims.y + 3) / 4) * g.dims.z;
+    Stage st(settings.show_progress, "bake: BC1 modeling", blocks);
     // The profile drives both the cloud/no-cloud test and the up-rez: weigh its error most.
-    r.modeling_bc1 = encode_rgb_bc1(r.modeling, g.dims, glm::vec3(2.0f, 1.0f, 1.0f));
-    st.add(1.0);
+    r.modeling_bc1 = encode_rgb_bc1(r.modeling, g.dims, glm::vec3(2.0f, 1.0f, 1.0f), st.get());
   }
   r.timings.bc1_modeling = sw.seconds();
 

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "engine/core/parallel.h"
+#include "engine/core/progress.h"
 
 namespace cumulo::clouds::bake {
 
@@ -114,15 +115,21 @@ void encode_sdf_block(const double t[16], uint8_t out[8]) {
 }
 
 template <typename Fn>
-void for_each_block(glm::uvec3 dims, Fn&& fn) {
+void for_each_block(glm::uvec3 dims, Progress* progress, Fn&& fn) {
   const uint32_t bx = (dims.x + 3) / 4, by = (dims.y + 3) / 4;
-  parallel_for(size_t(bx) * by * dims.z, [&](size_t b, size_t e) {
-    for (size_t blk = b; blk < e; ++blk) {
-      uint32_t x = static_cast<uint32_t>(blk % bx), rest = static_cast<uint32_t>(blk / bx);
-      uint32_t y = rest % by, z = rest / by;
-      fn(blk, x * 4, y * 4, z);
+  const size_t total = size_t(bx) * by * dims.z;
+  // Chunks of 1024 blocks so the progress line moves and threads share the work evenly.
+  parallel_for((total + 1023) / 1024, [&](size_t cb, size_t ce) {
+    for (size_t chunk = cb; chunk < ce; ++chunk) {
+      size_t end = std::min(total, (chunk + 1) * 1024);
+      for (size_t blk = chunk * 1024; blk < end; ++blk) {
+        uint32_t x = static_cast<uint32_t>(blk % bx), rest = static_cast<uint32_t>(blk / bx);
+        uint32_t y = rest % by, z = rest / by;
+        fn(blk, x * 4, y * 4, z);
+      }
+      if (progress) progress->add(double(end - chunk * 1024));
     }
-  }, 64);
+  });
 }
 
 }  // namespace
@@ -178,10 +185,10 @@ uint16_t sdf_endpoint_round_down(double v) {
   return pack565(r, g, b);
 }
 
-std::vector<uint8_t> encode_sdf_bc1(const std::vector<uint16_t>& values, glm::uvec3 dims) {
+std::vector<uint8_t> encode_sdf_bc1(const std::vector<uint16_t>& values, glm::uvec3 dims, Progress* progress) {
   const uint32_t bx = (dims.x + 3) / 4, by = (dims.y + 3) / 4;
   std::vector<uint8_t> out(size_t(bx) * by * dims.z * 8);
-  for_each_block(dims, [&](size_t blk, uint32_t x0, uint32_t y0, uint32_t z) {
+  for_each_block(dims, progress, [&](size_t blk, uint32_t x0, uint32_t y0, uint32_t z) {
     double t[16];
     for (uint32_t j = 0; j < 4; ++j)
       for (uint32_t i = 0; i < 4; ++i) {
@@ -259,11 +266,12 @@ Bc1SdfReport verify_sdf_bc1(const std::vector<uint8_t>& blocks, const std::vecto
   return r;
 }
 
-std::vector<uint8_t> encode_rgb_bc1(const std::vector<float>& rgb, glm::uvec3 dims, glm::vec3 weights) {
+std::vector<uint8_t> encode_rgb_bc1(const std::vector<float>& rgb, glm::uvec3 dims, glm::vec3 weights,
+                                    Progress* progress) {
   const uint32_t bx = (dims.x + 3) / 4, by = (dims.y + 3) / 4;
   std::vector<uint8_t> out(size_t(bx) * by * dims.z * 8);
   const glm::dvec3 w(weights);
-  for_each_block(dims, [&](size_t blk, uint32_t x0, uint32_t y0, uint32_t z) {
+  for_each_block(dims, progress, [&](size_t blk, uint32_t x0, uint32_t y0, uint32_t z) {
     glm::dvec3 px[16];
     glm::dvec3 mn(1e9), mx(-1e9);
     for (uint32_t j = 0; j < 4; ++j)

@@ -27,6 +27,10 @@
 
 #include <glm/glm.hpp>
 
+namespace cumulo {
+class Progress;
+}
+
 namespace cumulo::clouds::bake {
 
 // How a decoder computes BC1's interpolated palette entries from the 8-bit endpoints a, b.
@@ -58,7 +62,8 @@ uint16_t sdf_endpoint_round_down(double v);
 // Encodes a field of 16-bit values (0..65535 <-> 0..1; x fastest, then y, then z) into BC1 blocks
 // in the volume layout (per z slice, 4x4 blocks over x and y, row-major). Every texel decodes, under
 // every Bc1Model, to at most its 16-bit value (minus a float32 dot-product margin).
-std::vector<uint8_t> encode_sdf_bc1(const std::vector<uint16_t>& values, glm::uvec3 dims);
+// `progress` (optional) advances by one per 4x4 block.
+std::vector<uint8_t> encode_sdf_bc1(const std::vector<uint16_t>& values, glm::uvec3 dims, Progress* progress = nullptr);
 
 struct Bc1SdfReport {
   uint64_t texels = 0;
@@ -78,7 +83,8 @@ Bc1SdfReport verify_sdf_bc1(const std::vector<uint8_t>& blocks, const std::vecto
 
 // ---- Plain RGB (modeling NVDF) -------------------------------------------------------------------
 // rgb: 3 floats per texel in 0..1 (x fastest); weights: per-channel importance in the error metric.
-std::vector<uint8_t> encode_rgb_bc1(const std::vector<float>& rgb, glm::uvec3 dims, glm::vec3 weights);
+std::vector<uint8_t> encode_rgb_bc1(const std::vector<float>& rgb, glm::uvec3 dims, glm::vec3 weights,
+                                    Progress* progress = nullptr);
 
 struct Bc1RgbReport {
   glm::dvec3 rmse{0.0};

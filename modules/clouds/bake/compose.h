@@ -70,7 +70,7 @@ struct ParticleBins {
 };
 std::shared_ptr<const ParticleBins> build_particle_bins(const std::vector<Particle>& particles, float blend);
 
-// Erosion noise in [0, 1]: fBm of seeded 3D gradient noise at `frequency` cycles per metre.
+// Erosion noise in [0, 1]: the noise module's seeded Perlin fBm at `frequency` cycles per metre.
 float erosion_noise(glm::vec3 p, float frequency, int octaves, uint32_t seed);
 
 }  // namespace cumulo::clouds::bake

@@ -4,11 +4,13 @@
 #include <cmath>
 
 #include "engine/core/parallel.h"
+#include "engine/core/progress.h"
 #include "modules/clouds/bake/edt.h"
 
 namespace cumulo::clouds::bake {
 
-std::vector<float> build_field(const std::vector<float>& composed, const BakeGrid& grid, FieldStats* stats) {
+std::vector<float> build_field(const std::vector<float>& composed, const BakeGrid& grid, FieldStats* stats,
+                               Progress* progress) {
   const glm::uvec3 d = grid.dims;
   const size_t n = grid.count();
   std::vector<uint8_t> inside(n), outside(n);
@@ -19,7 +21,9 @@ std::vector<float> build_field(const std::vector<float>& composed, const BakeGri
     n_inside += inside[i];
   }
   std::vector<float> to_inside = squared_edt(inside, d, grid.spacing);
+  if (progress) progress->add(1.0);
   std::vector<float> to_outside = squared_edt(outside, d, grid.spacing);
+  if (progress) progress->add(1.0);
   const float half = 0.5f * std::min(grid.spacing.x, std::min(grid.spacing.y, grid.spacing.z));
 
   std::vector<float> field(n);
@@ -53,6 +57,7 @@ std::vector<float> build_field(const std::vector<float>& composed, const BakeGri
       }
     }
   });
+  if (progress) progress->add(1.0);
   if (stats) {
     stats->inside_voxels = n_inside;
     stats->surface_voxels = 0;

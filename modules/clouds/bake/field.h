@@ -26,7 +26,9 @@ struct FieldStats {
 };
 
 // Signed distance in metres, clamped to [kFieldMin, kFieldMax], one per voxel of `grid`.
-std::vector<float> build_field(const std::vector<float>& composed, const BakeGrid& grid, FieldStats* stats = nullptr);
+// `progress` (optional) advances by 1 after each of its three steps (two EDTs, the combination).
+std::vector<float> build_field(const std::vector<float>& composed, const BakeGrid& grid, FieldStats* stats = nullptr,
+                               Progress* progress = nullptr);
 
 // 16-bit storage of the 0..1 range, rounded DOWN so the stored value never exceeds the distance.
 inline uint16_t field_to_unorm16(float metres) {
