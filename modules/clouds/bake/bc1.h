@@ -22,6 +22,21 @@
 // apart, so B covers the largest G step times G's weight, 5/255 * 9/255. With those weights, rounding
 // R down, then G, then B ("sFindLowerBoundIndex") always leaves a residual the next channel can
 // absorb, giving about 16 bits of precision from a 0.5 byte/texel format.
+// In a shader: metres = -256.0 + 4352.0 * dot(texture(field_bc1, uvw).rgb, vec3(1.0, 9.0/255.0, 45.0/65025.0)).
+//
+// What is guaranteed (and tested exhaustively by verify_sdf_bc1):
+//  - every texel decodes, under each Bc1Model, to at most its 16-bit value, which is itself the float
+//    distance rounded down; so a texel never reads farther than the baked distance;
+//  - the unpack is linear, so filtering then unpacking equals unpacking then filtering: any bilinear or
+//    trilinear filter (non-negative weights summing to 1, in exact arithmetic) of the BC1 texture is
+//    at most the same filter of the 16-bit texture. The verifier checks the edge midpoints and the
+//    cell centres explicitly.
+// Not covered: (a) between texels, a filtered distance can exceed the true continuous distance even
+// for the 16-bit texture (interpolating a 1-Lipschitz function overestimates by up to sqrt(3)/2 voxel
+// in empty space); the ray-march's max(sdf, adaptive step) tolerates that, as in the talk. (b) Texture
+// units that round the filtered 8-bit channels up (not truncate) can add up to half an 8-bit step of R.
+// Measured on the sample (512 x 64 x 512): mean 2.24 m, max 18.9 m below the 16-bit value; with
+// only the Exact model honoured the mean would be 1.68 m (the cost of being safe on every GPU).
 #include <cstdint>
 #include <vector>
 
