@@ -107,9 +107,15 @@ TEST(Field, DimensionalProfileIsMonotonicWithDepth) {
   for (size_t k = 1; k < n; ++k) ASSERT_LE(b.modeling[3 * order[k]], b.modeling[3 * order[k - 1]]);
   // Zero outside, rising inside, reaching 1 at the recipe's depth.
   for (size_t i = 0; i < n; ++i) {
-    if (b.field[i] >= 0.0f) ASSERT_EQ(b.modeling[3 * i], 0.0f);
-    if (b.field[i] < 0.0f) ASSERT_GT(b.modeling[3 * i], 0.0f);
-    if (b.field[i] <= -96.0f) ASSERT_EQ(b.modeling[3 * i], 1.0f);
+    if (b.field[i] >= 0.0f) {
+      ASSERT_EQ(b.modeling[3 * i], 0.0f);
+    }
+    if (b.field[i] < 0.0f) {
+      ASSERT_GT(b.modeling[3 * i], 0.0f);
+    }
+    if (b.field[i] <= -96.0f) {
+      ASSERT_EQ(b.modeling[3 * i], 1.0f);
+    }
   }
 }
 

@@ -56,12 +56,16 @@ TEST(SoftMin, PropertiesOfTheBlend) {
     // Never above the hard min, at most k/4 below it; exactly the min once |a-b| >= k.
     EXPECT_LE(s, std::min(a, b) + 1e-4f);
     EXPECT_GE(s, std::min(a, b) - k * 0.25f - 1e-3f);
-    if (std::abs(a - b) >= k) EXPECT_NEAR(s, std::min(a, b), 1e-3f);
+    if (std::abs(a - b) >= k) {
+      EXPECT_NEAR(s, std::min(a, b), 1e-3f);
+    }
     // Symmetric in its arguments; the weight goes to the smaller one.
     float w2;
     EXPECT_NEAR(s, smooth_union(b, a, k, &w2), 1e-3f);
     EXPECT_NEAR(w + w2, 1.0f, 1e-5f);
-    if (b < a) EXPECT_GE(w, 0.5f);
+    if (b < a) {
+      EXPECT_GE(w, 0.5f);
+    }
     EXPECT_GE(w, 0.0f);
     EXPECT_LE(w, 1.0f);
   }
