@@ -2,6 +2,8 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/log.h"
+#include "engine/core/time.h"
 #include "modules/clouds/bake/bc1.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/volume_file.h"
@@ -17,6 +19,7 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
       v.modeling.size != v.field.size)
     fail("write_imported_cloudscape: expected RGBA8 modeling and R16 field of one size (nvdf.h layouts)");
   const glm::uvec3 dims = v.field.size;
+  Stopwatch clock;
   const size_t n = size_t(dims.x) * dims.y * dims.z;
 
   // Modeling BC1: the baker's RGB encoder with its weights (profile counts double: it gates density).
@@ -36,6 +39,7 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
   modeling_bc1.bounds_min = v.modeling.bounds_min;
   modeling_bc1.bounds_max = v.modeling.bounds_max;
   modeling_bc1.levels[0] = bake::encode_rgb_bc1(rgb, dims, glm::vec3(2.0f, 1.0f, 1.0f));
+  LOG_DEBUG("import: modeling BC1 %.2f s", clock.seconds());
 
   // Field BC1: Hugh Malan's conservative 5:6:5 split of the (already rounded-down) 16-bit values.
   std::vector<uint16_t> values(n);
@@ -46,7 +50,9 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
   field_bc1.bounds_min = v.field.bounds_min;
   field_bc1.bounds_max = v.field.bounds_max;
   field_bc1.levels[0] = bake::encode_sdf_bc1(values, dims);
+  LOG_DEBUG("import: field BC1 %.2f s", clock.seconds());
   const bake::Bc1SdfReport check = bake::verify_sdf_bc1(field_bc1.levels[0], values, dims);
+  LOG_DEBUG("import: BC1 verify %.2f s", clock.seconds());
 
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -61,6 +67,7 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
     write_file_atomic(dir / name, bytes);
     report.bytes_written += bytes.size();
   }
+  LOG_DEBUG("import: files written %.2f s", clock.seconds());
   report.field_bc1_mean_error_m = check.mean_error_m;
   report.field_bc1_max_error_m = check.max_error_m;
   report.field_bc1_violations = check.violations + check.midpoint_violations;

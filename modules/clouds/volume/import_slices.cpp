@@ -6,6 +6,7 @@
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/core/parallel.h"
+#include "engine/core/time.h"
 #include "modules/clouds/volume/distance.h"
 #include "modules/clouds/volume/import.h"
 #include "modules/clouds/volume/nvdf.h"
@@ -23,24 +24,28 @@ CloudscapeVolumes nvdfs_from_sdf(const std::vector<float>& sdf, glm::uvec3 size,
   const uint32_t cp = out.modeling.channel(kDimensionalProfile, "modeling");
   const uint32_t cd = out.modeling.channel(kDetailType, "modeling");
   const uint32_t cs = out.modeling.channel(kDensityScale, "modeling");
-  if (out.field.encoding != VolumeEncoding::R16 || out.field.channel(kSignedDistance, "field") != 0)
-    fail("nvdfs_from_sdf: field layout changed");
-  parallel_for(size.z, [&](size_t z0, size_t z1) {
-    for (uint32_t z = uint32_t(z0); z < z1; ++z)
-      for (uint32_t y = 0; y < size.y; ++y)
-        for (uint32_t x = 0; x < size.x; ++x) {
-          const float d = sdf[(size_t(z) * size.y + y) * size.x + x];
-          const float p = dimensional_profile_from_sdf(d, derive.profile_depth_m, derive.profile_exponent);
-          out.modeling.set_texel(x, y, z, cp, p);
-          // Detail type and density scale only matter inside; outside they stay 0 so that the
-          // texture compresses well and bilinear filtering at the edge fades them with the profile.
-          out.modeling.set_texel(x, y, z, cd, p > 0.0f ? derive.detail_type : 0.0f);
-          out.modeling.set_texel(x, y, z, cs, p > 0.0f ? derive.density_scale : 0.0f);
-          const uint16_t q = sdf_to_unorm16_floor(d);
-          uint8_t* f = &out.field.levels[0][((size_t(z) * size.y + y) * size.x + x) * 2];
-          f[0] = uint8_t(q & 0xff), f[1] = uint8_t(q >> 8);
-        }
-  });
+  if (out.modeling.encoding != VolumeEncoding::RGBA8 || out.field.encoding != VolumeEncoding::R16 ||
+      out.field.channel(kSignedDistance, "field") != 0)
+    fail("nvdfs_from_sdf: NVDF layouts changed (nvdf.h)");
+  auto unorm8 = [](float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+  const uint8_t detail = unorm8(derive.detail_type), density = unorm8(derive.density_scale);
+  uint8_t* modeling = out.modeling.levels[0].data();
+  uint8_t* field = out.field.levels[0].data();
+  parallel_for(sdf.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const float d = sdf[i];
+      const float p = dimensional_profile_from_sdf(d, derive.profile_depth_m, derive.profile_exponent);
+      uint8_t* m = modeling + 4 * i;
+      m[cp] = unorm8(p);
+      // Detail type and density scale only matter inside; outside they stay 0 so that the
+      // texture compresses well and bilinear filtering at the edge fades them with the profile.
+      m[cd] = p > 0.0f ? detail : 0;
+      m[cs] = p > 0.0f ? density : 0;
+      const uint16_t q = sdf_to_unorm16_floor(d);
+      field[2 * i] = uint8_t(q & 0xff);
+      field[2 * i + 1] = uint8_t(q >> 8);
+    }
+  }, 4096);
   return out;
 }
 
@@ -145,9 +150,11 @@ CloudscapeVolumes import_tga_slices(const std::optional<fs::path>& modeling_dir,
   for (uint32_t c : {o.profile_channel, o.detail_channel, o.density_channel, o.sdf_channel})
     if (c > 3) fail("import: channel index %u (0..3)", c);
 
+  Stopwatch clock;
   std::optional<SliceStack> modeling, field;
   if (modeling_dir) modeling = load_stack(*modeling_dir);
   if (field_dir) field = load_stack(*field_dir);
+  LOG_DEBUG("import: slices read %.2f s", clock.seconds());
   if (modeling && field && modeling->size != field->size)
     fail("%s: field slices are %ux%ux%u, modeling slices (%s) are %ux%ux%u", field_dir->string().c_str(), field->size.x,
          field->size.y, field->size.z, modeling_dir->string().c_str(), modeling->size.x, modeling->size.y,
@@ -173,19 +180,25 @@ CloudscapeVolumes import_tga_slices(const std::optional<fs::path>& modeling_dir,
   }
   const glm::vec3 extent = glm::vec3(size) * o.voxel_size;
   const glm::vec3 origin = o.origin ? *o.origin : glm::vec3(-0.5f * extent.x, 0.0f, -0.5f * extent.z);
+  LOG_DEBUG("import: distances %.2f s", clock.seconds());
   CloudscapeVolumes out = nvdfs_from_sdf(sdf, size, o.voxel_size, origin, o.derive);
+  LOG_DEBUG("import: NVDFs %.2f s", clock.seconds());
 
   if (modeling) {  // the authored modeling data replaces the derived defaults, byte for byte
     Volume& m = out.modeling;
     const uint32_t cp = m.channel(kDimensionalProfile, "modeling"), cd = m.channel(kDetailType, "modeling"),
                    cs = m.channel(kDensityScale, "modeling");
-    for (uint32_t z = 0; z < size.z; ++z)
-      for (uint32_t y = 0; y < size.y; ++y)
-        for (uint32_t x = 0; x < size.x; ++x) {
-          m.set_texel(x, y, z, cp, component(*modeling, o.axis, x, y, z, o.profile_channel) / 255.0f);
-          m.set_texel(x, y, z, cd, component(*modeling, o.axis, x, y, z, o.detail_channel) / 255.0f);
-          m.set_texel(x, y, z, cs, component(*modeling, o.axis, x, y, z, o.density_channel) / 255.0f);
-        }
+    if (m.encoding != VolumeEncoding::RGBA8) fail("import: modeling layout changed");
+    parallel_for(size.z, [&](size_t z0, size_t z1) {
+      for (uint32_t z = uint32_t(z0); z < z1; ++z)
+        for (uint32_t y = 0; y < size.y; ++y)
+          for (uint32_t x = 0; x < size.x; ++x) {
+            uint8_t* t = &m.levels[0][index(x, y, z) * 4];  // 8-bit to 8-bit: copied exactly
+            t[cp] = component(*modeling, o.axis, x, y, z, o.profile_channel);
+            t[cd] = component(*modeling, o.axis, x, y, z, o.detail_channel);
+            t[cs] = component(*modeling, o.axis, x, y, z, o.density_channel);
+          }
+    });
   }
   LOG_INFO("import: %ux%ux%u slices at %g m (%s%s%s)", size.x, size.y, size.z, o.voxel_size, modeling ? "modeling" : "",
            modeling && field ? " + " : "", field ? "field" : "");
