@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
 
   auto usage = [&](FILE* out) {
     std::fprintf(out, "usage: cumulo <command> [args]  (cumulo <command> --help for details)\n\ncommands:\n");
-    for (auto& c : registry.all()) std::fprintf(out, "  %-10s %s\n", c.name.c_str(), c.summary.c_str());
+    for (auto& c : registry.all()) std::fprintf(out, "  %-12s %s\n", c.name.c_str(), c.summary.c_str());
   };
   if (argc < 2) {
     usage(stderr);
