@@ -87,7 +87,8 @@ struct VdbImportOptions {
 };
 
 // Reads a float grid: GRID_LEVEL_SET -> its signed distance (exact in the narrow band, a distance
-// transform of its sign beyond it); anything else is taken as density and thresholded at `iso`.
+// transform of its sign beyond it); anything else is taken as density and thresholded at `iso`
+// (distance transform of the threshold, voxels next to the surface placed by the density gradient).
 // Throws cumulo::Error naming the file for unreadable files, missing or non-float grids.
 CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportOptions& opts);
 

@@ -58,6 +58,38 @@ std::pair<glm::vec3, glm::vec3> active_world_box(const openvdb::FloatGrid& grid,
   return {wmin, wmax};
 }
 
+// The distance transform puts the surface halfway between an inside and an outside voxel centre.
+// Next to the surface the density itself says better where the iso-surface lies: to first order
+// it is (iso - density) / |grad density| away. Used only on voxels with a 6-neighbour on the other
+// side, and only when that estimate agrees in sign and stays within one voxel.
+void refine_near_surface(const std::vector<float>& density, const std::vector<uint8_t>& inside, glm::uvec3 s,
+                         float voxel, float iso, std::vector<float>& sdf) {
+  auto at = [&](int x, int y, int z) {
+    x = std::clamp(x, 0, int(s.x) - 1), y = std::clamp(y, 0, int(s.y) - 1), z = std::clamp(z, 0, int(s.z) - 1);
+    return (size_t(z) * s.y + size_t(y)) * s.x + size_t(x);
+  };
+  std::vector<float> refined(sdf);
+  parallel_for(s.z, [&](size_t z0, size_t z1) {
+    for (int z = int(z0); z < int(z1); ++z)
+      for (int y = 0; y < int(s.y); ++y)
+        for (int x = 0; x < int(s.x); ++x) {
+          const size_t i = at(x, y, z);
+          const size_t n[6] = {at(x - 1, y, z), at(x + 1, y, z), at(x, y - 1, z),
+                               at(x, y + 1, z), at(x, y, z - 1), at(x, y, z + 1)};
+          bool boundary = false;
+          for (size_t j : n) boundary |= inside[j] != inside[i];
+          if (!boundary) continue;
+          const glm::vec3 grad(density[n[1]] - density[n[0]], density[n[3]] - density[n[2]],
+                               density[n[5]] - density[n[4]]);  // per 2 voxels (clamped at the edges)
+          const float g = glm::length(grad) / (2.0f * voxel);
+          if (!(g > 1e-6f)) continue;
+          const float d = (iso - density[i]) / g;
+          if ((inside[i] ? d <= 0.0f : d > 0.0f) && std::fabs(d) <= voxel) refined[i] = d;
+        }
+  });
+  sdf.swap(refined);
+}
+
 }  // namespace
 
 CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportOptions& o) {
@@ -136,6 +168,7 @@ CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportO
   size_t inside_count = 0;
   for (uint8_t v : inside) inside_count += v;
   if (inside_count == 0) LOG_WARN("%s: no voxel is inside the cloud (density never reaches %g)", n, o.iso);
+  if (!level_set) refine_near_surface(samples, inside, size, voxel, o.iso, sdf);
   if (level_set) {
     // Inside the narrow band the level set's own distance (world units) is exact, better than the
     // half-voxel surface placement of the transform; beyond it only the sign is known, and the

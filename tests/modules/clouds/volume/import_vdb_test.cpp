@@ -6,6 +6,7 @@
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/LevelSetUtil.h>
 
+#include <cstdio>
 #include <filesystem>
 
 #include "engine/core/error.h"
@@ -49,7 +50,9 @@ class VdbImport : public ::testing::Test {
                             float band) {
     const Volume& f = v.field;
     const uint32_t cf = f.channel(kSignedDistance, "field");
-    double sum_err = 0.0;
+    double sum_err = 0.0, band_sum = 0.0;
+    float band_max = 0.0f;
+    int band_n = 0;
     float max_err = 0.0f;
     for (uint32_t z = 0; z < f.size.z; ++z)
       for (uint32_t y = 0; y < f.size.y; ++y)
@@ -60,11 +63,15 @@ class VdbImport : public ::testing::Test {
           const float err = std::fabs(got - want);
           sum_err += err;
           max_err = std::max(max_err, err);
+          if (std::fabs(want) < band) band_sum += err, band_max = std::max(band_max, err), ++band_n;
           ASSERT_LE(err, std::fabs(want) < band ? band_tol : far_tol) << "voxel " << x << "," << y << "," << z
                                                                       << " want " << want << " got " << got;
         }
     EXPECT_LT(sum_err / double(f.size.x * f.size.y * f.size.z), 0.5 * far_tol);
     RecordProperty("max_sdf_error_m", std::to_string(max_err));
+    std::printf("sdf error: all voxels mean %.3f max %.3f m; within %.1f m of the surface (%d voxels) mean %.3f max %.3f m\n",
+                sum_err / double(f.size.x * f.size.y * f.size.z), max_err, band, band_n, band_n ? band_sum / band_n : 0.0,
+                band_max);
   }
   static fs::path dir_;
 };
@@ -100,7 +107,10 @@ TEST_F(VdbImport, FogVolumeIsThresholdedAtIso) {
   o.voxel_size = 2.0f;
   CloudscapeVolumes v = import_vdb(fog_path(), o);
   // sdfToFogVolume maps sdf 0 -> 0 and sdf -band -> 1, so density 0.5 lies 1.5 m inside.
-  expect_sphere(v, kRadius - 0.5f * kHalfWidth, 2.0f, 2.0f, 0.0f);
+  // Within a voxel of the surface the density gradient places it to a fraction of a voxel
+  // (measured: mean 0.16 m, max 0.60 m at 2 m voxels; 0.53 / 1.04 m without that refinement);
+  // beyond, the distance transform is good to about a voxel.
+  expect_sphere(v, kRadius - 0.5f * kHalfWidth, 0.65f, 2.0f, 1.0f);
   const glm::uvec3 c = glm::uvec3((kCentre - v.modeling.bounds_min) / v.modeling.voxel_size);
   // Default 96 m profile depth; the distance transform is good to about a voxel (2 m).
   EXPECT_NEAR(v.modeling.texel(c.x, c.y, c.z, 0), 38.5f / 96.0f, 2.0f / 96.0f);
