@@ -6,6 +6,7 @@ cd "$(dirname "$0")/.."
 scripts/build.sh
 BUILD_DIR=${CUMULO_BUILD_DIR:-build}
 LEVEL=content/levels/sample/level.json
+scripts/bake-content.sh
 if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
   exec "$BUILD_DIR/cumulo" run "$LEVEL" "$@"
 fi
