@@ -5,18 +5,12 @@
 #include <cstring>
 
 #include "engine/core/error.h"
+#include "engine/core/png.h"
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/format.h"
 #include "engine/gpu/image.h"
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
 
 namespace cumulo::gpu {
 
@@ -185,14 +179,10 @@ Rgba8Image read_image_rgba8(Context& ctx, Image& image, bool srgb_encode) {
 }
 
 void write_png(const std::filesystem::path& path, const Rgba8Image& image) {
-  if (image.pixels.size() != size_t(image.width) * image.height * 4 || image.width == 0)
+  if (image.pixels.size() != size_t(image.width) * image.height * 4 || image.width == 0 || image.height == 0)
     fail("%s: cannot write PNG: image is %ux%u with %zu bytes", path.string().c_str(), image.width, image.height,
          image.pixels.size());
-  std::error_code ec;
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
-  if (!stbi_write_png(path.string().c_str(), int(image.width), int(image.height), 4, image.pixels.data(),
-                      int(image.width * 4)))
-    fail("%s: cannot write PNG (%s)", path.string().c_str(), ec ? ec.message().c_str() : "write failed");
+  cumulo::write_png(path, image.pixels.data(), image.width, image.height, 4);
 }
 
 }  // namespace cumulo::gpu

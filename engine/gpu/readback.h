@@ -1,7 +1,6 @@
 #pragma once
 // Offscreen readback: image -> host memory -> RGBA8 -> PNG (headless screenshots, render tests).
-// stb_image_write's implementation lives in cumulo_gpu (readback.cpp): link cumulo_gpu instead of
-// defining STB_IMAGE_WRITE_IMPLEMENTATION again.
+// PNG encoding is cumulo::write_png (engine/core/png.h); gpu::write_png adds the Rgba8Image checks.
 //
 //   gpu::Rgba8Image shot = gpu::read_image_rgba8(ctx, color_target);   // waits for the GPU
 //   gpu::write_png("out/sample.png", shot);                             // throws cumulo::Error naming the path

@@ -5,18 +5,6 @@
 
 #include "engine/core/error.h"
 
-// stb_image_write with static linkage: cumulo_gpu compiles its own public copy for screenshots, and a
-// private one here keeps the CPU-only scene library free of a dependency on the Vulkan layer.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STBI_WRITE_NO_STDIO
-#include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
-
 namespace cumulo::scene {
 
 namespace {
@@ -107,17 +95,6 @@ std::string GlbWriter::finish_gltf(const std::string& bin_uri) const {
   nlohmann::json doc = json_;
   doc["buffers"] = nlohmann::json::array({{{"byteLength", bin_.size()}, {"uri", bin_uri}}});
   return doc.dump(2);
-}
-
-std::vector<uint8_t> encode_png_rgb(const std::vector<uint8_t>& rgb, uint32_t width, uint32_t height) {
-  std::vector<uint8_t> png;
-  auto sink = [](void* ctx, void* data, int size) {
-    auto* v = static_cast<std::vector<uint8_t>*>(ctx);
-    v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
-  };
-  if (!stbi_write_png_to_func(sink, &png, int(width), int(height), 3, rgb.data(), int(width * 3)))
-    fail("PNG encoding of a %ux%u image failed", width, height);
-  return png;
 }
 
 }  // namespace cumulo::scene

@@ -35,7 +35,4 @@ class GlbWriter {
   std::vector<uint8_t> bin_;
 };
 
-// PNG bytes of an RGB8 image (stb_image_write, compiled privately in this library).
-std::vector<uint8_t> encode_png_rgb(const std::vector<uint8_t>& rgb, uint32_t width, uint32_t height);
-
 }  // namespace cumulo::scene

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "engine/core/error.h"
+#include "engine/core/png.h"
 #include "engine/scene/tools/glb_writer.h"
 
 namespace cumulo::scene {
@@ -314,7 +315,7 @@ std::vector<uint8_t> build_terrain_glb(const TerrainOptions& o, TerrainReport* r
   int op = w.add_vec3(opos, true), on = w.add_vec3(onor, false), ot = w.add_vec2(ouv);
 
   std::vector<uint8_t> rgb = bake_texture(arch, hf, o.texture_size);
-  std::vector<uint8_t> png = encode_png_rgb(rgb, o.texture_size, o.texture_size);
+  std::vector<uint8_t> png = encode_png(rgb.data(), o.texture_size, o.texture_size, 3);
   int image = w.add_png_image(png, "terrain_base_color");
 
   j["meshes"] = {{{"name", "terrain"}, {"primitives", prims}},

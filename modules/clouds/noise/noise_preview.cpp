@@ -4,17 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/core/error.h"
-
-// stb_image_write's extern implementation lives in cumulo_gpu (screenshots); a private static copy
-// here keeps this library free of the GPU layer without duplicate symbols at link time.
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
+#include "engine/core/png.h"
 
 namespace cumulo::clouds {
 
@@ -29,8 +19,7 @@ void write_noise_preview(const std::filesystem::path& path, const NoiseTexture& 
         pixels[static_cast<size_t>(y) * out_w + c * 2 * w + x] =
             static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
       }
-  if (!stbi_write_png(path.string().c_str(), out_w, out_h, 1, pixels.data(), out_w))
-    fail("%s: cannot write the PNG preview", path.string().c_str());
+  cumulo::write_png(path, pixels.data(), uint32_t(out_w), uint32_t(out_h), 1);
 }
 
 }  // namespace cumulo::clouds

@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "engine/core/file_io.h"
+#include "engine/core/png.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/tools/glb_writer.h"
 #include "scene_test_util.h"
@@ -42,7 +43,7 @@ GlbWriter make_asset(IndexType type = IndexType::U16) {
   }
   int p = w.add_vec3(pos, true), t = w.add_vec2(uv);
   std::vector<uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
-  int image = w.add_png_image(encode_png_rgb(rgb, 2, 2), "checker");
+  int image = w.add_png_image(encode_png(rgb.data(), 2, 2, 3), "checker");
   auto& j = w.json();
   j["meshes"] = {{{"name", "quad"},
                   {"primitives", {{{"attributes", {{"POSITION", p}, {"TEXCOORD_0", t}}}, {"indices", ind}, {"material", 0}}}}}};
@@ -135,7 +136,7 @@ TEST(Gltf, LoadsGltfWithExternalBufferAndImage) {
   fs::path dir = temp_dir();
   GlbWriter w = make_asset(IndexType::U8);
   std::vector<uint8_t> rgb = {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120};
-  write(dir / "tex.png", encode_png_rgb(rgb, 2, 2));
+  write(dir / "tex.png", encode_png(rgb.data(), 2, 2, 3));
   w.json()["images"][0] = {{"uri", "tex.png"}};
   write(dir / "quad.bin", w.bin());
   fs::path file = write(dir / "quad.gltf", w.finish_gltf("quad.bin"));
