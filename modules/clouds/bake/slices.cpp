@@ -5,8 +5,8 @@
 #include <functional>
 
 #include "engine/core/error.h"
+#include "engine/core/png.h"
 #include "modules/clouds/bake/bake.h"
-#include "modules/clouds/bake/png.h"
 
 namespace cumulo::clouds::bake {
 
@@ -111,7 +111,7 @@ std::vector<std::filesystem::path> write_slices(const Recipe& recipe, const Bake
                                 {"sdf", &sdf},
                                 {"modeling", &model}}) {
       std::filesystem::path path = dir / (p.name + "_" + suffix + ".png");
-      write_png_rgb(path, W, H, *img);
+      cumulo::write_png(path, img->data(), W, H, 3);
       written.push_back(path);
     }
   }

@@ -8,7 +8,6 @@
 
 #include "engine/core/file_io.h"
 #include "modules/clouds/bake/bake.h"
-#include "modules/clouds/bake/png.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/volume_file.h"
 
