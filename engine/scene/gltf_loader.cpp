@@ -20,7 +20,7 @@
 #include "engine/core/log.h"
 
 // ---- third-party implementations --------------------------------------------------------------------
-// stb_image is compiled here with static linkage so that no other library's copy (cumulo_gpu owns
+// stb_image is compiled here with static linkage so that no other library's copy (cumulo_core owns
 // stb_image_write) can clash at link time. tinygltf gets our own image loader and file callbacks.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
