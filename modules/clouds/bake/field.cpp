@@ -5,7 +5,7 @@
 
 #include "engine/core/parallel.h"
 #include "engine/core/progress.h"
-#include "modules/clouds/bake/edt.h"
+#include "modules/clouds/volume/distance.h"
 
 namespace cumulo::clouds::bake {
 
@@ -20,9 +20,9 @@ std::vector<float> build_field(const std::vector<float>& composed, const BakeGri
     outside[i] = !inside[i];
     n_inside += inside[i];
   }
-  std::vector<float> to_inside = squared_edt(inside, d, grid.spacing);
+  std::vector<float> to_inside = squared_distance_to_mask(inside, d, grid.spacing);
   if (progress) progress->add(1.0);
-  std::vector<float> to_outside = squared_edt(outside, d, grid.spacing);
+  std::vector<float> to_outside = squared_distance_to_mask(outside, d, grid.spacing);
   if (progress) progress->add(1.0);
   const float half = 0.5f * std::min(grid.spacing.x, std::min(grid.spacing.y, grid.spacing.z));
 

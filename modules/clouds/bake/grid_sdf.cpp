@@ -5,7 +5,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/parallel.h"
-#include "modules/clouds/bake/edt.h"
+#include "modules/clouds/volume/distance.h"
 #include "modules/clouds/volume/volume_file.h"
 #include "modules/clouds/volume/nvdf.h"
 
@@ -124,10 +124,14 @@ std::shared_ptr<GridSdf> voxelize_triangles(const std::vector<glm::vec3>& tris, 
   std::vector<uint8_t> outside(count);
   for (size_t i = 0; i < count; ++i) outside[i] = !inside[i];
   glm::vec3 sp(spacing);
-  std::vector<float> to_inside = squared_edt(inside, d, sp), to_outside = squared_edt(outside, d, sp);
+  std::vector<float> to_inside = squared_distance_to_mask(inside, d, sp), to_outside = squared_distance_to_mask(outside, d, sp);
   grid->values.resize(count);
-  for (size_t i = 0; i < count; ++i)
-    grid->values[i] = inside[i] ? -(std::sqrt(to_outside[i]) - 0.5f * spacing) : std::sqrt(to_inside[i]) - 0.5f * spacing;
+  for (size_t i = 0; i < count; ++i) {
+    float v = inside[i] ? -(std::sqrt(to_outside[i]) - 0.5f * spacing) : std::sqrt(to_inside[i]) - 0.5f * spacing;
+    // No inside sample at all (an open or flat mesh) leaves +inf, which sample()'s lerp would turn
+    // into NaN (inf - inf): cap it at the NVDF SDF range.
+    grid->values[i] = std::isinf(v) ? std::copysign(kSdfRangeMax, v) : v;
+  }
 
   // Near the surface: exact distances to the triangles (z slabs in parallel: no shared writes).
   const float band = 2.0f * spacing;
@@ -203,7 +207,8 @@ std::shared_ptr<GridSdf> load_volume_sdf(const std::filesystem::path& path, floa
         inside[i] = v.texel(x, y, z, prof) > iso;
         outside[i] = !inside[i];
       }
-  std::vector<float> ti = squared_edt(inside, v.size, spacing), to = squared_edt(outside, v.size, spacing);
+  std::vector<float> ti = squared_distance_to_mask(inside, v.size, spacing),
+                     to = squared_distance_to_mask(outside, v.size, spacing);
   float h = 0.5f * std::min(spacing.x, std::min(spacing.y, spacing.z));
   for (size_t i = 0; i < count; ++i) {
     float d = inside[i] ? -(std::sqrt(to[i]) - h) : std::sqrt(ti[i]) - h;

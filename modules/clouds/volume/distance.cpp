@@ -1,85 +1,87 @@
 #include "modules/clouds/volume/distance.h"
 
+#include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "engine/core/parallel.h"
 
 namespace cumulo::clouds {
 
-namespace {
-
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// 1D squared distance transform of f (length n) into d, FH 2012 algorithm 1. v, z: scratch.
-// The envelope is computed in double: q^2 reaches 16M at 4096 voxels, beyond float's exact range.
-void dt1d(const float* f, float* d, uint32_t n, std::vector<int>& v, std::vector<double>& z) {
-  v.resize(n);
-  z.resize(n + 1);
+void squared_distance_1d(const float* f, uint32_t n, float spacing, float* d, int* v, double* z) {
+  // Lower envelope of the parabolas rooted at every finite sample q: y = (x - q)^2 s^2 + f[q] (FH 2012
+  // algorithm 1). Computed in double: q^2 reaches 16M at 4096 voxels, beyond float's exact range.
+  const double s2 = static_cast<double>(spacing) * spacing;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   int k = -1;
-  for (uint32_t q = 0; q < n; ++q) {
-    if (f[q] == kInf) continue;  // parabolas at infinity never form the envelope
-    const double fq = double(f[q]) + double(q) * q;
+  for (uint32_t qu = 0; qu < n; ++qu) {
+    const int q = static_cast<int>(qu);
+    if (f[q] == kNoSiteDistance2) continue;  // parabolas at infinity never form the envelope
+    const double fq = f[q] + s2 * q * q;
     while (k >= 0) {
-      const int p = v[k];
-      const double s = (fq - (double(f[p]) + double(p) * p)) / (2.0 * q - 2.0 * p);
-      if (s <= z[k]) {
+      // Where parabola q overtakes the envelope's last one (in grid units).
+      const int r = v[k];
+      const double x = (fq - (f[r] + s2 * r * r)) / (2.0 * s2 * (q - r));
+      if (x <= z[k]) {
         --k;
-        continue;
+      } else {
+        ++k;
+        v[k] = q;
+        z[k] = x;
+        z[k + 1] = kInf;
+        break;
       }
-      v[++k] = int(q);
-      z[k] = s;
-      z[k + 1] = kInf;
-      break;
     }
     if (k < 0) {
       k = 0;
-      v[0] = int(q);
+      v[0] = q;
       z[0] = -kInf;
       z[1] = kInf;
     }
   }
   if (k < 0) {
-    for (uint32_t q = 0; q < n; ++q) d[q] = kInf;
+    std::fill(d, d + n, kNoSiteDistance2);
     return;
   }
   int j = 0;
-  for (uint32_t q = 0; q < n; ++q) {
-    while (z[j + 1] < double(q)) ++j;
-    const double dq = double(q) - v[j];
-    d[q] = static_cast<float>(dq * dq + f[v[j]]);
+  for (uint32_t p = 0; p < n; ++p) {
+    while (z[j + 1] < p) ++j;
+    const double dx = double(p) - v[j];
+    d[p] = static_cast<float>(s2 * dx * dx + f[v[j]]);
   }
 }
 
-// Runs dt1d along one axis of the grid in place.
-void transform_axis(std::vector<float>& g, glm::uvec3 s, int axis) {
-  const uint32_t n = s[axis];
-  const size_t stride = axis == 0 ? 1 : axis == 1 ? size_t(s.x) : size_t(s.x) * s.y;
-  const uint32_t a = axis == 0 ? s.y : s.x;  // the two other axes enumerate the lines
-  const uint32_t b = axis == 2 ? s.y : s.z;
-  parallel_for(size_t(a) * b, [&](size_t begin, size_t end) {
-    std::vector<float> f(n), d(n);
-    std::vector<double> zs;
-    std::vector<int> vs;
-    for (size_t line = begin; line < end; ++line) {
-      const size_t i = line % a, j = line / a;
-      size_t base;
-      if (axis == 0) base = (j * s.y + i) * s.x;           // i = y, j = z
-      else if (axis == 1) base = j * size_t(s.x) * s.y + i;  // i = x, j = z
-      else base = j * s.x + i;                              // i = x, j = y
-      for (uint32_t q = 0; q < n; ++q) f[q] = g[base + q * stride];
-      dt1d(f.data(), d.data(), n, vs, zs);
-      for (uint32_t q = 0; q < n; ++q) g[base + q * stride] = d[q];
-    }
-  }, 8);
-}
-
-}  // namespace
-
-std::vector<float> squared_distance_to_mask(const std::vector<uint8_t>& mask, glm::uvec3 size) {
+std::vector<float> squared_distance_to_mask(const std::vector<uint8_t>& mask, glm::uvec3 size, glm::vec3 spacing) {
+  const size_t nx = size.x, ny = size.y;
   std::vector<float> g(mask.size());
-  for (size_t i = 0; i < mask.size(); ++i) g[i] = mask[i] ? 0.0f : kInf;
-  for (int axis = 0; axis < 3; ++axis) transform_axis(g, size, axis);
+  for (size_t i = 0; i < mask.size(); ++i) g[i] = mask[i] ? 0.0f : kNoSiteDistance2;
+  if (g.empty()) return g;
+
+  // One pass along `axis` over every line of the volume; lines are independent.
+  auto pass = [&](int axis) {
+    const uint32_t n = size[axis];
+    const size_t stride = axis == 0 ? 1 : axis == 1 ? nx : nx * ny;
+    parallel_for(
+        g.size() / n,
+        [&](size_t b, size_t e) {
+          std::vector<float> in(n), out(n);
+          std::vector<int> v(n);
+          std::vector<double> z(n + 1);
+          for (size_t line = b; line < e; ++line) {
+            // Index of the line's first voxel: decompose `line` over the two other axes.
+            size_t base;
+            if (axis == 0) base = line * nx;                                // line = y + z * ny
+            else if (axis == 1) base = line % nx + (line / nx) * nx * ny;  // line = x + z * nx
+            else base = line;                                               // line = x + y * nx
+            for (uint32_t i = 0; i < n; ++i) in[i] = g[base + i * stride];
+            squared_distance_1d(in.data(), n, spacing[axis], out.data(), v.data(), z.data());
+            for (uint32_t i = 0; i < n; ++i) g[base + i * stride] = out[i];
+          }
+        },
+        16);
+  };
+  pass(0);
+  pass(1);
+  pass(2);
   return g;
 }
 

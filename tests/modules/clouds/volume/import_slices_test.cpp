@@ -1,4 +1,4 @@
-// TGA codec, distance transform and the TGA-slice importer, on slices the test writes itself.
+// TGA codec and the TGA-slice importer, on slices the test writes itself.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +6,6 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
-#include "modules/clouds/volume/distance.h"
 #include "modules/clouds/volume/import.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/tga.h"
@@ -97,43 +96,6 @@ TEST(Tga, ErrorsNameTheFile) {
   bad = good;
   bad[18] = 0xff;  // run of 128 overruns a 16-pixel image
   EXPECT_NE(error_of([&] { decode_tga(bad, "x.tga"); }).find("overrun"), std::string::npos);
-}
-
-TEST(Distance, MatchesBruteForce) {
-  const glm::uvec3 s{11, 9, 7};
-  std::vector<uint8_t> inside(s.x * s.y * s.z, 0);
-  std::vector<glm::ivec3> points;
-  for (uint32_t z = 0; z < s.z; ++z)
-    for (uint32_t y = 0; y < s.y; ++y)
-      for (uint32_t x = 0; x < s.x; ++x) {
-        // Two blobs, one touching the border.
-        bool in = glm::length(glm::vec3(x, y, z) - glm::vec3(3, 4, 3)) < 2.5f || (x >= 9 && y <= 2);
-        inside[(z * s.y + y) * s.x + x] = in;
-      }
-  std::vector<float> sq = squared_distance_to_mask(inside, s);
-  std::vector<float> sdf = signed_distance_from_mask(inside, s, 2.0f);
-  for (uint32_t z = 0; z < s.z; ++z)
-    for (uint32_t y = 0; y < s.y; ++y)
-      for (uint32_t x = 0; x < s.x; ++x) {
-        float best_in = 1e30f, best_out = 1e30f;
-        for (uint32_t k = 0; k < s.z; ++k)
-          for (uint32_t j = 0; j < s.y; ++j)
-            for (uint32_t i = 0; i < s.x; ++i) {
-              float d2 = float((int(i) - int(x)) * (int(i) - int(x)) + (int(j) - int(y)) * (int(j) - int(y)) +
-                               (int(k) - int(z)) * (int(k) - int(z)));
-              (inside[(k * s.y + j) * s.x + i] ? best_in : best_out) =
-                  std::min(inside[(k * s.y + j) * s.x + i] ? best_in : best_out, d2);
-            }
-        const size_t idx = (z * s.y + y) * s.x + x;
-        ASSERT_FLOAT_EQ(sq[idx], best_in) << x << "," << y << "," << z;
-        const float want = inside[idx] ? -(std::sqrt(best_out) * 2.0f - 1.0f) : std::sqrt(best_in) * 2.0f - 1.0f;
-        ASSERT_NEAR(sdf[idx], want, 1e-4f);
-      }
-}
-
-TEST(Distance, EmptyMaskIsInfinite) {
-  std::vector<float> sq = squared_distance_to_mask(std::vector<uint8_t>(8, 0), {2, 2, 2});
-  for (float v : sq) EXPECT_TRUE(std::isinf(v));
 }
 
 TEST(NumberedSlices, NaturalOrderAndErrors) {
