@@ -4,12 +4,13 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "tests/support/temp_dir.h"
 
 using namespace cumulo;
 namespace fs = std::filesystem;
 
 TEST(FileIo, AtomicWriteReplacesAndLeavesNoTemp) {
-  fs::path dir = fs::temp_directory_path() / "cumulo_file_io_test";
+  fs::path dir = cumulo::test::unique_temp_path("cumulo_file_io_test");
   fs::remove_all(dir);
   fs::path p = dir / "a.json";
   write_file_atomic(p, std::string("one"));

@@ -20,6 +20,7 @@
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
 #include <stb/stb_image.h>
+#include "tests/support/temp_dir.h"
 #pragma GCC diagnostic pop
 
 using namespace cumulo;
@@ -66,7 +67,7 @@ TEST(Png, EncodingIsDeterministic) {
 }
 
 TEST(Png, WritePngWritesTheEncodedBytes) {
-  fs::path dir = fs::temp_directory_path() / "cumulo_png_test";
+  fs::path dir = cumulo::test::unique_temp_path("cumulo_png_test");
   fs::remove_all(dir);
   fs::path p = dir / "sub" / "a.png";  // missing folders are created
   std::vector<uint8_t> px = pattern(9, 3, 4);

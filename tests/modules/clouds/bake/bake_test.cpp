@@ -10,6 +10,7 @@
 #include "modules/clouds/bake/bake.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "tests/support/temp_dir.h"
 
 using namespace cumulo::clouds::bake;
 namespace cc = cumulo::clouds;
@@ -119,7 +120,7 @@ TEST(Field, DimensionalProfileIsMonotonicWithDepth) {
 }
 
 TEST(Bake, SameRecipeAndSeedGiveTheSameBytes) {
-  std::filesystem::path root = std::filesystem::temp_directory_path() / "cumulo_bake_determinism";
+  std::filesystem::path root = cumulo::test::unique_temp_path("cumulo_bake_determinism");
   std::filesystem::remove_all(root);
   auto run = [&](const char* sub, std::optional<uint64_t> seed) {
     Recipe r = small_recipe(seed);
@@ -137,7 +138,7 @@ TEST(Bake, SameRecipeAndSeedGiveTheSameBytes) {
 }
 
 TEST(Bake, FilesLoadBackWithTheirChannelsAndPlacement) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cumulo_bake_files";
+  std::filesystem::path dir = cumulo::test::unique_temp_path("cumulo_bake_files");
   std::filesystem::remove_all(dir);
   Recipe r = small_recipe();
   BakeResult b = bake_recipe(r, quiet());
@@ -193,7 +194,7 @@ TEST(Bake, DimsOverrideResamplesTheSameBounds) {
 }
 
 TEST(Slices, WritesPngCrossSections) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cumulo_bake_slices";
+  std::filesystem::path dir = cumulo::test::unique_temp_path("cumulo_bake_slices");
   std::filesystem::remove_all(dir);
   Recipe r = small_recipe();
   auto files = write_slices(r, bake_recipe(r, quiet()), dir);

@@ -8,6 +8,7 @@
 #include "modules/clouds/bake/compose.h"
 #include "modules/clouds/bake/grid_sdf.h"
 #include "modules/clouds/bake/recipe.h"
+#include "tests/support/temp_dir.h"
 
 using namespace cumulo::clouds::bake;
 
@@ -108,7 +109,7 @@ TEST(Recipe, MeshEditVoxelizesAGltfCube) {
     enc += i + 1 < bin.size() ? b64[(v >> 6) & 63] : '=';
     enc += i + 2 < bin.size() ? b64[v & 63] : '=';
   }
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cumulo_bake_mesh_test";
+  std::filesystem::path dir = cumulo::test::unique_temp_path("cumulo_bake_mesh_test");
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "cube.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],

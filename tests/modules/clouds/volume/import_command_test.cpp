@@ -11,6 +11,7 @@
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/tga.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "tests/support/temp_dir.h"
 
 namespace cumulo::clouds {
 namespace {
@@ -46,7 +47,7 @@ fs::path write_sphere_field(const fs::path& dir) {
 }
 
 TEST(ImportCommand, SlicesToTheBakersFourFiles) {
-  const fs::path root = fs::temp_directory_path() / "cumulo_volume_import_command";
+  const fs::path root = cumulo::test::unique_temp_path("cumulo_volume_import_command");
   fs::remove_all(root);
   const fs::path field = write_sphere_field(root / "field");
   ASSERT_EQ(run_import({"--field", field.string(), "-o", (root / "out").string(), "--voxel-size", "4"}), 0);
@@ -72,7 +73,7 @@ TEST(ImportCommand, SlicesToTheBakersFourFiles) {
 }
 
 TEST(ImportCommand, WriterReportsConservativeBc1) {
-  const fs::path root = fs::temp_directory_path() / "cumulo_volume_import_writer";
+  const fs::path root = cumulo::test::unique_temp_path("cumulo_volume_import_writer");
   fs::remove_all(root);
   write_sphere_field(root / "field");
   SliceImportOptions o;

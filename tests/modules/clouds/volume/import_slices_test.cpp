@@ -10,6 +10,7 @@
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/tga.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "tests/support/temp_dir.h"
 
 namespace cumulo::clouds {
 namespace {
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 
 class TempDir {
  public:
-  explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("cumulo_volume_" + name)) {
+  explicit TempDir(const std::string& name) : path(cumulo::test::unique_temp_path("cumulo_volume_" + name)) {
     fs::remove_all(path);
     fs::create_directories(path);
   }

@@ -13,6 +13,7 @@
 #include "engine/core/file_io.h"
 #include "modules/clouds/volume/import.h"
 #include "modules/clouds/volume/nvdf.h"
+#include "tests/support/temp_dir.h"
 
 namespace cumulo::clouds {
 namespace {
@@ -27,7 +28,7 @@ class VdbImport : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     openvdb::initialize();
-    dir_ = fs::temp_directory_path() / "cumulo_volume_vdb_test";
+    dir_ = cumulo::test::unique_temp_path("cumulo_volume_vdb_test");
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     auto ls = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(

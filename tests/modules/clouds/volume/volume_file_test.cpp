@@ -9,6 +9,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "tests/support/temp_dir.h"
 
 namespace cumulo::clouds {
 namespace {
@@ -94,7 +95,7 @@ TEST(VolumeFile, CompressionShrinksSmoothData) {
 }
 
 TEST(VolumeFile, SaveAndLoadFile) {
-  fs::path dir = fs::temp_directory_path() / "cumulo_volume_file_test";
+  fs::path dir = cumulo::test::unique_temp_path("cumulo_volume_file_test");
   fs::create_directories(dir);
   Volume v = make_volume(VolumeEncoding::R16, 2);
   save_volume(dir / "field.nvdf", v);
