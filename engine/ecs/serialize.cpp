@@ -94,7 +94,7 @@ std::vector<Entity> load_entities(const JsonView& array, World& world, const Com
   made.reserve(parsed.size());
   for (ParsedEntity& p : parsed) {
     Entity e = world.create();
-    if (!p.name.empty()) world.emplace<Name>(e, std::move(p.name));
+    if (!p.name.empty()) world.emplace<Name>(e, Name{std::move(p.name)});
     for (auto& apply : p.components) apply(world, e);
     made.push_back(e);
   }

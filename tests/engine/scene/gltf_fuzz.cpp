@@ -1,9 +1,7 @@
 // libFuzzer target for the glTF loader (load_gltf_from_memory, external files refused): it may refuse an
 // input with cumulo::Error; anything else (a crash, a sanitizer report, another exception, an index past
 // its vertices, a texture of the wrong size) is a finding.
-// Level JSON is not fuzzed here: engine/ecs/serialize.cpp does not compile with clang 14 (it constructs
-// ecs::Name with parentheses, C++20 P0960, which clang 14 lacks); the level loader's errors are covered by
-// tests/engine/scene/level_test.cpp.
+// Level JSON is fuzzed by level_fuzz.cpp.
 #include <cstdint>
 #include <cstdlib>
 
