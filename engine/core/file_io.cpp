@@ -59,7 +59,10 @@ void write_file_atomic(const fs::path& path, const std::string& text) {
 
 fs::path repo_root() {
   if (const char* env = std::getenv("CUMULO_ROOT")) return fs::path(env);
-  auto is_root = [](const fs::path& p) { return fs::exists(p / "shaders") && fs::exists(p / "content"); };
+  // Markers only the source tree has: the build folder also holds shaders/ (SPIR-V) and content/ (bakes).
+  auto is_root = [](const fs::path& p) {
+    return fs::exists(p / "shaders" / "CMakeLists.txt") && fs::exists(p / "content" / "levels");
+  };
   std::error_code ec;
   fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   for (fs::path start : {exe.parent_path(), fs::current_path()}) {

@@ -17,7 +17,8 @@ void write_file_atomic(const std::filesystem::path& path, std::span<const uint8_
 void write_file_atomic(const std::filesystem::path& path, const std::string& text);
 
 // The repository root: $CUMULO_ROOT if set, else the nearest parent of the executable or of the
-// working directory that holds shaders/ and content/.
+// working directory that holds shaders/CMakeLists.txt and content/levels/ (a build folder has
+// shaders/ and content/ too, so those alone are not enough).
 std::filesystem::path repo_root();
 
 }  // namespace cumulo

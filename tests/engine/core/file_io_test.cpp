@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 
 #include "engine/core/error.h"
@@ -31,4 +32,15 @@ TEST(FileIo, MissingFileNamesPath) {
 
 TEST(FileIo, AtomicWriteIntoImpossibleFolderIsCumuloError) {
   EXPECT_THROW(write_file_atomic("/proc/cumulo/nope/a.txt", std::string("x")), Error);
+}
+
+TEST(FileIo, RepoRootIsTheSourceTreeNotTheBuildFolder) {
+  // CTest sets CUMULO_ROOT; without it the search must still skip build/ (which has shaders/ and content/).
+  const char* saved = std::getenv("CUMULO_ROOT");
+  std::string keep = saved ? saved : "";
+  unsetenv("CUMULO_ROOT");
+  fs::path root = repo_root();
+  if (saved) setenv("CUMULO_ROOT", keep.c_str(), 1);
+  EXPECT_TRUE(fs::exists(root / "shaders" / "CMakeLists.txt")) << root;
+  EXPECT_TRUE(fs::exists(root / "content" / "levels")) << root;
 }
