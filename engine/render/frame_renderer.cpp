@@ -33,14 +33,36 @@ void set_viewport(VkCommandBuffer cmd, VkExtent3D e) {
   vkCmdSetScissor(cmd, 0, 1, &sc);
 }
 
-VkRenderingAttachmentInfo color_attachment(VkImageView view, VkAttachmentLoadOp load, VkClearColorValue clear = {}) {
-  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-  a.imageView = view;
-  a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  a.loadOp = load;
-  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  a.clearValue.color = clear;
-  return a;
+struct Attachment {
+  TextureHandle handle;
+  VkAttachmentLoadOp load = VK_ATTACHMENT_LOAD_OP_LOAD;
+  VkAttachmentStoreOp store = VK_ATTACHMENT_STORE_OP_STORE;
+  VkClearValue clear{};
+};
+
+// Begins dynamic rendering over the colour target's extent, in the layouts the render graph chose for
+// this pass (c.layout), and sets the full viewport. End it with vkCmdEndRendering.
+void begin_rendering(PassContext& c, const Attachment& color, const Attachment* depth = nullptr) {
+  auto info = [&c](const Attachment& a) {
+    VkRenderingAttachmentInfo r{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    r.imageView = c.view(a.handle);
+    r.imageLayout = c.layout(a.handle);
+    r.loadOp = a.load;
+    r.storeOp = a.store;
+    r.clearValue = a.clear;
+    return r;
+  };
+  VkRenderingAttachmentInfo color_info = info(color);
+  VkRenderingAttachmentInfo depth_info = depth ? info(*depth) : VkRenderingAttachmentInfo{};
+  VkExtent3D e = c.extent(color.handle);
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {e.width, e.height}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = 1;
+  ri.pColorAttachments = &color_info;
+  ri.pDepthAttachment = depth ? &depth_info : nullptr;
+  vkCmdBeginRendering(c.cmd(), &ri);
+  set_viewport(c.cmd(), e);
 }
 
 }  // namespace
@@ -185,22 +207,9 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         frame.depth = b.write(frame.depth, Usage::DepthWrite);
       },
       [&m, &s, &ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
-        VkRenderingAttachmentInfo color = color_attachment(c.view(hdr), VK_ATTACHMENT_LOAD_OP_CLEAR);
-        VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        d.imageView = c.view(depth);
-        d.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-        d.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        d.clearValue.depthStencil = {0.0f, 0};  // reversed-Z far plane
-        VkExtent3D e = c.extent(hdr);
-        VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        ri.renderArea = {{0, 0}, {e.width, e.height}};
-        ri.layerCount = 1;
-        ri.colorAttachmentCount = 1;
-        ri.pColorAttachments = &color;
-        ri.pDepthAttachment = &d;
-        vkCmdBeginRendering(c.cmd(), &ri);
-        set_viewport(c.cmd(), e);
+        Attachment d{depth, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE};
+        d.clear.depthStencil = {0.0f, 0};  // reversed-Z far plane
+        begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_CLEAR}, &d);
         m.draw_models(c.cmd(), s, ubo);
         vkCmdEndRendering(c.cmd());
       });
@@ -211,21 +220,8 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         b.read(frame.depth, Usage::DepthRead);
       },
       [&m, &ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
-        VkRenderingAttachmentInfo color = color_attachment(c.view(hdr), VK_ATTACHMENT_LOAD_OP_LOAD);
-        VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        d.imageView = c.view(depth);
-        d.imageLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
-        d.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-        d.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
-        VkExtent3D e = c.extent(hdr);
-        VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        ri.renderArea = {{0, 0}, {e.width, e.height}};
-        ri.layerCount = 1;
-        ri.colorAttachmentCount = 1;
-        ri.pColorAttachments = &color;
-        ri.pDepthAttachment = &d;
-        vkCmdBeginRendering(c.cmd(), &ri);
-        set_viewport(c.cmd(), e);
+        Attachment d{depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_NONE};
+        begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_LOAD}, &d);
         m.sky->bind(c.cmd());
         gpu::DescriptorWriter().uniform_buffer(0, ubo.handle(), 0, sizeof(shared::FrameParams)).push(m.ctx, c.cmd(), *m.sky);
         vkCmdDraw(c.cmd(), 3, 1, 0, 0);
@@ -242,15 +238,7 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         out = b.write(out, Usage::ColorAttachment);
       },
       [&m, hdr = frame.hdr, out, exposure, srgb_target](PassContext& c) {
-        VkRenderingAttachmentInfo color = color_attachment(c.view(out), VK_ATTACHMENT_LOAD_OP_DONT_CARE);
-        VkExtent3D e = c.extent(out);
-        VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        ri.renderArea = {{0, 0}, {e.width, e.height}};
-        ri.layerCount = 1;
-        ri.colorAttachmentCount = 1;
-        ri.pColorAttachments = &color;
-        vkCmdBeginRendering(c.cmd(), &ri);
-        set_viewport(c.cmd(), e);
+        begin_rendering(c, {out, VK_ATTACHMENT_LOAD_OP_DONT_CARE});
         m.tonemap->bind(c.cmd());
         gpu::DescriptorWriter()
             .sampled_image(0, c.view(hdr), m.ctx.samplers().get(gpu::SamplerDesc::nearest_clamp()))
