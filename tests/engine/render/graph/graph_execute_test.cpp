@@ -10,18 +10,17 @@
 #include <memory>
 #include <vector>
 
-#include "blur_comp.h"
-#include "composite_comp.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/descriptors.h"
 #include "engine/gpu/image.h"
+#include "engine/gpu/pipeline.h"
 #include "engine/gpu/sampler.h"
+#include "engine/gpu/shader_compiler.h"
 #include "engine/render/graph/executor.h"
 #include "engine/render/graph/render_graph.h"
-#include "fill_comp.h"
-#include "fullscreen_vert.h"
-#include "shade_frag.h"
 
 using namespace cumulo;
 using namespace cumulo::render;
@@ -42,230 +41,44 @@ bool any_vulkan_device() {
   return count > 0;
 }
 
-// A compute pipeline with one descriptor set (updated before each dispatch: frames are serialized
-// in these tests) and a 16-byte push-constant block.
-class Kernel {
- public:
-  Kernel(gpu::Context& ctx, const uint32_t* code, size_t bytes, std::vector<VkDescriptorType> bindings)
-      : ctx_(ctx), types_(bindings) {
-    VkDevice dev = ctx.device();
-    std::vector<VkDescriptorSetLayoutBinding> b;
-    std::vector<VkDescriptorPoolSize> sizes;
-    for (uint32_t i = 0; i < bindings.size(); ++i) {
-      b.push_back({i, bindings[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-      sizes.push_back({bindings[i], 1});
-    }
-    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    dl.bindingCount = uint32_t(b.size());
-    dl.pBindings = b.data();
-    VK_CHECK(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &set_layout_));
-    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 16};
-    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pl.setLayoutCount = 1;
-    pl.pSetLayouts = &set_layout_;
-    pl.pushConstantRangeCount = 1;
-    pl.pPushConstantRanges = &push;
-    VK_CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout_));
-    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    sm.codeSize = bytes;
-    sm.pCode = code;
-    VkShaderModule module;
-    VK_CHECK(vkCreateShaderModule(dev, &sm, nullptr, &module));
-    VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cp.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-                nullptr,
-                0,
-                VK_SHADER_STAGE_COMPUTE_BIT,
-                module,
-                "main",
-                nullptr};
-    cp.layout = layout_;
-    VkResult r = vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cp, nullptr, &pipeline_);
-    vkDestroyShaderModule(dev, module, nullptr);
-    VK_CHECK(r);
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 1;
-    dp.poolSizeCount = uint32_t(sizes.size());
-    dp.pPoolSizes = sizes.data();
-    VK_CHECK(vkCreateDescriptorPool(dev, &dp, nullptr, &pool_));
-    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    ai.descriptorPool = pool_;
-    ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &set_layout_;
-    VK_CHECK(vkAllocateDescriptorSets(dev, &ai, &set_));
-  }
-  ~Kernel() {
-    VkDevice dev = ctx_.device();
-    vkDestroyDescriptorPool(dev, pool_, nullptr);
-    vkDestroyPipeline(dev, pipeline_, nullptr);
-    vkDestroyPipelineLayout(dev, layout_, nullptr);
-    vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
-  }
-  // views[i] goes to binding i, in the layout its descriptor type implies.
-  void dispatch(VkCommandBuffer cmd, const std::vector<VkImageView>& views, VkExtent3D size, float push = 0.0f) {
-    bind(views);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
-    float data[4] = {push, 0, 0, 0};
-    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof data, data);
-    vkCmdDispatch(cmd, (size.width + 7) / 8, (size.height + 7) / 8, 1);
-  }
+// The test's own shaders (tests/engine/render/graph/shaders), compiled at run time; layouts come
+// from reflection, set 0 is a push-descriptor set (written per dispatch/draw, so frames recorded
+// before any completes never share a descriptor set).
+gpu::ShaderCompiler test_shaders(const gpu::Context& ctx) {
+  return gpu::ShaderCompiler(repo_root() / "tests/engine/render/graph/shaders", ctx.cache_dir() / "shaders");
+}
 
- private:
-  // Writes the set only when the views change: the graph keeps its images across frames, so a
-  // frame recorded while another is pending does not touch a set that frame uses.
-  void bind(const std::vector<VkImageView>& views) {
-    if (views == bound_) return;
-    bound_ = views;
-    std::vector<VkDescriptorImageInfo> infos(views.size());
-    std::vector<VkWriteDescriptorSet> writes(views.size());
-    VkSampler sampler = ctx_.samplers().get(gpu::SamplerDesc::nearest_clamp());
-    for (uint32_t i = 0; i < views.size(); ++i) {
-      const bool sampled = types_[i] == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-      infos[i] = {sampled ? sampler : VK_NULL_HANDLE, views[i],
-                  sampled ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL};
-      writes[i] = {
-          VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set_, i, 0, 1, types_[i], &infos[i], nullptr, nullptr};
-    }
-    vkUpdateDescriptorSets(ctx_.device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
-  }
+// Binds `p`, pushes its set 0 and runs one thread per texel of `size`.
+void dispatch(const gpu::Context& ctx, VkCommandBuffer cmd, const gpu::Pipeline& p, const gpu::DescriptorWriter& set0,
+              VkExtent3D size) {
+  p.bind(cmd);
+  set0.push(ctx, cmd, p);
+  p.dispatch_threads(cmd, size.width, size.height);
+}
 
-  gpu::Context& ctx_;
-  std::vector<VkDescriptorType> types_;
-  std::vector<VkImageView> bound_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
-};
-
-// A fullscreen-triangle graphics pipeline (dynamic rendering) with one combined image sampler.
-class FullscreenPipeline {
- public:
-  FullscreenPipeline(gpu::Context& ctx, VkFormat color_format) : ctx_(ctx) {
-    VkDevice dev = ctx.device();
-    VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
-                                         nullptr};
-    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    dl.bindingCount = 1;
-    dl.pBindings = &binding;
-    VK_CHECK(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &set_layout_));
-    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pl.setLayoutCount = 1;
-    pl.pSetLayouts = &set_layout_;
-    VK_CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout_));
-    VkShaderModule vs = module(k_fullscreen_vert, sizeof k_fullscreen_vert),
-                   fs = module(k_shade_frag, sizeof k_shade_frag);
-    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
-                                                  VK_SHADER_STAGE_VERTEX_BIT, vs, "main", nullptr},
-                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
-                                                  VK_SHADER_STAGE_FRAGMENT_BIT, fs, "main", nullptr}};
-    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    vp.viewportCount = vp.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.polygonMode = VK_POLYGON_MODE_FILL;
-    rs.cullMode = VK_CULL_MODE_NONE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineColorBlendAttachmentState blend{};
-    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
-    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    cb.attachmentCount = 1;
-    cb.pAttachments = &blend;
-    VkDynamicState dyn[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    ds.dynamicStateCount = 2;
-    ds.pDynamicStates = dyn;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &color_format;
-    VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    gp.pNext = &rendering;
-    gp.stageCount = 2;
-    gp.pStages = stages;
-    gp.pVertexInputState = &vi;
-    gp.pInputAssemblyState = &ia;
-    gp.pViewportState = &vp;
-    gp.pRasterizationState = &rs;
-    gp.pMultisampleState = &ms;
-    gp.pColorBlendState = &cb;
-    gp.pDynamicState = &ds;
-    gp.layout = layout_;
-    VkResult r = vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gp, nullptr, &pipeline_);
-    vkDestroyShaderModule(dev, vs, nullptr);
-    vkDestroyShaderModule(dev, fs, nullptr);
-    VK_CHECK(r);
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 1;
-    dp.poolSizeCount = 1;
-    dp.pPoolSizes = &size;
-    VK_CHECK(vkCreateDescriptorPool(dev, &dp, nullptr, &pool_));
-    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    ai.descriptorPool = pool_;
-    ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &set_layout_;
-    VK_CHECK(vkAllocateDescriptorSets(dev, &ai, &set_));
-  }
-  ~FullscreenPipeline() {
-    VkDevice dev = ctx_.device();
-    vkDestroyDescriptorPool(dev, pool_, nullptr);
-    vkDestroyPipeline(dev, pipeline_, nullptr);
-    vkDestroyPipelineLayout(dev, layout_, nullptr);
-    vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
-  }
-  // Renders into `target` (COLOR_ATTACHMENT_OPTIMAL, placed by the graph) sampling `source`.
-  void draw(VkCommandBuffer cmd, VkImageView source, VkImageView target, VkExtent3D size) {
-    VkDescriptorImageInfo info{ctx_.samplers().get(gpu::SamplerDesc::nearest_clamp()), source,
-                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,    nullptr, set_,    0,      0, 1,
-                           VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &info,   nullptr, nullptr};
-    vkUpdateDescriptorSets(ctx_.device(), 1, &w, 0, nullptr);
-    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = target;
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    ri.renderArea = {{0, 0}, {size.width, size.height}};
-    ri.layerCount = 1;
-    ri.colorAttachmentCount = 1;
-    ri.pColorAttachments = &color;
-    vkCmdBeginRendering(cmd, &ri);
-    VkViewport viewport{0, 0, float(size.width), float(size.height), 0, 1};
-    VkRect2D scissor{{0, 0}, {size.width, size.height}};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    vkCmdEndRendering(cmd);
-  }
-
- private:
-  VkShaderModule module(const uint32_t* code, size_t bytes) {
-    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    sm.codeSize = bytes;
-    sm.pCode = code;
-    VkShaderModule m;
-    VK_CHECK(vkCreateShaderModule(ctx_.device(), &sm, nullptr, &m));
-    return m;
-  }
-  gpu::Context& ctx_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
-};
-
-constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+// A fullscreen triangle into `target` (COLOR_ATTACHMENT_OPTIMAL, placed by the graph) sampling `source`.
+void draw_fullscreen(const gpu::Context& ctx, VkCommandBuffer cmd, const gpu::Pipeline& p, VkImageView source,
+                     VkSampler sampler, VkImageView target, VkExtent3D size) {
+  VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  color.imageView = target;
+  color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
+  color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {size.width, size.height}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = 1;
+  ri.pColorAttachments = &color;
+  vkCmdBeginRendering(cmd, &ri);
+  VkViewport viewport{0, 0, float(size.width), float(size.height), 0, 1};
+  VkRect2D scissor{{0, 0}, {size.width, size.height}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  p.bind(cmd);
+  gpu::DescriptorWriter().sampled_image(0, source, sampler).push(ctx, cmd, p);
+  vkCmdDraw(cmd, 3, 1, 0, 0);
+  vkCmdEndRendering(cmd);
+}
 
 float bias_value(uint32_t x, uint32_t y) { return float((x * 7 + y * 3) % 5) * 0.25f; }
 
@@ -294,10 +107,11 @@ class RenderGraphVulkan : public ::testing::Test {
     desc.validation = true;
     ctx_ = std::make_unique<gpu::Context>(desc);
     ASSERT_TRUE(ctx_->validation_enabled());
-    fill_ = std::make_unique<Kernel>(*ctx_, k_fill_comp, sizeof k_fill_comp, std::vector{kStorage});
-    blur_ = std::make_unique<Kernel>(*ctx_, k_blur_comp, sizeof k_blur_comp, std::vector{kSampled, kStorage});
-    composite_ = std::make_unique<Kernel>(*ctx_, k_composite_comp, sizeof k_composite_comp,
-                                          std::vector{kStorage, kSampled, kStorage});
+    const gpu::ShaderCompiler compiler = test_shaders(*ctx_);
+    fill_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "fill.comp", .name = "fill"});
+    blur_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "blur.comp", .name = "blur"});
+    composite_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "composite.comp", .name = "composite"});
+    sampler_ = ctx_->samplers().get(gpu::SamplerDesc::nearest_clamp());
   }
   void TearDown() override {
     if (!ctx_) return;
@@ -346,7 +160,7 @@ class RenderGraphVulkan : public ::testing::Test {
 
     g.add_pass(
         "fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
-        [this, field, frame](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), frame); });
+        [this, field, frame](PassContext& c) { fill(c.cmd(), c.view(field), c.extent(field), frame); });
     g.add_pass(
         "blur", Queue::Compute,
         [&](PassBuilder& b) {
@@ -354,7 +168,9 @@ class RenderGraphVulkan : public ::testing::Test {
           blurred = b.write(blurred, Usage::StorageWrite);
         },
         [this, field, blurred](PassContext& c) {
-          blur_->dispatch(c.cmd(), {c.view(field), c.view(blurred)}, c.extent(blurred));
+          dispatch(*ctx_, c.cmd(), blur_,
+                   gpu::DescriptorWriter().sampled_image(0, c.view(field), sampler_).storage_image(1, c.view(blurred)),
+                   c.extent(blurred));
         });
     g.add_pass(
         "debug", Queue::Compute,
@@ -371,7 +187,12 @@ class RenderGraphVulkan : public ::testing::Test {
           out = b.write(out, Usage::StorageWrite);
         },
         [this, blurred, bias, out](PassContext& c) {
-          composite_->dispatch(c.cmd(), {c.view(blurred), c.view(bias), c.view(out)}, c.extent(out));
+          dispatch(*ctx_, c.cmd(), composite_,
+                   gpu::DescriptorWriter()
+                       .storage_image(0, c.view(blurred))
+                       .sampled_image(1, c.view(bias), sampler_)
+                       .storage_image(2, c.view(out)),
+                   c.extent(out));
         });
     g.add_pass(
         "readback", Queue::Compute,
@@ -409,7 +230,16 @@ class RenderGraphVulkan : public ::testing::Test {
   }
 
   std::unique_ptr<gpu::Context> ctx_;
-  std::unique_ptr<Kernel> fill_, blur_, composite_;
+  // fill.comp writes v(x, y) = 0.01 x + 0.1 y + frame into `field`.
+  void fill(VkCommandBuffer cmd, VkImageView field, VkExtent3D size, float frame) {
+    fill_.bind(cmd);
+    gpu::DescriptorWriter().storage_image(0, field).push(*ctx_, cmd, fill_);
+    fill_.push_constants(cmd, frame);
+    fill_.dispatch_threads(cmd, size.width, size.height);
+  }
+
+  gpu::Pipeline fill_, blur_, composite_;
+  VkSampler sampler_ = VK_NULL_HANDLE;
   std::unique_ptr<Persistent> resources_;
   bool debug_ran_ = false;
   uint32_t errors_before_ = 0;
@@ -465,7 +295,11 @@ TEST_F(RenderGraphVulkan, FourPassGraphOverSeveralFrames) {
 TEST_F(RenderGraphVulkan, ComputeToFragmentToReadback) {
   const VkExtent2D size{37, 23};
   make_persistent(size.width, size.height);
-  FullscreenPipeline shade(*ctx_, VK_FORMAT_R32_SFLOAT);
+  const gpu::Pipeline shade = gpu::Pipeline::graphics(*ctx_, test_shaders(*ctx_),
+                                                      {.vertex = "fullscreen.vert",
+                                                       .fragment = "shade.frag",
+                                                       .color_formats = {VK_FORMAT_R32_SFLOAT},
+                                                       .name = "shade"});
   Executor executor(*ctx_);
   for (int frame = 0; frame < 3; ++frame) {
     RenderGraph g(size);
@@ -475,14 +309,16 @@ TEST_F(RenderGraphVulkan, ComputeToFragmentToReadback) {
     TextureHandle color = g.create_texture("color", TextureDesc::relative(VK_FORMAT_R32_SFLOAT));
     g.add_pass(
         "fill", Queue::Compute, [&](PassBuilder& b) { field = b.write(field, Usage::StorageWrite); },
-        [&, field](PassContext& c) { fill_->dispatch(c.cmd(), {c.view(field)}, c.extent(field), float(frame)); });
+        [&, field](PassContext& c) { fill(c.cmd(), c.view(field), c.extent(field), float(frame)); });
     g.add_pass(
         "shade", Queue::Graphics,
         [&](PassBuilder& b) {
           b.read(field, Usage::Sampled);
           color = b.write(color, Usage::ColorAttachment);
         },
-        [&, field, color](PassContext& c) { shade.draw(c.cmd(), c.view(field), c.view(color), c.extent(color)); });
+        [&, field, color](PassContext& c) {
+          draw_fullscreen(*ctx_, c.cmd(), shade, c.view(field), sampler_, c.view(color), c.extent(color));
+        });
     g.add_pass(
         "readback", Queue::Graphics,
         [&](PassBuilder& b) {
