@@ -1,0 +1,567 @@
+#include "modules/clouds/render/cloud_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <tuple>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/core/error.h"
+#include "engine/core/hash.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/descriptors.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/gpu/pipeline_library.h"
+#include "engine/gpu/sampler.h"
+#include "shaders/shared/cloud_params.h"
+
+namespace cumulo::clouds::render {
+
+using cumulo::render::PassBuilder;
+using cumulo::render::PassContext;
+using cumulo::render::Queue;
+using cumulo::render::ResourceState;
+using cumulo::render::TextureDesc;
+using cumulo::render::Usage;
+
+static_assert(kMaxInstances == CLOUD_MAX_INSTANCES && kMaxPointLights == CLOUD_MAX_POINT_LIGHTS);
+
+namespace {
+
+constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // rgb radiance, a transmittance
+constexpr VkFormat kDepthFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // opacity-0.5 distance, steps, segment end
+constexpr VkFormat kGridFormat = VK_FORMAT_R16G16_SFLOAT;         // summed density toward the sun, the sky
+
+// The state an imported image is in when the graph starts and the next user finds it: sampled by
+// compute or fragment shaders.
+ResourceState sampled_state() { return ResourceState::shader_read_only(); }
+// Contents not needed (first use, or about to be overwritten), but earlier sampled reads of the
+// image (last frame's) must finish before the first write: an execution dependency with a discard.
+ResourceState discard_after_reads() {
+  return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+          VK_ACCESS_2_NONE};
+}
+
+}  // namespace
+
+struct CloudResources {
+  // One instance's slab of the light-grid image.
+  struct LightGrid {
+    bool valid = false;   // has been fully built
+    glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
+    uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
+  };
+  struct History {
+    gpu::Image images[2];
+    bool initialized[2] = {false, false};
+    VkExtent2D extent{0, 0};
+    uint32_t last = 0;        // index of the image written by the last frame
+    bool valid = false;       // the last frame wrote a usable history
+    glm::mat4 prev_view_proj{1.0f};
+  };
+  using MarchKey = std::tuple<int, int, bool, bool>;  // ablation, segment, bc1 SDF, distance noise mip
+
+  gpu::Context& ctx;
+  gpu::PipelineLibrary& library;
+  std::shared_ptr<const CloudNoise> noise;
+  CloudResourcesDesc desc;
+  gpu::Buffer ubo[gpu::kFramesInFlight];
+  // The light grids of all instances stacked along z (instance i in layers [i * gz, (i + 1) * gz)).
+  gpu::Image grid_image;
+  uint32_t grid_instances = 0;
+  bool grid_initialized = false;  // in SHADER_READ_ONLY_OPTIMAL (a graph wrote it)
+  LightGrid grids[kMaxInstances];
+  History history;
+  gpu::Pipeline* grid_pipe = nullptr;
+  gpu::Pipeline* temporal_pipe = nullptr;
+  gpu::Pipeline* merge_pipe = nullptr;
+  gpu::Pipeline* composite_pipe = nullptr;
+  std::map<MarchKey, gpu::Pipeline*> march_pipes;
+  uint32_t rebuilds = 0;
+  VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
+
+  CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
+
+  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip) {
+    MarchKey key{int(a), segment, bc1, distance_mip};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    static const char* kSegments[] = {"all", "near", "far"};
+    gpu::ComputePipelineDesc d;
+    d.shader = "clouds/march_render.comp";
+    d.defines = {{"ABLATION", std::to_string(int(a))},
+                 {"SEGMENT", std::to_string(segment)},
+                 {"SDF_BC1", bc1 ? "1" : "0"},
+                 {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"}};
+    d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
+             (distance_mip ? "" : ", mip 0") + ")";
+    gpu::Pipeline& p = library.compute(d);
+    march_pipes[key] = &p;
+    return p;
+  }
+  gpu::Pipeline& grid(bool bc1) {
+    // The grid shader samples the SDF too: built per SDF form.
+    MarchKey key{-1, 0, bc1, true};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}},
+                                        .name = bc1 ? "clouds.light_grid (bc1 sdf)" : "clouds.light_grid"});
+    march_pipes[key] = &p;
+    return p;
+  }
+};
+
+void CloudResourcesDeleter::operator()(CloudResources* r) const {
+  if (!r) return;
+  r->ctx.wait_idle();  // frames in flight may still read the light grids and history
+  delete r;
+}
+
+namespace {
+
+// Descriptor writes that skip bindings the pipeline does not have (reflection drops unused ones, and
+// variants use different subsets), so every variant can be fed by the same code.
+class Bindings {
+ public:
+  explicit Bindings(const gpu::Pipeline& p) : p_(p) {}
+  Bindings& ubo(uint32_t b, VkBuffer buffer, VkDeviceSize size) {
+    if (p_.find_binding(0, b)) w_.uniform_buffer(b, buffer, 0, size);
+    return *this;
+  }
+  Bindings& sampled(uint32_t b, VkImageView view, VkSampler sampler,
+                    VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL) {
+    if (const gpu::PipelineBinding* pb = p_.find_binding(0, b))
+      for (uint32_t e = 0; e < pb->count; ++e) w_.sampled_image(b, view, sampler, layout, e);
+    return *this;
+  }
+  Bindings& storage(uint32_t b, VkImageView view) {
+    if (p_.find_binding(0, b)) w_.storage_image(b, view);
+    return *this;
+  }
+  void push(const gpu::Context& ctx, VkCommandBuffer cmd) const {
+    p_.bind(cmd);
+    w_.push(ctx, cmd, p_);
+  }
+
+ private:
+  const gpu::Pipeline& p_;
+  gpu::DescriptorWriter w_;
+};
+
+shared::CloudMarchPush target_push(VkExtent3D e) {
+  shared::CloudMarchPush pc{};
+  pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+  return pc;
+}
+
+glm::mat4 instance_matrix(const CloudInstance& inst) {
+  return glm::translate(glm::mat4(1.0f), inst.position) * glm::mat4_cast(glm::normalize(inst.rotation)) *
+         glm::scale(glm::mat4(1.0f), glm::vec3(inst.scale));
+}
+
+uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
+  struct Key {
+    const void* asset;
+    float v[12];
+    uint32_t grid[3];
+  } k{};
+  k.asset = inst.asset.get();
+  const glm::quat q = glm::normalize(inst.rotation);
+  const float vals[12] = {inst.position.x, inst.position.y, inst.position.z, q.x, q.y, q.z, q.w,
+                          inst.scale, inst.density, inst.dissipation, 0.0f, 0.0f};
+  std::memcpy(k.v, vals, sizeof vals);
+  k.grid[0] = d.light_grid_size.x, k.grid[1] = d.light_grid_size.y, k.grid[2] = d.light_grid_size.z;
+  return hash64(&k, sizeof k);
+}
+
+shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
+                                bool history_valid) {
+  const CloudSettings& s = in.settings;
+  shared::CloudParams p{};
+  p.view_proj = in.camera.view_proj;
+  p.inv_view_proj = in.camera.inv_view_proj;
+  p.prev_view_proj = res.history.prev_view_proj;
+  p.camera_pos = glm::vec4(in.camera.position, float(in.time));
+  const glm::vec3 sun = glm::normalize(in.sun_direction);
+  p.sun_dir = glm::vec4(sun, 0.0f);
+  p.sun_color = glm::vec4(in.sun_color, 0.0f);
+  p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
+  p.viewport = glm::vec4(float(size.width), float(size.height), 1.0f / float(size.width), 1.0f / float(size.height));
+  const bool uniform_steps = s.ablation != CloudAblation::Full;
+  p.march = glm::vec4(s.extinction, s.albedo, s.transmittance_limit, float(uniform_steps ? s.base_max_steps : s.max_steps));
+  p.steps = glm::vec4(s.split_distance_m, s.animated_jitter_distance_m, s.base_step_m, s.noise_mip_distance_scale);
+  p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
+  p.light = glm::vec4(s.light_sample_m, 0.0f, s.base_light_march_m, float(std::max(1u, s.base_light_samples)));
+  p.misc = glm::vec4(s.jitter_scale, s.temporal_blend, s.light_grid_debug_height, history_valid ? 1.0f : 0.0f);
+  p.frame = glm::uvec4(uint32_t(in.frame_index), uint32_t(in.instances.size()), uint32_t(in.lights.size()),
+                       uint32_t(s.debug));
+  for (size_t i = 0; i < in.lights.size(); ++i) {
+    p.light_pos[i] = glm::vec4(in.lights[i].position, std::max(in.lights[i].radius, 1e-3f));
+    p.light_color[i] = glm::vec4(in.lights[i].color, 0.0f);
+  }
+  for (size_t i = 0; i < in.instances.size(); ++i) {
+    const CloudInstance& inst = in.instances[i];
+    shared::CloudInstanceParams& ip = p.instances[i];
+    ip.world_to_asset = glm::inverse(instance_matrix(inst));
+    const float scale = std::max(inst.scale, 1e-6f);
+    ip.bounds_min = glm::vec4(inst.asset->bounds_min, scale);
+    ip.bounds_max = glm::vec4(inst.asset->bounds_max, 1.0f / scale);
+    const glm::quat inv_rot = glm::inverse(glm::normalize(inst.rotation));
+    ip.sun_dir = glm::vec4(glm::normalize(inv_rot * sun), inst.density);
+    ip.sky_dir = glm::vec4(glm::normalize(inv_rot * glm::vec3(0.0f, 1.0f, 0.0f)), std::clamp(inst.dissipation, 0.0f, 1.0f));
+    const float wl = glm::length(inst.wind_direction);
+    const glm::vec3 wind = wl > 0.0f ? inst.wind_direction / wl : glm::vec3(0.0f);
+    // Noise scroll in asset metres; the time wraps every 10^4 s of a 100 m tile period multiple so
+    // the float offset keeps its precision over long runs.
+    const double travelled = std::fmod(double(inst.wind_speed) * in.time, 100000.0);
+    ip.wind_offset = glm::vec4(inv_rot * (wind * float(travelled / scale)), 0.0f);
+  }
+  return p;
+}
+
+// Temporal history, until the render graph's history resources land: two images owned here, imported
+// ping-ponged (last frame's as `prev`, sampled; this frame's as `next`, written). The only place that
+// knows the pair; returns whether `prev` holds a usable history for this frame.
+struct HistoryImports {
+  TextureHandle prev, next;
+  gpu::Image* next_image = nullptr;
+  bool valid = false;
+};
+HistoryImports import_history(CloudResources& res, RenderGraph& graph, VkExtent2D size, bool camera_cut) {
+  CloudResources::History& h = res.history;
+  if (h.extent.width != size.width || h.extent.height != size.height) {
+    if (h.images[0]) res.ctx.wait_idle();  // frames in flight may still read the old pair (resizes are rare)
+    for (int i = 0; i < 2; ++i) {
+      h.images[i] = gpu::Image(res.ctx, gpu::ImageDesc::tex2d(size.width, size.height, kColorFormat,
+                                                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
+                                                              i ? "clouds.history.1" : "clouds.history.0"));
+      h.initialized[i] = false;
+    }
+    h.extent = size;
+    h.valid = false;
+  }
+  const uint32_t prev = h.last, next = 1 - h.last;
+  const TextureDesc d = TextureDesc::absolute(kColorFormat, size.width, size.height);
+  HistoryImports out;
+  out.valid = h.valid && !camera_cut;
+  out.prev = graph.import_texture("clouds.history.prev", d, h.images[prev].handle(), h.images[prev].view(),
+                                  h.initialized[prev] ? sampled_state() : ResourceState::undefined(), sampled_state());
+  out.next = graph.import_texture("clouds.history.next", d, h.images[next].handle(), h.images[next].view(),
+                                  discard_after_reads(), sampled_state());
+  out.next_image = &h.images[next];
+  // After this graph: both images in SHADER_READ_ONLY_OPTIMAL, `next` is the newest history.
+  h.initialized[0] = h.initialized[1] = true;
+  h.images[0].set_layout(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  h.images[1].set_layout(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  h.last = next;
+  h.valid = true;
+  return out;
+}
+
+}  // namespace
+
+const char* ablation_name(CloudAblation a) {
+  switch (a) {
+    case CloudAblation::Base: return "base";
+    case CloudAblation::VoxelLighting: return "voxel-lighting";
+    case CloudAblation::Full: return "full";
+  }
+  return "?";
+}
+bool parse_ablation(std::string_view n, CloudAblation* out) {
+  for (CloudAblation a : {CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full})
+    if (n == ablation_name(a)) return *out = a, true;
+  return false;
+}
+const char* debug_view_name(CloudDebugView v) {
+  switch (v) {
+    case CloudDebugView::None: return "none";
+    case CloudDebugView::Profile: return "profile";
+    case CloudDebugView::Steps: return "steps";
+    case CloudDebugView::LightGrid: return "light-grid";
+    case CloudDebugView::Split: return "split";
+  }
+  return "?";
+}
+bool parse_debug_view(std::string_view n, CloudDebugView* out) {
+  for (CloudDebugView v : {CloudDebugView::None, CloudDebugView::Profile, CloudDebugView::Steps, CloudDebugView::LightGrid,
+                           CloudDebugView::Split})
+    if (n == debug_view_name(v)) return *out = v, true;
+  return false;
+}
+static_assert(int(CloudDebugView::Profile) == CLOUD_DEBUG_PROFILE && int(CloudDebugView::Steps) == CLOUD_DEBUG_STEPS &&
+              int(CloudDebugView::LightGrid) == CLOUD_DEBUG_LIGHT_GRID && int(CloudDebugView::Split) == CLOUD_DEBUG_SPLIT);
+static_assert(int(CloudAblation::Base) == CLOUD_ABLATION_BASE && int(CloudAblation::Full) == CLOUD_ABLATION_FULL);
+
+CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary& library,
+                                         std::shared_ptr<const CloudNoise> noise, const CloudResourcesDesc& desc) {
+  if (!ctx.info().push_descriptors)
+    fail("%s: the cloud passes need VK_KHR_push_descriptor, which this device lacks", ctx.info().name.c_str());
+  if (!noise) fail("clouds: create_cloud_resources needs the voxel noise (load it with CloudAssetCache::noise)");
+  if (desc.light_grid_divisions == 0 || desc.light_grid_size.z % desc.light_grid_divisions != 0)
+    fail("clouds: the light grid's %u z layers do not split into %u slabs", desc.light_grid_size.z,
+         desc.light_grid_divisions);
+  CloudResourcesPtr res(new CloudResources(ctx, library));
+  res->noise = std::move(noise);
+  res->desc = desc;
+  for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
+    res->ubo[i] = gpu::Buffer(ctx, {sizeof(shared::CloudParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
+                                    i ? "clouds.params.1" : "clouds.params.0"});
+  res->grid_pipe = &res->grid(false);
+  res->temporal_pipe = &library.compute({.shader = "clouds/temporal_accumulate.comp", .name = "clouds.temporal"});
+  res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
+  res->composite_pipe = &library.compute({.shader = "clouds/composite_apply.comp", .name = "clouds.composite"});
+  res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true);  // the common variant, built up front
+  res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
+  res->linear_repeat = ctx.samplers().get(gpu::SamplerDesc::linear_repeat());
+  res->nearest_clamp = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
+  return res;
+}
+
+uint64_t persistent_gpu_bytes(const CloudResources& res) {
+  uint64_t total = 0;
+  if (res.grid_image)
+    total += uint64_t(res.grid_image.extent().width) * res.grid_image.extent().height * res.grid_image.extent().depth * 4;
+  for (const auto& h : res.history.images)
+    if (h) total += uint64_t(h.extent().width) * h.extent().height * 8;
+  return total;
+}
+
+uint32_t light_grid_rebuilds(const CloudResources& res) { return res.rebuilds; }
+
+TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
+                               TextureHandle depth, CloudPassOutputs* outputs) {
+  if (in.instances.empty()) return hdr;
+  if (in.instances.size() > kMaxInstances)
+    fail("clouds: %zu cloudscape instances, at most %u per frame", in.instances.size(), kMaxInstances);
+  if (in.lights.size() > kMaxPointLights)
+    fail("clouds: %zu point lights, at most %u per frame", in.lights.size(), kMaxPointLights);
+  const std::shared_ptr<const CloudAsset>& asset = in.instances[0].asset;
+  for (const CloudInstance& inst : in.instances) {
+    if (!inst.asset) fail("clouds: a cloudscape instance has no asset");
+    if (inst.asset != asset)
+      fail("clouds: instances of different assets in one frame (%s, %s): one asset per frame for now",
+           asset->folder.string().c_str(), inst.asset->folder.string().c_str());
+  }
+  const CloudSettings& s = in.settings;
+  const VkExtent2D size = graph.output_size();
+  const bool bc1 = asset->formats.bc1_field;
+  gpu::Context& ctx = res.ctx;
+  CloudResources* r = &res;
+
+  // ---- Persistent resources: assets, noise, light grids, history ----
+  auto import_3d = [&](const char* name, const gpu::Image& img) {
+    const VkExtent3D e = img.extent();
+    TextureDesc d = TextureDesc::absolute(img.format(), e.width, e.height, e.depth);
+    d.type = cumulo::render::ImageType::Image3D;
+    d.mips = img.mips();
+    return graph.import_texture(name, d, img.handle(), img.view(), sampled_state());
+  };
+  const TextureHandle modeling = import_3d("clouds.modeling", asset->modeling);
+  const TextureHandle field = import_3d("clouds.field", asset->field);
+  const TextureHandle noise = import_3d("clouds.noise", res.noise->image);
+
+  const uint32_t n = uint32_t(in.instances.size());
+  const glm::uvec3 gs = res.desc.light_grid_size;
+  struct GridWork {
+    uint32_t first = 0, layers = 0;  // z layers of the instance's slab updated this frame
+  };
+  std::vector<GridWork> grids(n);
+  if (!res.grid_image || res.grid_instances != n || res.grid_image.extent().width != gs.x ||
+      res.grid_image.extent().height != gs.y || res.grid_image.extent().depth != gs.z * n) {
+    if (res.grid_image) ctx.wait_idle();  // frames in flight may still sample the old grid (rare: instance count changes)
+    res.grid_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(gs.x, gs.y, gs.z * n, kGridFormat,
+                                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
+                                                           "clouds.light_grid"));
+    res.grid_instances = n;
+    res.grid_initialized = false;
+    for (auto& g : res.grids) g = {};
+  }
+  const float cos_threshold = std::cos(glm::radians(s.sun_rebuild_degrees));
+  const glm::vec3 sun_world = glm::normalize(in.sun_direction);
+  for (uint32_t i = 0; i < n; ++i) {
+    CloudResources::LightGrid& g = res.grids[i];
+    const CloudInstance& inst = in.instances[i];
+    const glm::vec3 sun_asset = glm::normalize(glm::inverse(glm::normalize(inst.rotation)) * sun_world);
+    const uint64_t key = instance_key(inst, res.desc);
+    const bool rebuild = !g.valid || in.rebuild_light_grid || key != g.key || glm::dot(sun_asset, g.sun) < cos_threshold;
+    const uint32_t slab = gs.z / res.desc.light_grid_divisions;
+    if (rebuild) {
+      grids[i].first = 0, grids[i].layers = gs.z;
+      g.sun = sun_asset, g.key = key, g.valid = true;
+      ++res.rebuilds;
+    } else {
+      grids[i].first = uint32_t(in.frame_index % res.desc.light_grid_divisions) * slab;
+      grids[i].layers = slab;
+    }
+  }
+  // Partial updates keep the other slabs, so the image's content matters once it was written.
+  TextureHandle grid = graph.import_texture("clouds.light_grid", TextureDesc::absolute(kGridFormat, gs.x, gs.y, gs.z * n),
+                                            res.grid_image.handle(), res.grid_image.view(),
+                                            res.grid_initialized ? sampled_state() : discard_after_reads(), sampled_state());
+  res.grid_initialized = true;
+  res.grid_image.set_layout(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+
+  HistoryImports history;
+  if (s.temporal) history = import_history(res, graph, size, in.camera_cut);
+  else res.history.valid = false;
+
+  const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
+  const shared::CloudParams params = make_params(res, in, size, history.valid);
+  std::memcpy(ubo.mapped(), &params, sizeof params);
+  res.history.prev_view_proj = in.camera.view_proj;
+  const VkBuffer ubo_handle = ubo.handle();
+  constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
+
+  // ---- 1. Light grid ----
+  gpu::Pipeline* grid_pipe = &res.grid(bc1);
+  const CloudResourcesDesc rdesc = res.desc;
+  graph.add_pass("clouds.light_grid", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(modeling, Usage::Sampled);
+        b.read(field, Usage::Sampled);
+        b.read(noise, Usage::Sampled);
+        grid = b.read_write(grid, Usage::StorageWrite);
+      },
+      [r, grid_pipe, grids, grid, modeling, field, noise, ubo_handle, rdesc](PassContext& c) {
+        for (uint32_t i = 0; i < grids.size(); ++i) {
+          Bindings(*grid_pipe)
+              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+              .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
+              .sampled(CLOUD_BINDING_FIELD, c.view(field), r->linear_clamp, c.layout(field))
+              .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
+              .storage(CLOUD_BINDING_GRID_OUT, c.view(grid))
+              .push(r->ctx, c.cmd());
+          shared::CloudLightGridPush pc{};
+          pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, 0);
+          pc.grid = glm::vec4(float(rdesc.light_grid_sun_steps), float(rdesc.light_grid_sky_steps),
+                              float(rdesc.light_grid_size.z), 0.0f);
+          grid_pipe->push_constants(c.cmd(), pc);
+          const VkExtent3D e = c.extent(grid);
+          grid_pipe->dispatch_threads(c.cmd(), e.width, e.height, grids[i].layers);
+        }
+      });
+
+  // ---- 2. March (one pass, or near/far + merge) ----
+  auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth) {
+    gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip);
+    graph.add_pass(name, Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(modeling, Usage::Sampled);
+          b.read(field, Usage::Sampled);
+          b.read(noise, Usage::Sampled);
+          b.read(grid, Usage::Sampled);
+          b.read(depth, Usage::Sampled);
+          color = b.write(color, Usage::StorageWrite);
+          cdepth = b.write(cdepth, Usage::StorageWrite);
+        },
+        [r, pipe, grid, modeling, field, noise, depth, color, cdepth, ubo_handle](PassContext& c) {
+          Bindings bind(*pipe);
+          bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+              .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
+              .sampled(CLOUD_BINDING_FIELD, c.view(field), r->linear_clamp, c.layout(field))
+              .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
+              .sampled(CLOUD_BINDING_SCENE_DEPTH, c.view(depth), r->nearest_clamp, c.layout(depth))
+              .storage(CLOUD_BINDING_OUT_COLOR, c.view(color))
+              .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
+              .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
+          bind.push(r->ctx, c.cmd());
+          const VkExtent3D e = c.extent(color);
+          pipe->push_constants(c.cmd(), target_push(e));
+          pipe->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+  };
+
+  TextureHandle color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat));
+  TextureHandle cdepth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat));
+  if (!s.split) {
+    add_march("clouds.march", CLOUD_SEGMENT_ALL, color, cdepth);
+  } else {
+    TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f));
+    TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f));
+    TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat));
+    TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat));
+    add_march("clouds.march_near", CLOUD_SEGMENT_NEAR, near_c, near_d);
+    add_march("clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d);
+    gpu::Pipeline* merge = res.merge_pipe;
+    graph.add_pass("clouds.split_merge", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(near_c, Usage::Sampled);
+          b.read(near_d, Usage::Sampled);
+          b.read(far_c, Usage::Sampled);
+          b.read(far_d, Usage::Sampled);
+          color = b.write(color, Usage::StorageWrite);
+          cdepth = b.write(cdepth, Usage::StorageWrite);
+        },
+        [r, merge, near_c, near_d, far_c, far_d, color, cdepth, ubo_handle](PassContext& c) {
+          Bindings(*merge)
+              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+              .sampled(CLOUD_BINDING_NEAR, c.view(near_c), r->nearest_clamp, c.layout(near_c))
+              .sampled(CLOUD_BINDING_NEAR_DEPTH, c.view(near_d), r->nearest_clamp, c.layout(near_d))
+              .sampled(CLOUD_BINDING_FAR, c.view(far_c), r->nearest_clamp, c.layout(far_c))
+              .sampled(CLOUD_BINDING_FAR_DEPTH, c.view(far_d), r->nearest_clamp, c.layout(far_d))
+              .storage(CLOUD_BINDING_MERGED, c.view(color))
+              .storage(CLOUD_BINDING_MERGED_DEPTH, c.view(cdepth))
+              .push(r->ctx, c.cmd());
+          const VkExtent3D e = c.extent(color);
+          merge->push_constants(c.cmd(), target_push(e));
+          merge->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+  }
+
+  // ---- 3. Temporal accumulation ----
+  TextureHandle final_color = color;
+  if (s.temporal) {
+    gpu::Pipeline* pipe = res.temporal_pipe;
+    TextureHandle prev = history.prev, next = history.next;
+    graph.add_pass("clouds.temporal", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(color, Usage::Sampled);
+          b.read(cdepth, Usage::Sampled);
+          b.read(prev, Usage::Sampled);
+          next = b.write(next, Usage::StorageWrite);
+        },
+        [r, pipe, color, cdepth, prev, next, ubo_handle](PassContext& c) {
+          Bindings(*pipe)
+              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+              .sampled(CLOUD_BINDING_CURRENT, c.view(color), r->nearest_clamp, c.layout(color))
+              .sampled(CLOUD_BINDING_CURRENT_DEPTH, c.view(cdepth), r->nearest_clamp, c.layout(cdepth))
+              .sampled(CLOUD_BINDING_HISTORY, c.view(prev), r->linear_clamp, c.layout(prev))
+              .storage(CLOUD_BINDING_ACCUM_OUT, c.view(next))
+              .push(r->ctx, c.cmd());
+          const VkExtent3D e = c.extent(next);
+          pipe->push_constants(c.cmd(), target_push(e));
+          pipe->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+    final_color = next;
+  }
+
+  // ---- 4. Composite over the scene colour ----
+  gpu::Pipeline* comp = res.composite_pipe;
+  graph.add_pass("clouds.composite", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(final_color, Usage::Sampled);
+        b.read(cdepth, Usage::Sampled);
+        b.read(grid, Usage::Sampled);
+        hdr = b.read_write(hdr, Usage::StorageWrite);
+      },
+      [r, comp, final_color, cdepth, grid, hdr, ubo_handle](PassContext& c) {
+        Bindings(*comp)
+            .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+            .sampled(CLOUD_BINDING_CLOUDS, c.view(final_color), r->nearest_clamp, c.layout(final_color))
+            .sampled(CLOUD_BINDING_CLOUD_DEPTH, c.view(cdepth), r->nearest_clamp, c.layout(cdepth))
+            .sampled(CLOUD_BINDING_DEBUG_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
+            .storage(CLOUD_BINDING_HDR, c.view(hdr))
+            .push(r->ctx, c.cmd());
+        const VkExtent3D e = c.extent(hdr);
+        comp->push_constants(c.cmd(), target_push(e));
+        comp->dispatch_threads(c.cmd(), e.width, e.height);
+      });
+  if (outputs) *outputs = {final_color, cdepth};
+  return hdr;
+}
+
+}  // namespace cumulo::clouds::render

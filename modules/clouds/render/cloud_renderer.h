@@ -1,0 +1,184 @@
+#pragma once
+// The voxel-cloud renderer's passes (2023 talk, seed 000 "Sampling Density", "Lighting",
+// "Ray-Marching", "30hz, 60hz, 40hz"), Wicked-style: a resources struct, its creation, and one
+// function that adds this frame's passes to a render graph. The engine wiring (module stage hooks,
+// snapshot extension, Cloudscape component) is a thin layer on top of these.
+//
+// [SECTION] Index
+//   CloudAblation, CloudDebugView, CloudSettings   switches (talk's cost table, debug views, constants)
+//   CloudInstance                                  one placed cloudscape (what a Cloudscape component maps to)
+//   CloudFrameInputs                               everything one frame needs (camera, sun, instances)
+//   CloudResources / create_cloud_resources        persistent GPU state (pipelines, light grids, history, UBOs)
+//   add_cloud_passes                               the frame's passes -> the new scene colour
+//
+// [SECTION] Example
+//   gpu::PipelineLibrary library(ctx);
+//   clouds::render::CloudAssetCache assets(ctx);
+//   auto res = clouds::render::create_cloud_resources(ctx, library, assets.noise(noise_file));
+//   CloudFrameInputs in;
+//   in.camera = snapshot.camera; in.frame_index = n; in.time = t; in.slot = frame.slot;
+//   in.sun_direction = ...; in.sun_color = ...; in.ambient_color = ...;
+//   in.instances.push_back({.asset = assets.cloudscape(folder, default_cloud_formats(ctx.info()))});
+//   hdr = clouds::render::add_cloud_passes(*res, graph, in, hdr, depth);   // before tonemap
+//
+// [SECTION] Passes (each a graph pass: debug label + timestamps)
+//   clouds.light_grid  compute  reads the asset NVDFs + noise (imported, sampled); read_write the light
+//                               grid (imported, persistent, StorageWrite; one image, every instance's
+//                               grid stacked along z). One eighth of each grid per frame (z slabs), all
+//                               of an instance's grid when it is invalid or stale.
+//   clouds.march       compute  30 Hz: one full-resolution march. Reads NVDFs, noise, light grids
+//                               (sampled) and the scene depth (sampled); writes clouds.color (RGBA16F:
+//                               radiance, transmittance) and clouds.depth (RGBA32F: opacity-0.5 distance,
+//                               steps, segment end), transient.
+//   clouds.march_near  compute  40/60 Hz: segment < split at half resolution -> clouds.near_color/depth
+//   clouds.march_far   compute  40/60 Hz: segment >= split at full resolution -> clouds.far_color/depth
+//   clouds.split_merge compute  depth-aware upsample of near, merged over far -> clouds.color/depth
+//   clouds.temporal    compute  reads clouds.color/depth + last frame's history (imported, sampled);
+//                               writes this frame's history (imported; the other image of a pair)
+//   clouds.composite   compute  reads the cloud colour (and depth, light grid for debug views);
+//                               read_write hdr (StorageWrite): hdr * transmittance + radiance
+//
+// Every pass declares what it touches; barriers come from the graph. Imported persistent images
+// (assets, light grids, history) are left in SHADER_READ_ONLY_OPTIMAL after the graph.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/frames.h"
+#include "engine/gpu/image.h"
+#include "engine/render/graph/render_graph.h"
+#include "engine/scene/camera.h"
+#include "modules/clouds/render/cloud_assets.h"
+
+namespace cumulo::gpu {
+class Context;
+class Pipeline;
+class PipelineLibrary;
+}  // namespace cumulo::gpu
+
+namespace cumulo::clouds::render {
+
+using cumulo::render::RenderGraph;
+using cumulo::render::TextureHandle;
+
+// The talk's cost table (seed 000 "Implementation of ray-march": Base -> + Voxel-Based Lighting ->
+// + Adaptive & SDF Ray-March). Each builds its own pipeline (no dead branches in the loop).
+enum class CloudAblation : uint8_t {
+  Base,           // uniform step (CloudSettings::base_step_m) + 10-sample, 256 m light march per sample
+  VoxelLighting,  // base stepping + 2 marched light samples, then the light grid
+  Full,           // + SDF and adaptive step placement (the shipped method)
+};
+const char* ablation_name(CloudAblation a);                      // "base" | "voxel-lighting" | "full"
+bool parse_ablation(std::string_view name, CloudAblation* out);  // false if unknown
+
+enum class CloudDebugView : uint8_t { None, Profile, Steps, LightGrid, Split };
+const char* debug_view_name(CloudDebugView v);                     // "none" | "profile" | "steps" | "light-grid" | "split"
+bool parse_debug_view(std::string_view name, CloudDebugView* out);  // false if unknown
+
+struct CloudSettings {
+  CloudAblation ablation = CloudAblation::Full;
+  CloudDebugView debug = CloudDebugView::None;
+  bool split = false;              // 40/60 Hz: near half-res + far full-res (talk: < 200 m / > 200 m)
+  bool temporal = true;            // temporal accumulation of the jittered march
+  bool distance_noise_mip = true;  // false: noise mip 0 everywhere (the talk's "fixed MIP level")
+  float split_distance_m = 200.0f;          // talk: "< 200 Meters"
+  float animated_jitter_distance_m = 250.0f;  // talk: "distance_from_camera < 250.0 ? animated_hash : static_hash"
+  float jitter_scale = 1.0f;                // sample offset = hash * step * jitter_scale
+  uint32_t max_steps = 256;                 // loop bound of the full march (a uniform, so lavapipe can exit early)
+  uint32_t base_max_steps = 2048;           // loop bound of the base / voxel-lighting uniform march
+  float base_step_m = 4.0f;                 // uniform step of base: half the talk's 8 m voxel
+  float light_sample_m = 24.0f;             // length of each of the 2 marched light samples before the grid
+  float base_light_march_m = 256.0f;        // talk: "a 256 meter, 10 sample light ray march as we did before"
+  uint32_t base_light_samples = 10;
+  float extinction = 0.05f;    // 1/m per unit density (not in the talk: a thick cumulus reaches ~exp(-10) in 200 m)
+  float albedo = 0.99f;        // single-scattering albedo of cloud droplets
+  float transmittance_limit = 0.01f;  // early exit (talk: view_ray_transmittance_limit)
+  float hg_forward = 0.8f, hg_backward = -0.3f, hg_forward_weight = 0.7f;  // dual-lobe HG (silver lining)
+  float ms_strength = 1.0f;           // weight of the multiple-scattering probability field
+  float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
+  float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
+  float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
+  float sun_rebuild_degrees = 1.0f;   // the sun moving more than this since the last full rebuild -> rebuild
+};
+
+// One placed cloudscape. A Cloudscape ECS component (+ its entity's Transform) maps onto this 1:1;
+// several instances may share one asset (one GPU copy; each gets its own light grid).
+struct CloudInstance {
+  std::shared_ptr<const CloudAsset> asset;
+  glm::vec3 position{0.0f};                   // world = position + rotation * (scale * asset_space)
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+  float scale = 1.0f;                         // uniform
+  float density = 1.0f;                       // density multiplier
+  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};  // noise scroll direction (world; need not be unit)
+  float wind_speed = 0.0f;                    // m/s
+  float dissipation = 0.0f;                   // 0..1: removes low-profile, wispy regions first
+};
+
+struct CloudPointLight {  // secondary sources (lightning): the talk's potential-energy field
+  glm::vec3 position{0.0f};
+  float radius = 100.0f;
+  glm::vec3 color{0.0f};  // colour x intensity (linear)
+};
+
+struct CloudFrameInputs {
+  scene::CameraView camera;
+  uint64_t frame_index = 0;  // animates the jitter and picks the light-grid slab
+  double time = 0.0;         // simulation seconds (wind scroll)
+  uint32_t slot = 0;         // frame-in-flight slot (gpu::FrameRing): which uniform buffer
+  glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};  // unit, toward the sun
+  glm::vec3 sun_color{1.0f};                  // colour x illuminance (linear)
+  glm::vec3 ambient_color{0.3f, 0.4f, 0.5f};  // sky ambient (linear)
+  std::vector<CloudInstance> instances;       // at most kMaxInstances, all of one asset for now
+  std::vector<CloudPointLight> lights;        // at most kMaxPointLights
+  bool camera_cut = false;                    // history invalid this frame
+  bool rebuild_light_grid = false;            // force a full light-grid rebuild
+  CloudSettings settings;
+};
+
+inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
+inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS
+
+struct CloudResourcesDesc {
+  glm::uvec3 light_grid_size{256, 32, 256};  // the talk's 256x256x32 with its Z-up as our Y-up
+  uint32_t light_grid_divisions = 8;         // "amortized over 8 frames": z slabs updated per frame
+  uint32_t light_grid_sun_steps = 48;        // loop bounds of the grid's sphere-traced rays
+  uint32_t light_grid_sky_steps = 16;
+};
+
+struct CloudResources;  // defined in cloud_renderer.cpp
+struct CloudResourcesDeleter {
+  void operator()(CloudResources* r) const;
+};
+using CloudResourcesPtr = std::unique_ptr<CloudResources, CloudResourcesDeleter>;
+
+// Pipelines come from `library` (hot reload covers the cloud shaders); `noise` is shared by every
+// cloudscape. Throws cumulo::Error when a shader fails to build or the device lacks push descriptors.
+CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary& library,
+                                         std::shared_ptr<const CloudNoise> noise, const CloudResourcesDesc& desc = {});
+
+// Adds this frame's cloud passes and returns the new version of `hdr` (R16G16B16A16F, output size;
+// gets storage usage). `depth` is the scene depth (D32F reversed-Z), read only. With no instance it
+// adds nothing and returns `hdr`. Throws cumulo::Error for more instances or lights than the limits or
+// instances of different assets.
+// `outputs` (optional) receives the cloud colour and depth of this frame (after temporal accumulation
+// when on), e.g. for aerial perspective or a test readback.
+struct CloudPassOutputs {
+  TextureHandle color;  // RGBA16F: rgb in-scattered radiance, a transmittance
+  TextureHandle depth;  // RGBA32F: x distance where opacity reached 0.5 (else first cloud sample, else 1e6), y steps, z segment end
+};
+TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
+                               TextureHandle depth, CloudPassOutputs* outputs = nullptr);
+
+// For tests and `cumulo bench`: GPU memory of the persistent cloud resources (light grids, history)
+// and how many full light-grid rebuilds happened.
+uint64_t persistent_gpu_bytes(const CloudResources& res);
+uint32_t light_grid_rebuilds(const CloudResources& res);
+
+}  // namespace cumulo::clouds::render

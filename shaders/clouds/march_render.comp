@@ -1,0 +1,225 @@
+#version 450
+// The voxel cloud ray-march (2023 talk, seed 000 "Ray-Marching", "Sampling Density", "Lighting",
+// "30hz, 60hz, 40hz"; slide code in seed 003).
+//
+// Per pixel, per instance (in order of entry distance): the view ray is clipped to the instance's
+// transformed box and to the scene depth ("ends where it intersects the voxel grid bounding box or
+// where it intersects geometry, whichever is closer"), then marched:
+//   adaptive_step = max(1.0, max(sqrt(distance), EPSILON) * 0.08)        (talk)
+//   step          = max(sdf_cloud_distance, adaptive_step)                (talk)
+//   sample at distance + jitter, jitter = hash * step * P.misc.x, hash animated per frame within
+//   P.steps.y (250 m, talk: "distance_from_camera < 250.0 ? animated_hash : static_hash"), static beyond.
+//   The talk's two listings disagree on where the jitter goes (the slide adds it to the step, the HLSL
+//   offsets only the sample position); we offset the sample position inside its step, which keeps the
+//   step placement of the SDF exact and spreads samples uniformly over the step.
+//   Density and light only where the SDF is negative; stop when transmittance < P.march.z.
+// Light per sample: direct = sun * (Beer-Lambert(optical depth) * dual-lobe HG + multiple-scattering
+// probability * ms strength / 4 pi), the optical depth from 2 marched samples (P.light.x m each) and
+// then the light grid ("The first two samples are taken as we did before but the remaining samples
+// are pre-computed ... stored in a 256x256x32 voxel grid that we sample after the first two samples");
+//   ms_volume = profile * exp(-od_sun * Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128, 0, 0.05, 0.25)))
+// (talk; the summed density is taken as optical depth, i.e. times the extinction coefficient);
+//   ambient = pow(1 - profile, 0.5) * exp(-od_sky) * ambient colour                  (talk)
+//   point lights: pow(1 - d / radius, 12) * (1 - saturate(density * 5)) * colour      (talk, lightning)
+// Integration: energy-conserving (Hillaire 2016, "Physically Based Sky, Atmosphere and Cloud
+// Rendering in Frostbite"): Sint = (S - S * exp(-sigma_t dt)) / sigma_t.
+// Output: rgb in-scattered radiance, a transmittance; depth image x = distance where opacity reached
+// 0.5 (else the first cloud sample, else 1e6), y = steps taken, z = end of the clipped segment.
+//
+// Defines: ABLATION (cloud_params.h CLOUD_ABLATION_*), SEGMENT (CLOUD_SEGMENT_*), SDF_BC1, NOISE_MIP_DISTANCE.
+//   base:           uniform step P.steps.z (world m) over the clipped segment, density at every step,
+//                   sun optical depth from a P.light.w-sample, P.light.z-metre light march ("Here is what it
+//                   would look like with a 256 meter, 10 sample light ray march as we did before");
+//   voxel-lighting: base stepping + 2 marched light samples + the light grid;
+//   full:           + the SDF and adaptive step placement.
+// All three read the sky channel of the light grid for ambient (the same lighting; only the sun's
+// march and the step placement differ), so they draw the same picture within a tolerance.
+#extension GL_GOOGLE_include_directive : require
+#include "clouds/cloud_common.glsl"
+
+#ifndef ABLATION
+#define ABLATION CLOUD_ABLATION_FULL
+#endif
+#ifndef SEGMENT
+#define SEGMENT CLOUD_SEGMENT_ALL
+#endif
+
+layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
+layout(set = 0, binding = CLOUD_BINDING_LIGHT_GRID) uniform sampler3D light_grid_tex;
+layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
+layout(set = 0, binding = CLOUD_BINDING_OUT_COLOR, rgba16f) uniform writeonly image2D out_color;
+layout(set = 0, binding = CLOUD_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
+layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+struct PixelData {
+  vec3 radiance;
+  float transmittance;
+  float depth50;
+  float first_hit;
+  float steps;
+  float profile_opacity;  // debug view: the profile composited as if it were density
+};
+
+// Light grid lookup of instance i at an asset-space point: (sun, sky) summed density x world metres.
+// The grids of all instances are stacked along z in one image (slab i = instance i; a sampler array
+// indexed in a loop crashes LLVM 15's lavapipe backend, and one image is one fetch). Outside the box:
+// 0 (nothing beyond the cloudscape shadows it); z is clamped to the slab's texel centres so the filter
+// never blends two instances.
+vec2 light_grid(int i, vec3 asset_pos) {
+  vec3 uvw = asset_uvw(P.instances[i], asset_pos);
+  if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return vec2(0.0);
+  float layers = float(textureSize(light_grid_tex, 0).z) / float(P.frame.y);
+  uvw.z = (float(i) + clamp(uvw.z, 0.5 / layers, 1.0 - 0.5 / layers)) / float(P.frame.y);
+  return textureLod(light_grid_tex, uvw, 0.0).xy;
+}
+
+// Optical depth toward the sun from an asset-space point (world metres of density x extinction).
+float sun_optical_depth(int i, CloudInstanceParams inst, vec3 p, float dist, float mip) {
+  vec3 sun = inst.sun_dir.xyz;
+  float scale = inst.bounds_min.w, inv_scale = inst.bounds_max.w;
+  float sum = 0.0;
+#if ABLATION == CLOUD_ABLATION_BASE
+  float seg = P.light.z / P.light.w;  // world metres per light sample
+  uint n = uint(P.light.w);
+  for (uint k = 0u; k < n; ++k) {
+    vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
+    sum += sample_density(inst, q, dist, mip, false).full * seg;
+  }
+#else
+  float seg = P.light.x;
+  for (int k = 0; k < 2; ++k) {
+    vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
+    sum += sample_density(inst, q, dist, mip, false).full * seg;
+  }
+  sum += light_grid(i, p + sun * (2.0 * seg * inv_scale)).x;
+#endif
+  return sum * P.march.x;
+}
+
+void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
+                    inout PixelData px) {
+  CloudInstanceParams inst = P.instances[i];
+  vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
+  vec3 ad = mat3(inst.world_to_asset) * rd;  // |ad| = 1 / scale: asset point at world distance t is ao + ad t
+  vec2 seg = ray_box(ao, ad, inst.bounds_min.xyz, inst.bounds_max.xyz);
+  float t = max(seg.x, t_begin);
+  float t1 = min(seg.y, t_end);
+  float scale = inst.bounds_min.w;
+  float sun_dot = dot(rd, P.sun_dir.xyz);
+  float phase = dual_lobe_phase(sun_dot);
+  float ext = P.march.x, albedo = P.march.y;
+  uint max_steps = uint(P.march.w);
+  for (uint s = 0u; s < max_steps; ++s) {
+    if (t >= t1 || px.transmittance < P.march.z) break;
+    px.steps += 1.0;
+    vec3 p = ao + ad * t;
+#if ABLATION == CLOUD_ABLATION_FULL
+    float sdf = cloud_distance(asset_uvw(inst, p)) * scale;  // world metres
+    float adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
+    float step_len = max(sdf, adaptive);
+    bool inside = sdf < 0.0;
+#else
+    float step_len = P.steps.z;
+    bool inside = true;
+    float sdf = -1.0;
+#endif
+    float hash = t < P.steps.y ? hash_animated : hash_static;
+    float ts = t + hash * step_len * P.misc.x;
+    float dt = min(step_len, t1 - t);
+    if (inside && ts < t1) {
+      vec3 q = ao + ad * ts;
+      float mip = noise_mip(ts);
+      DensitySample ds = sample_density(inst, q, ts, mip, true);
+      if (ds.full > 0.0) {
+#if ABLATION != CLOUD_ABLATION_FULL
+        sdf = cloud_distance(asset_uvw(inst, q)) * scale;  // for the ms relaxation only
+#endif
+        float od_sun = sun_optical_depth(i, inst, q, ts, mip);
+        float od_sky = light_grid(i, q).y * ext;
+        float ms = ds.profile * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
+        vec3 light_in = P.sun_color.rgb * (exp(-od_sun) * phase + ms * P.phase.w / (4.0 * kPi));
+        light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
+        vec3 world_q = ro + rd * ts;
+        for (uint l = 0u; l < P.frame.z; ++l) {
+          float d1 = distance(world_q, P.light_pos[l].xyz);
+          float potential = pow(saturate(1.0 - d1 / P.light_pos[l].w), 12.0);
+          light_in += P.light_color[l].rgb * (potential * (1.0 - saturate(ds.full * 5.0)));
+        }
+        float sigma_t = max(ds.full * ext, 1e-7);
+        float tr = exp(-sigma_t * dt);
+        vec3 s_in = light_in * (sigma_t * albedo);
+        px.radiance += px.transmittance * (s_in - s_in * tr) / sigma_t;
+        float before = px.transmittance;
+        px.transmittance *= tr;
+        if (px.first_hit > 1e5) px.first_hit = ts;
+        if (before >= 0.5 && px.transmittance < 0.5) px.depth50 = ts;
+      }
+      px.profile_opacity = 1.0 - (1.0 - px.profile_opacity) * exp(-ds.raw_profile * ext * dt);
+    }
+    t += step_len;
+  }
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(pc.target.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
+  vec2 ndc = uv * 2.0 - 1.0;
+  vec4 far_h = P.inv_view_proj * vec4(ndc, 0.5, 1.0);  // any depth on the ray (reversed-Z)
+  vec3 ro = P.camera_pos.xyz;
+  vec3 rd = normalize(far_h.xyz / far_h.w - ro);
+
+  // Scene distance along the ray from the depth buffer; depth 0 is the cleared far plane (sky).
+  float d = textureLod(scene_depth, uv, 0.0).r;
+  float t_scene = 1e30;
+  if (d > 0.0) {
+    vec4 w = P.inv_view_proj * vec4(ndc, d, 1.0);
+    t_scene = distance(w.xyz / w.w, ro);
+  }
+  float t_begin = 0.0, t_end = t_scene;
+#if SEGMENT == CLOUD_SEGMENT_NEAR
+  t_end = min(t_end, P.steps.x);
+#elif SEGMENT == CLOUD_SEGMENT_FAR
+  t_begin = P.steps.x;
+#endif
+
+  PixelData px;
+  px.radiance = vec3(0.0);
+  px.transmittance = 1.0;
+  px.depth50 = 1e6;
+  px.first_hit = 1e6;
+  px.steps = 0.0;
+  px.profile_opacity = 0.0;
+  // Static hash: same every frame; animated: per frame. Pixel coordinates of the full-resolution grid.
+  vec2 hash_pixel = uv * P.viewport.xy;
+  float hash_static = pixel_hash(hash_pixel, 0u);
+  float hash_animated = pixel_hash(hash_pixel, P.frame.x);
+
+  // Instances in order of their entry distance (at most CLOUD_MAX_INSTANCES: a tiny insertion sort).
+  uint n = min(P.frame.y, uint(CLOUD_MAX_INSTANCES));
+  float enter[CLOUD_MAX_INSTANCES];
+  int order[CLOUD_MAX_INSTANCES];
+  for (uint i = 0u; i < n; ++i) {
+    CloudInstanceParams inst = P.instances[i];
+    vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
+    vec3 ad = mat3(inst.world_to_asset) * rd;
+    vec2 seg = ray_box(ao, ad, inst.bounds_min.xyz, inst.bounds_max.xyz);
+    enter[i] = seg.x <= seg.y ? max(seg.x, 0.0) : 1e30;
+    order[i] = int(i);
+  }
+  for (uint i = 1u; i < n; ++i)
+    for (uint j = i; j > 0u && enter[order[j]] < enter[order[j - 1u]]; --j) {
+      int tmp = order[j];
+      order[j] = order[j - 1u];
+      order[j - 1u] = tmp;
+    }
+  for (uint k = 0u; k < n; ++k)
+    if (enter[order[k]] < t_end) march_instance(order[k], ro, rd, t_begin, t_end, hash_animated, hash_static, px);
+
+  float depth = px.depth50 < 1e5 ? px.depth50 : px.first_hit;
+  vec4 color = vec4(px.radiance, px.transmittance);
+  if (P.frame.w == CLOUD_DEBUG_PROFILE) color = vec4(vec3(px.profile_opacity), 0.0);
+  imageStore(out_color, pixel, color);
+  imageStore(out_depth, pixel, vec4(depth, px.steps, min(t_end, 1e6), 0.0));
+}

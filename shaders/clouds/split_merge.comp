@@ -1,0 +1,62 @@
+#version 450
+// 40/60 Hz split merge (2023 talk, seed 000 "30hz, 60hz, 40hz": "Render Split into 2 passes: < 200
+// Meters: 480px * 270px, > 200 Meters: 960px * 540px"). The near segment was marched at half
+// resolution, the far one at full; here the near layer is upsampled depth-aware and composited in
+// front of the far one: radiance = near.rgb + near.a * far.rgb, transmittance = near.a * far.a.
+// Depth-aware: of the 4 bilinear half-resolution taps, each is weighted by how closely its clipped
+// near-segment end (depth image z: min(split, scene distance)) matches this pixel's, so near cloud does
+// not bleed across a terrain silhouette into the pixels next to it.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/cloud_params.h"
+
+layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
+layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
+layout(set = 0, binding = CLOUD_BINDING_NEAR) uniform sampler2D near_tex;
+layout(set = 0, binding = CLOUD_BINDING_NEAR_DEPTH) uniform sampler2D near_depth;
+layout(set = 0, binding = CLOUD_BINDING_FAR) uniform sampler2D far_tex;
+layout(set = 0, binding = CLOUD_BINDING_FAR_DEPTH) uniform sampler2D far_depth;
+layout(set = 0, binding = CLOUD_BINDING_MERGED, rgba16f) uniform writeonly image2D merged;
+layout(set = 0, binding = CLOUD_BINDING_MERGED_DEPTH, rgba32f) uniform writeonly image2D merged_depth;
+layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(pc.target.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  vec4 far_c = texelFetch(far_tex, pixel, 0);
+  vec4 far_d = texelFetch(far_depth, pixel, 0);
+  // This pixel's near-segment end: min(split, scene distance along the ray) = min(split, far_d.z).
+  float own_end = min(P.steps.x, far_d.z);
+
+  ivec2 near_size = textureSize(near_tex, 0);
+  vec2 p = (vec2(pixel) + 0.5) * vec2(near_size) / vec2(size) - 0.5;
+  ivec2 base = ivec2(floor(p));
+  vec2 f = p - vec2(base);
+  vec4 near_c = vec4(0.0);
+  vec4 near_dv = vec4(0.0);
+  float wsum = 0.0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      ivec2 q = clamp(base + ivec2(i, j), ivec2(0), near_size - 1);
+      float bil = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
+      vec4 d = texelFetch(near_depth, q, 0);
+      float rel = abs(d.z - own_end) / max(own_end, 1.0);
+      float w = bil * exp(-rel * 20.0) + 1e-5 * bil;
+      near_c += texelFetch(near_tex, q, 0) * w;
+      near_dv += d * w;
+      wsum += w;
+    }
+  near_c /= wsum;
+  near_dv /= wsum;
+
+  vec4 color = vec4(near_c.rgb + near_c.a * far_c.rgb, near_c.a * far_c.a);
+  float depth = near_c.a < 0.5 ? near_dv.x : far_d.x;
+  if (P.frame.w == CLOUD_DEBUG_SPLIT) {
+    // Opacity of each layer: near in orange, far in blue.
+    color = vec4((1.0 - near_c.a) * vec3(1.0, 0.45, 0.1) + near_c.a * (1.0 - far_c.a) * vec3(0.1, 0.35, 1.0), 0.0);
+  } else if (P.frame.w == CLOUD_DEBUG_PROFILE) {
+    color = vec4(1.0 - (1.0 - near_c.rgb) * (1.0 - far_c.rgb), 0.0);
+  }
+  imageStore(merged, pixel, color);
+  imageStore(merged_depth, pixel, vec4(depth, near_dv.y * 0.25 + far_d.y, far_d.z, 0.0));
+}

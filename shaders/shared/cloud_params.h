@@ -1,0 +1,111 @@
+// Parameters of the voxel-cloud passes (modules/clouds/render), shared by C++ and GLSL.
+// 2023 talk (seed 000): "Sampling Density", "Lighting", "Ray-Marching", "30hz, 60hz, 40hz".
+// One CloudParams uniform buffer per frame slot, filled by clouds::render::add_cloud_passes from
+// CloudFrameInputs; per-dispatch variants (near/far segment, light-grid slab) go in push constants.
+//
+// Spaces: "world" is the engine's (metres, +Y up). "asset" is the cloudscape asset's own space, the
+// world box its NVDF headers name (bounds_min..bounds_max); an instance places the asset with a
+// transform (position, rotation, uniform scale): world = position + rotation * (scale * asset).
+#ifndef CUMULO_SHARED_CLOUD_PARAMS_H
+#define CUMULO_SHARED_CLOUD_PARAMS_H
+#include "shared/common.h"
+
+CUMULO_SHARED_BEGIN
+
+// ---- Limits and binding numbers (set 0, push descriptors) ----------------------------------------
+#define CLOUD_MAX_INSTANCES 4  // instances of one asset drawn by one march (each has its own light grid)
+#define CLOUD_MAX_POINT_LIGHTS 4
+#define CLOUD_LOCAL_SIZE 8  // 8x8 work groups for the 2D passes (lavapipe runs 8 lanes at a time)
+
+// light_grid_update.comp and march_render.comp
+#define CLOUD_BINDING_PARAMS 0      // uniform CloudParams
+#define CLOUD_BINDING_MODELING 1    // sampler3D: r profile, g detail type, b density scale
+#define CLOUD_BINDING_FIELD 2       // sampler3D: signed distance (R16 0..1, or the conservative BC1 rgb)
+#define CLOUD_BINDING_NOISE 3       // sampler3D: voxel noise (R/G Curly-Alligator low/high, B/A Alligator low/high)
+#define CLOUD_BINDING_LIGHT_GRID 4  // sampler3D: x summed density toward the sun, y toward the sky; instance i in z slab i
+#define CLOUD_BINDING_SCENE_DEPTH 5 // sampler2D: scene depth (reversed-Z, D32F)
+#define CLOUD_BINDING_OUT_COLOR 6   // image2D rgba16f: rgb in-scattered radiance, a transmittance
+#define CLOUD_BINDING_OUT_DEPTH 7   // image2D rg32f: x distance where opacity reached 0.5 (or segment end), y steps
+#define CLOUD_BINDING_GRID_OUT 8    // image3D rg16f: the light grid being updated (all slabs)
+// temporal_accumulate.comp
+#define CLOUD_BINDING_CURRENT 1         // sampler2D: this frame's march colour
+#define CLOUD_BINDING_CURRENT_DEPTH 2   // sampler2D: this frame's march depth
+#define CLOUD_BINDING_HISTORY 3         // sampler2D: last frame's accumulated colour
+#define CLOUD_BINDING_ACCUM_OUT 4       // image2D rgba16f: accumulated colour
+// split_merge.comp
+#define CLOUD_BINDING_NEAR 1        // sampler2D: half-resolution near colour (< split distance)
+#define CLOUD_BINDING_NEAR_DEPTH 2  // sampler2D: half-resolution near depth
+#define CLOUD_BINDING_FAR 3         // sampler2D: full-resolution far colour
+#define CLOUD_BINDING_FAR_DEPTH 4   // sampler2D: full-resolution far depth
+#define CLOUD_BINDING_MERGED 6      // image2D rgba16f (same as OUT_COLOR)
+#define CLOUD_BINDING_MERGED_DEPTH 7
+// composite_apply.comp
+#define CLOUD_BINDING_CLOUDS 1      // sampler2D: cloud colour (rgb radiance, a transmittance)
+#define CLOUD_BINDING_HDR 2         // image2D rgba16f: scene colour, read-modify-write
+#define CLOUD_BINDING_DEBUG_GRID 3  // sampler3D: the light grid (debug view shows instance 0)
+#define CLOUD_BINDING_CLOUD_DEPTH 4 // sampler2D: cloud depth/steps (steps debug view)
+
+// Debug views (CloudParams::frame.w).
+#define CLOUD_DEBUG_NONE 0
+#define CLOUD_DEBUG_PROFILE 1     // dimensional profile accumulated along the ray (grey)
+#define CLOUD_DEBUG_STEPS 2       // steps per pixel, heat map (blue 0 .. red max_steps)
+#define CLOUD_DEBUG_LIGHT_GRID 3  // a slice of instance 0's light grid (sun channel red, sky green)
+#define CLOUD_DEBUG_SPLIT 4       // near segment tinted orange, far segment blue
+
+// Ablations (compile-time: the shader is built once per variant, so loops have no dead branches).
+#define CLOUD_ABLATION_BASE 0            // uniform step over the clipped segment + 10-sample 256 m light march
+#define CLOUD_ABLATION_VOXEL_LIGHTING 1  // base + light grid after two marched light samples
+#define CLOUD_ABLATION_FULL 2            // + SDF and adaptive step
+
+// Segments of the march (define SEGMENT): the 30 Hz single march, or the 40/60 Hz split.
+#define CLOUD_SEGMENT_ALL 0
+#define CLOUD_SEGMENT_NEAR 1  // [0, split) at half resolution
+#define CLOUD_SEGMENT_FAR 2   // [split, end) at full resolution
+
+struct CloudInstanceParams {
+  mat4 world_to_asset;  // inverse of the instance transform
+  vec4 bounds_min;      // xyz: asset bounds (the NVDF header's world box); w: uniform scale (world m per asset m)
+  vec4 bounds_max;      // xyz; w: 1 / scale
+  vec4 sun_dir;         // xyz: unit vector toward the sun in asset space; w: density multiplier
+  vec4 sky_dir;         // xyz: unit vector up (world +Y) in asset space; w: dissipation 0..1
+  vec4 wind_offset;     // xyz: noise scroll (asset metres), wind direction * speed * time; w: unused
+};
+CUMULO_SHARED_SIZE(CloudInstanceParams, 144)
+
+struct CloudParams {
+  mat4 view_proj;       // world -> clip (reversed-Z: near 1, far 0)
+  mat4 inv_view_proj;   // clip -> world
+  mat4 prev_view_proj;  // last frame's view_proj (temporal reprojection)
+  vec4 camera_pos;      // xyz: world (m); w: time (s)
+  vec4 sun_dir;         // xyz: unit toward the sun (world); w: unused
+  vec4 sun_color;       // rgb: sun radiance scale (colour x illuminance, linear); w: unused
+  vec4 ambient_color;   // rgb: sky ambient (linear); w: unused
+  vec4 viewport;        // full resolution: width, height, 1/width, 1/height
+  vec4 march;           // x: extinction per unit density (1/m), y: scattering albedo, z: transmittance limit, w: max steps
+  vec4 steps;           // x: near/far split distance (200 m), y: animated-jitter distance (250 m), z: base uniform step (m), w: noise mip distance scale
+  vec4 phase;           // x: forward HG g, y: backward HG g, z: forward lobe weight, w: multiple-scattering strength
+  vec4 light;           // x, y: distances of the two marched light samples (m), z: base light march length (256 m), w: base light samples (10)
+  vec4 misc;            // x: jitter scale, y: temporal blend (weight of the new frame), z: light-grid debug slice 0..1, w: 1 = history valid
+  uvec4 frame;          // x: frame index, y: instance count, z: point-light count, w: debug view
+  vec4 light_pos[CLOUD_MAX_POINT_LIGHTS];    // xyz: world position; w: radius (m)
+  vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
+  CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
+};
+CUMULO_SHARED_SIZE(CloudParams, 1072)
+
+// Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
+struct CloudLightGridPush {
+  uvec4 region;  // x: instance, y: first z layer, z: layer count, w: unused
+  vec4 grid;     // x: sun march steps, y: sky march steps, z: z layers per instance, w: unused
+};
+CUMULO_SHARED_SIZE(CloudLightGridPush, 32)
+
+// Push constants of march_render.comp and split_merge.comp.
+struct CloudMarchPush {
+  vec4 target;  // x, y: size of the image written, z, w: 1/size
+};
+CUMULO_SHARED_SIZE(CloudMarchPush, 16)
+
+CUMULO_SHARED_END
+
+#endif

@@ -1,0 +1,133 @@
+// Cloud assets on the GPU (lavapipe, validation on): both format sets load from a baked folder, one
+// GPU copy per canonical path, and every bad or missing file is refused with its name.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "engine/core/error.h"
+#include "engine/gpu/readback.h"
+#include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/volume/nvdf.h"
+#include "tests/modules/clouds/render/cloud_test_util.h"
+
+using namespace cumulo;
+using namespace cumulo::clouds;
+using namespace cumulo::clouds::render;
+using cumulo::clouds::render::test::test_data;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class CloudAssets : public gpu::test::GpuTest {};
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+fs::path copy_folder(const fs::path& from, const std::string& name) {
+  const fs::path to = test_data().root / name;
+  fs::remove_all(to);
+  fs::create_directories(to);
+  for (const auto& e : fs::directory_iterator(from)) fs::copy_file(e.path(), to / e.path().filename());
+  return to;
+}
+
+}  // namespace
+
+TEST_F(CloudAssets, BothFormatSetsLoadWithTheBakedBoxAndFormats) {
+  const auto& data = test_data();
+  std::shared_ptr<CloudAsset> u = load_cloud_asset(ctx(), data.cloudscape, CloudFormats::from_set(CloudFormatSet::Uncompressed));
+  EXPECT_EQ(u->dims, glm::uvec3(64, 32, 64));
+  EXPECT_EQ(u->modeling.format(), VK_FORMAT_R8G8B8A8_UNORM);
+  EXPECT_EQ(u->field.format(), VK_FORMAT_R16_UNORM);
+  EXPECT_EQ(u->bounds_min, glm::vec3(-256, 0, -256));
+  EXPECT_EQ(u->bounds_max, glm::vec3(256, 256, 256));
+  EXPECT_EQ(u->gpu_bytes, 64u * 32 * 64 * (4 + 2));
+  EXPECT_EQ(u->modeling.layout(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  if (!ctx().info().texture_compression_bc) GTEST_SKIP() << "no BC texture support";
+  std::shared_ptr<CloudAsset> c = load_cloud_asset(ctx(), data.cloudscape, CloudFormats::from_set(CloudFormatSet::Compressed));
+  EXPECT_EQ(c->modeling.format(), VK_FORMAT_BC1_RGB_UNORM_BLOCK);
+  EXPECT_EQ(c->field.format(), VK_FORMAT_BC1_RGB_UNORM_BLOCK);
+  EXPECT_EQ(c->gpu_bytes, 64u * 32 * 64 / 2 * 2);  // 0.5 byte per texel each
+  // The GPU holds the file's bytes: read the BC1 field back and compare with the file.
+  Volume f = load_volume(data.cloudscape / kFieldBc1FileName);
+  EXPECT_EQ(gpu::read_image_bytes(ctx(), c->field), f.levels[0]);
+}
+
+TEST_F(CloudAssets, DefaultFormatSetFollowsTheDeviceType) {
+  gpu::DeviceInfo cpu;
+  cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
+  cpu.texture_compression_bc = true;
+  EXPECT_EQ(default_format_set(cpu), CloudFormatSet::Uncompressed);
+  gpu::DeviceInfo gpu_info;
+  gpu_info.type = VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU;
+  gpu_info.texture_compression_bc = true;
+  EXPECT_EQ(default_format_set(gpu_info), CloudFormatSet::Compressed);
+  gpu_info.texture_compression_bc = false;
+  EXPECT_EQ(default_format_set(gpu_info), CloudFormatSet::Uncompressed);
+  CloudFormatSet s;
+  EXPECT_TRUE(parse_format_set("compressed", &s));
+  EXPECT_EQ(s, CloudFormatSet::Compressed);
+  EXPECT_FALSE(parse_format_set("bc6h", &s));
+  if (ctx().info().is_cpu()) {
+    EXPECT_EQ(default_format_set(ctx().info()), CloudFormatSet::Uncompressed);
+  }
+}
+
+TEST_F(CloudAssets, CacheKeepsOneCopyPerCanonicalPath) {
+  CloudAssetCache cache(ctx());
+  const auto& data = test_data();
+  auto a = cache.cloudscape(data.cloudscape, {});
+  auto b = cache.cloudscape(data.cloudscape / "." / ".." / "cloudscape", {});
+  EXPECT_EQ(a.get(), b.get());
+  auto n1 = cache.noise(data.noise);
+  auto n2 = cache.noise(data.root / "." / "voxel_noise.nvdf");
+  EXPECT_EQ(n1.get(), n2.get());
+  EXPECT_EQ(n1->size, 32u);
+  EXPECT_EQ(n1->mips, 6u);
+  EXPECT_EQ(cache.size(), 2u);
+  auto field16 = cache.cloudscape(data.cloudscape, CloudFormats{false, false});
+  EXPECT_EQ(field16.get(), a.get());
+  if (ctx().info().texture_compression_bc) {
+    auto bc1 = cache.cloudscape(data.cloudscape, CloudFormats{false, true});  // another format: another copy
+    EXPECT_NE(bc1.get(), a.get());
+    EXPECT_EQ(cache.size(), 3u);
+  }
+}
+
+TEST_F(CloudAssets, MissingAndBadFilesNameTheFile) {
+  const auto& data = test_data();
+  std::string e = error_of([&] { load_cloud_asset(ctx(), data.root / "nowhere", {}); });
+  EXPECT_NE(e.find("nowhere"), std::string::npos) << e;
+
+  const fs::path missing = copy_folder(data.cloudscape, "missing_field");
+  fs::remove(missing / kFieldFileName);
+  e = error_of([&] { load_cloud_asset(ctx(), missing, {}); });
+  EXPECT_NE(e.find("missing_field/field.nvdf"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+
+  const fs::path truncated = copy_folder(data.cloudscape, "truncated");
+  fs::resize_file(truncated / kModelingFileName, 100);
+  e = error_of([&] { load_cloud_asset(ctx(), truncated, {}); });
+  EXPECT_NE(e.find("truncated/modeling.nvdf"), std::string::npos) << e;
+
+  const fs::path swapped = copy_folder(data.cloudscape, "swapped");  // a field where the modeling data belongs
+  fs::copy_file(swapped / kFieldFileName, swapped / kModelingFileName, fs::copy_options::overwrite_existing);
+  e = error_of([&] { load_cloud_asset(ctx(), swapped, {}); });
+  EXPECT_NE(e.find("swapped/modeling.nvdf"), std::string::npos) << e;
+  EXPECT_NE(e.find("encoding"), std::string::npos) << e;
+
+  const fs::path wrong_noise = data.root / "not_noise.nvdf";
+  fs::copy_file(data.cloudscape / kFieldFileName, wrong_noise, fs::copy_options::overwrite_existing);
+  e = error_of([&] { load_cloud_noise(ctx(), wrong_noise); });
+  EXPECT_NE(e.find("not_noise.nvdf"), std::string::npos) << e;
+
+  e = error_of([&] { load_cloud_asset(ctx(), data.noise, {}); });  // a file, not a folder
+  EXPECT_NE(e.find("voxel_noise.nvdf"), std::string::npos) << e;
+}
