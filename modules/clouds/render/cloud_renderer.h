@@ -108,6 +108,10 @@ struct CloudSettings {
   float sun_rebuild_degrees = 1.0f;   // the sun moving more than this since the last full rebuild -> rebuild
 };
 
+// Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
+// the near segment (< split_distance_m) at half resolution and the far one at full resolution.
+inline void apply_budget_mode(CloudSettings& s, int hz) { s.split = hz >= 40; }
+
 // One placed cloudscape. A Cloudscape ECS component (+ its entity's Transform) maps onto this 1:1;
 // several instances may share one asset (one GPU copy; each gets its own light grid).
 struct CloudInstance {
