@@ -8,8 +8,9 @@
 #include "engine/core/error.h"
 
 int main(int argc, char** argv) {
+  const cumulo::app::Modules modules = cumulo::make_modules();
   cumulo::CommandRegistry registry;
-  cumulo::register_all_commands(registry);
+  cumulo::register_all_commands(registry, modules);
 
   auto usage = [&](FILE* out) {
     std::fprintf(out, "usage: cumulo <command> [args]  (cumulo <command> --help for details)\n\ncommands:\n");

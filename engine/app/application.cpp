@@ -26,6 +26,7 @@ int run_headless(RunContext& rc) {
   gpu::Context ctx(gpu::ContextDesc{});
   LOG_INFO("device: %s (%s)", ctx.info().name.c_str(), ctx.info().driver_info.c_str());
   render::FrameRenderer renderer(ctx);
+  detail::add_module_features(rc, renderer);
   OffscreenOutput output(ctx, o.width, o.height);
   gpu::FrameRing ring(ctx, 1);
 
@@ -60,7 +61,7 @@ int run_headless(RunContext& rc) {
 
 }  // namespace
 
-int run_level(const RunOptions& options) {
+int run_level(const RunOptions& options, const Modules& modules) {
   RunOptions o = options;
   bool headless = o.headless;
   if (!headless && !platform::display_available()) {
@@ -74,6 +75,7 @@ int run_level(const RunOptions& options) {
   sd.seed = o.seed;
   sd.sim_hz = o.sim_hz;
   sd.time_of_day = o.time_of_day;
+  sd.modules = modules;
   RunContext rc(o, sd);
   rc.camera = rc.sim.camera(o.camera);
   // --start-at: simulate without rendering.
@@ -92,11 +94,11 @@ int run_level(const RunOptions& options) {
   return run_headless(rc);
 }
 
-void register_app_commands(CommandRegistry& registry) {
-  registry.add({"run", "run a level: in a window, or headless (PNG screenshot, JSON stats)", [](int argc, char** argv) {
-                  auto o = parse_run_options(argc, argv);
+void register_app_commands(CommandRegistry& registry, const Modules& modules) {
+  registry.add({"run", "run a level: in a window, or headless (PNG screenshot, JSON stats)", [modules](int argc, char** argv) {
+                  auto o = parse_run_options(argc, argv, modules);
                   if (!o) return 0;
-                  return run_level(*o);
+                  return run_level(*o, modules);
                 }});
 }
 

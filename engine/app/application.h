@@ -18,9 +18,9 @@ namespace cumulo::app {
 
 // Runs a level; returns the process exit code. Throws cumulo::Error for bad inputs (level, glTF,
 // shaders, flags) so main() prints one clear line.
-int run_level(const RunOptions& options);
+int run_level(const RunOptions& options, const Modules& modules = {});
 
-// Registers `cumulo run`.
-void register_app_commands(CommandRegistry& registry);
+// Registers `cumulo run` with the given modules (their flags, components, systems and passes).
+void register_app_commands(CommandRegistry& registry, const Modules& modules);
 
 }  // namespace cumulo::app

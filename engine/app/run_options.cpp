@@ -22,7 +22,7 @@ void parse_size(const std::string& text, uint32_t& width, uint32_t& height) {
   height = static_cast<uint32_t>(h);
 }
 
-std::optional<RunOptions> parse_run_options(int argc, char** argv) {
+std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules) {
   RunOptions o;
   std::string mode = "30", size;
   float tod = -1.0f;
@@ -42,7 +42,9 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv) {
       .option("--stats", "PATH", "write JSON statistics: per-pass GPU ms, CPU frame ms, device, validation errors, memory", &o.stats)
       .option("--dump-graph", "FILE", "write the compiled render graph of the first frame (Graphviz if FILE ends in .dot)", &o.dump_graph)
       .option("--sim-hz", "HZ", "fixed simulation rate (default 60)", &o.sim_hz);
+  for (const auto& m : modules) m->add_run_options(p);
   if (!p.parse(argc, argv)) return std::nullopt;
+  for (const auto& m : modules) m->check_run_options();
   o.mode = render::parse_budget_mode(mode);
   if (!size.empty()) {
     parse_size(size, o.width, o.height);

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "engine/app/module.h"
 #include "engine/render/budget_mode.h"
 
 namespace cumulo::app {
@@ -28,9 +29,10 @@ struct RunOptions {
 // Frames a headless run renders when --frames is not given.
 constexpr uint32_t kDefaultHeadlessFrames = 1;
 
-// Parses argv (argv[0] = "run"). Returns nullopt after printing --help. Throws cumulo::Error on bad
+// Parses argv (argv[0] = "run"), with the flags every module adds (Module::add_run_options, checked by
+// Module::check_run_options). Returns nullopt after printing --help. Throws cumulo::Error on bad
 // values: "--size: expected WIDTHxHEIGHT ...", "--mode: ...", out-of-range time of day, etc.
-std::optional<RunOptions> parse_run_options(int argc, char** argv);
+std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules = {});
 
 // "640x360" -> (640, 360); throws cumulo::Error for anything else or sizes outside 1..16384.
 void parse_size(const std::string& text, uint32_t& width, uint32_t& height);

@@ -57,8 +57,10 @@ std::string RunStats::to_json(const Info& in) const {
   j["level"] = in.level;
   j["camera"] = in.camera;
   j["device"] = {{"name", in.device_name}, {"driver", in.driver_name}, {"driver_info", in.driver_info}, {"api", in.api_version}};
-  j["validation_errors"] = in.validation_errors;
-  j["validation_warnings"] = in.validation_warnings;
+  // Without the layers nothing was checked: say so rather than report a reassuring 0.
+  j["validation_enabled"] = in.validation_enabled;
+  j["validation_errors"] = in.validation_enabled ? J(in.validation_errors) : J(nullptr);
+  j["validation_warnings"] = in.validation_enabled ? J(in.validation_warnings) : J(nullptr);
   j["peak_gpu_memory_bytes"] = in.peak_gpu_memory_bytes;
   j["cpu_frame_ms"] = stat(cpu_);
   j["gpu_frame_ms"] = stat(gpu_total_);

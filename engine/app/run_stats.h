@@ -1,7 +1,7 @@
 #pragma once
 // Statistics of a run, written by `cumulo run --stats PATH` as JSON:
 //   { "frames", "size": [w, h], "mode", "sim_hz", "seed", "device": {name, driver, api},
-//     "validation_errors", "peak_gpu_memory_bytes",
+//     "validation_enabled", "validation_errors" (null when validation was off), "peak_gpu_memory_bytes",
 //     "cpu_frame_ms": {mean, min, max, median}, "gpu_frame_ms": {mean, min, max, median},
 //     "passes": { "<pass>": {mean_ms, min_ms, max_ms, median_ms, frames}, ... } }   (passes in frame order)
 #include <cstdint>
@@ -38,7 +38,8 @@ class RunStats {
     double sim_seconds = 0;
     std::string level, camera;
     std::string device_name, driver_name, driver_info, api_version;
-    uint64_t validation_errors = 0, validation_warnings = 0;
+    bool validation_enabled = false;                          // validation layers on (CUMULO_VALIDATION=1)
+    uint64_t validation_errors = 0, validation_warnings = 0;  // written as null when validation was off
     uint64_t peak_gpu_memory_bytes = 0;
   };
   // The JSON text (pretty, keys in a stable order).

@@ -10,11 +10,10 @@
 namespace cumulo::app {
 
 void register_engine_systems(ecs::Scheduler& scheduler) {
-  // The day cycle: TimeOfDay components (and a TimeOfDay resource, if the level made one) advance at
-  // their hours_per_second. Update phase: gameplay systems in PreUpdate may set the time first.
+  // The day cycle: the TimeOfDay that counts (scene::find_sun) advances at its hours_per_second.
+  // Update phase: gameplay systems in PreUpdate may set the time first.
   scheduler.add_system(ecs::Phase::Update, "time_of_day", [](ecs::World& w, const ecs::FrameContext& f) {
-    w.view<scene::TimeOfDay>().each([&](scene::TimeOfDay& tod) { scene::advance_time_of_day(tod, f.dt); });
-    if (auto* tod = w.try_resource<scene::TimeOfDay>()) scene::advance_time_of_day(*tod, f.dt);
+    if (scene::TimeOfDay* tod = scene::find_sun(w).time) scene::advance_time_of_day(*tod, f.dt);
   });
 }
 
@@ -23,20 +22,13 @@ Simulation::Simulation(const SimulationDesc& desc) : sim_hz_(desc.sim_hz) {
   auto& registry = world_.set_resource<ecs::ComponentRegistry>();
   scene::register_components(registry);
   register_engine_systems(scheduler_);
-  if (desc.register_modules) desc.register_modules(registry, scheduler_);
-  level_ = scene::load_level(desc.level, world_, registry);
-  if (desc.time_of_day) {
-    bool any = false;
-    world_.view<scene::TimeOfDay>().each([&](scene::TimeOfDay& tod) {
-      tod.hours = *desc.time_of_day;
-      any = true;
-    });
-    if (auto* tod = world_.try_resource<scene::TimeOfDay>()) {
-      tod->hours = *desc.time_of_day;
-      any = true;
-    }
-    if (!any) world_.set_resource<scene::TimeOfDay>().hours = *desc.time_of_day;
+  for (const auto& m : desc.modules) {
+    m->register_components(registry);
+    m->register_systems(scheduler_);
   }
+  level_ = scene::load_level(desc.level, world_, registry);
+  if (desc.time_of_day) scene::time_of_day_to_set(world_).hours = *desc.time_of_day;
+  for (const auto& m : desc.modules) m->on_level_loaded(world_, level_);
 }
 
 void Simulation::step(uint64_t steps) {

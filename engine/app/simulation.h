@@ -10,6 +10,7 @@
 
 #include "engine/ecs/scheduler.h"
 #include "engine/ecs/serialize.h"
+#include "engine/app/module.h"
 #include "engine/ecs/world.h"
 #include "engine/scene/level.h"
 
@@ -25,9 +26,9 @@ struct SimulationDesc {
   std::filesystem::path level;
   uint64_t seed = 1;
   uint32_t sim_hz = 60;
-  std::optional<float> time_of_day;  // hours; overrides every TimeOfDay of the level
-  // Feature modules (clouds) register their components and systems here, before the level loads.
-  std::function<void(ecs::ComponentRegistry&, ecs::Scheduler&)> register_modules;
+  std::optional<float> time_of_day;  // hours; overrides the TimeOfDay that counts (scene::find_sun)
+  // Register their components and systems before the level loads; told when it has loaded.
+  Modules modules;
 };
 
 class Simulation {
@@ -56,7 +57,7 @@ class Simulation {
   uint32_t sim_hz_ = 60;
 };
 
-// The engine's own systems (time of day). Modules add theirs through their registration point.
+// The engine's own systems (the day cycle). Modules add theirs through Module::register_systems.
 void register_engine_systems(ecs::Scheduler& scheduler);
 
 }  // namespace cumulo::app

@@ -57,6 +57,7 @@ int run_windowed(RunContext& rc) {
   window->wait_while_minimized();
   gpu::Swapchain swapchain(ctx, window_extent(*window), gpu::SwapchainDesc{});
   render::FrameRenderer renderer(ctx);
+  add_module_features(rc, renderer);
   gpu::FrameRing frames(ctx);
 
   FlyCamera fly = fly_camera_from(rc.sim.world(), rc.camera);

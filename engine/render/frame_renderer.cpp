@@ -12,6 +12,8 @@
 #include "engine/gpu/sampler.h"
 #include "engine/render/graph/executor.h"
 #include "engine/render/gpu_scene.h"
+#include "engine/render/pass_helpers.h"
+#include "engine/render/uniform_allocator.h"
 #include "engine/render/sky_model.h"
 #include "engine/scene/camera.h"
 #include "shaders/shared/frame_params.h"
@@ -26,45 +28,6 @@ bool is_srgb(VkFormat f) {
   return f == VK_FORMAT_R8G8B8A8_SRGB || f == VK_FORMAT_B8G8R8A8_SRGB || f == VK_FORMAT_A8B8G8R8_SRGB_PACK32;
 }
 
-void set_viewport(VkCommandBuffer cmd, VkExtent3D e) {
-  VkViewport vp{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
-  VkRect2D sc{{0, 0}, {e.width, e.height}};
-  vkCmdSetViewport(cmd, 0, 1, &vp);
-  vkCmdSetScissor(cmd, 0, 1, &sc);
-}
-
-struct Attachment {
-  TextureHandle handle;
-  VkAttachmentLoadOp load = VK_ATTACHMENT_LOAD_OP_LOAD;
-  VkAttachmentStoreOp store = VK_ATTACHMENT_STORE_OP_STORE;
-  VkClearValue clear{};
-};
-
-// Begins dynamic rendering over the colour target's extent, in the layouts the render graph chose for
-// this pass (c.layout), and sets the full viewport. End it with vkCmdEndRendering.
-void begin_rendering(PassContext& c, const Attachment& color, const Attachment* depth = nullptr) {
-  auto info = [&c](const Attachment& a) {
-    VkRenderingAttachmentInfo r{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    r.imageView = c.view(a.handle);
-    r.imageLayout = c.layout(a.handle);
-    r.loadOp = a.load;
-    r.storeOp = a.store;
-    r.clearValue = a.clear;
-    return r;
-  };
-  VkRenderingAttachmentInfo color_info = info(color);
-  VkRenderingAttachmentInfo depth_info = depth ? info(*depth) : VkRenderingAttachmentInfo{};
-  VkExtent3D e = c.extent(color.handle);
-  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  ri.renderArea = {{0, 0}, {e.width, e.height}};
-  ri.layerCount = 1;
-  ri.colorAttachmentCount = 1;
-  ri.pColorAttachments = &color_info;
-  ri.pDepthAttachment = depth ? &depth_info : nullptr;
-  vkCmdBeginRendering(c.cmd(), &ri);
-  set_viewport(c.cmd(), e);
-}
-
 }  // namespace
 
 struct FrameRenderer::Impl {
@@ -72,19 +35,17 @@ struct FrameRenderer::Impl {
   gpu::PipelineLibrary library;  // hot reload swaps pipelines in place: the pointers stay valid
   Executor executor;
   GpuSceneCache scene;
-  gpu::Buffer frame_ubo[kFramesInFlight];
+  UniformAllocator uniforms;
   gpu::Pipeline* geometry = nullptr;
   gpu::Pipeline* geometry_double_sided = nullptr;
   gpu::Pipeline* sky = nullptr;
   gpu::Pipeline* tonemap = nullptr;  // for tonemap_format
   VkFormat tonemap_format = VK_FORMAT_UNDEFINED;
 
-  explicit Impl(gpu::Context& c) : ctx(c), library(c), executor(c), scene(c) {
+  Impl(gpu::Context& c, const std::filesystem::path& shader_root)
+      : ctx(c), library(c, shader_root), executor(c), scene(c), uniforms(c, kFramesInFlight) {
     if (!c.info().push_descriptors)
       fail("%s: the engine's passes need VK_KHR_push_descriptor, which this device lacks", c.info().name.c_str());
-    for (uint32_t i = 0; i < kFramesInFlight; ++i)
-      frame_ubo[i] = gpu::Buffer(c, {sizeof(shared::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
-                                     i == 0 ? "frame params 0" : "frame params 1"});
     build_scene_pipelines();
   }
 
@@ -137,7 +98,7 @@ struct FrameRenderer::Impl {
     tonemap_format = out;
   }
 
-  void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const gpu::Buffer& ubo) {
+  void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const UniformSlice& ubo) {
     scene::Frustum frustum = scene::Frustum::from(s.camera.view_proj);
     const gpu::Pipeline* bound = nullptr;
     for (const ModelDraw& draw : s.models) {
@@ -155,13 +116,15 @@ struct FrameRenderer::Impl {
           bound = p;
         }
         gpu::DescriptorWriter()
-            .uniform_buffer(0, ubo.handle(), 0, sizeof(shared::FrameParams))
-            .sampled_image(1, mat.texture, mat.sampler)
+            .uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size)
+            .sampled_image(GEOMETRY_BASE_COLOR_BINDING, mat.texture, mat.sampler)
             .push(ctx, cmd, *p);
         shared::DrawParams dp{};
         dp.model = world;
         dp.base_color_factor = mat.base_color_factor;
-        dp.material = glm::vec4(mat.roughness, mat.metallic, mat.double_sided ? 1.0f : 0.0f, 0.0f);
+        dp.roughness = mat.roughness;
+        dp.metallic = mat.metallic;
+        dp.double_sided = mat.double_sided ? 1u : 0u;
         p->push_constants(cmd, dp);
         VkDeviceSize offset = 0;
         VkBuffer vb = gpu_mesh.vertices.handle();
@@ -173,8 +136,31 @@ struct FrameRenderer::Impl {
   }
 };
 
-FrameRenderer::FrameRenderer(gpu::Context& ctx) : impl_(std::make_unique<Impl>(ctx)) {}
-FrameRenderer::~FrameRenderer() = default;
+FrameRenderer::FrameRenderer(gpu::Context& ctx, const std::filesystem::path& shader_root)
+    : impl_(std::make_unique<Impl>(ctx, shader_root)) {}
+
+FrameRenderer::~FrameRenderer() {
+  if (features_.empty()) return;
+  impl_->ctx.wait_idle();  // features free their objects now: no frame may still use them
+  for (RenderFeature* f : features_) f->destroy_gpu();
+}
+
+void FrameRenderer::add_feature(RenderFeature& feature) {
+  GpuServices services{impl_->ctx, impl_->library};
+  feature.create_gpu(services);
+  features_.push_back(&feature);
+}
+
+gpu::PipelineLibrary& FrameRenderer::pipeline_library() { return impl_->library; }
+
+const char* stage_name(Stage stage) {
+  switch (stage) {
+    case Stage::BeforeScene: return "before-scene";
+    case Stage::AfterOpaque: return "after-opaque";
+    case Stage::AfterTonemap: return "after-tonemap";
+  }
+  return "?";
+}
 
 const CompiledGraph& FrameRenderer::last_compiled() const { return impl_->executor.compiled(); }
 
@@ -190,23 +176,27 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   // Upload models before recording (uploads wait on the queue; they must not happen inside a pass).
   for (const ModelDraw& d : s.models) m.scene.get(d.model);
 
-  const gpu::Buffer& ubo = m.frame_ubo[slot % kFramesInFlight];
-  shared::FrameParams params = make_frame_params(s, exposure_);
-  std::memcpy(ubo.mapped(), &params, sizeof params);
+  m.uniforms.begin_frame(slot);
+  const UniformSlice ubo = m.uniforms.push(make_frame_params(s, exposure_));
 
   RenderGraph graph(target.extent);
   TextureDesc out_desc = TextureDesc::absolute(target.format, target.extent.width, target.extent.height);
   TextureHandle out = graph.import_texture(target.name, out_desc, target.image, target.view, target.initial, target.final);
-  FrameResources frame;
+  StageContext frame{graph, s, m.ctx, m.library, m.uniforms, ubo, slot};
+  frame.output_format = target.format;
   frame.hdr = graph.create_texture("hdr", TextureDesc::relative(kHdrFormat));
   frame.depth = graph.create_texture("depth", TextureDesc::relative(kDepthFormat));
+  auto run_stage = [&](Stage stage) {
+    for (RenderFeature* f : features_) f->add_passes(stage, frame);
+  };
+  run_stage(Stage::BeforeScene);
 
   graph.add_pass("geometry", Queue::Graphics,
       [&](PassBuilder& b) {
         frame.hdr = b.write(frame.hdr, Usage::ColorAttachment);
         frame.depth = b.write(frame.depth, Usage::DepthWrite);
       },
-      [&m, &s, &ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
+      [&m, &s, ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
         Attachment d{depth, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE};
         d.clear.depthStencil = {0.0f, 0};  // reversed-Z far plane
         begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_CLEAR}, &d);
@@ -219,16 +209,16 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         frame.hdr = b.read_write(frame.hdr, Usage::ColorAttachment);
         b.read(frame.depth, Usage::DepthRead);
       },
-      [&m, &ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
+      [&m, ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
         Attachment d{depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_NONE};
         begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_LOAD}, &d);
         m.sky->bind(c.cmd());
-        gpu::DescriptorWriter().uniform_buffer(0, ubo.handle(), 0, sizeof(shared::FrameParams)).push(m.ctx, c.cmd(), *m.sky);
+        gpu::DescriptorWriter().uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size).push(m.ctx, c.cmd(), *m.sky);
         vkCmdDraw(c.cmd(), 3, 1, 0, 0);
         vkCmdEndRendering(c.cmd());
       });
 
-  for (auto& hook : hooks_) hook(graph, s, frame);
+  run_stage(Stage::AfterOpaque);
 
   const float exposure = exposure_;
   const bool srgb_target = is_srgb(target.format);
@@ -241,14 +231,19 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         begin_rendering(c, {out, VK_ATTACHMENT_LOAD_OP_DONT_CARE});
         m.tonemap->bind(c.cmd());
         gpu::DescriptorWriter()
-            .sampled_image(0, c.view(hdr), m.ctx.samplers().get(gpu::SamplerDesc::nearest_clamp()))
+            .sampled_image(TONEMAP_HDR_BINDING, c.view(hdr), m.ctx.samplers().get(gpu::SamplerDesc::nearest_clamp()))
             .push(m.ctx, c.cmd(), *m.tonemap);
         shared::TonemapParams tp{};
-        tp.params = glm::vec4(exposure, 0.0f, srgb_target ? 1.0f : 0.0f, 0.0f);
+        tp.exposure = exposure;
+        tp.op = TONEMAP_ACES;
+        tp.output_srgb = srgb_target ? 1u : 0u;
         m.tonemap->push_constants(c.cmd(), tp);
         vkCmdDraw(c.cmd(), 3, 1, 0, 0);
         vkCmdEndRendering(c.cmd());
       });
+
+  frame.output = out;
+  run_stage(Stage::AfterTonemap);
 
   m.executor.execute(graph, cmd);
 }

@@ -5,14 +5,15 @@
 //   sky       (graphics) sky gradient + sun disc into hdr where depth is still the cleared far plane
 //   tonemap   (graphics) hdr -> output (swapchain image or offscreen RGBA8), ACES fitted
 //
-// Feature modules (the clouds) add passes between sky and tonemap through add_pass_hook().
+// Feature modules (the clouds, the editor) add passes at the stages of render_feature.h through
+// add_feature(): before geometry, after sky (scene colour + depth), after tonemap (the output).
 // The renderer reads the snapshot only; it never touches the ECS world.
 //
 //   FrameRenderer r(ctx);
 //   r.record_frame(frame.cmd, snapshot, target, frame.slot);   // gpu::FrameRing slot
 //   ... submit; once that frame completed:
 //   auto timings = r.pass_timings();               // [(pass, ms)] of the last recorded frame (GPU timestamps)
-#include <functional>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <utility>
@@ -21,6 +22,7 @@
 #include "engine/gpu/frames.h"
 #include "engine/gpu/vk.h"
 #include "engine/render/frame_snapshot.h"
+#include "engine/render/render_feature.h"
 #include "engine/render/graph/render_graph.h"
 
 namespace cumulo::gpu {
@@ -41,16 +43,10 @@ struct RenderTarget {
   std::string name = "output";
 };
 
-// Passes a module adds to the frame: called while the graph is built, after sky, before tonemap,
-// with the scene colour and depth (it may return a new version of hdr).
-struct FrameResources {
-  TextureHandle hdr, depth;
-};
-using PassHook = std::function<void(RenderGraph& graph, const FrameSnapshot& snapshot, FrameResources& frame)>;
-
 class FrameRenderer {
  public:
-  explicit FrameRenderer(gpu::Context& ctx);
+  // shader_root empty: <repo>/shaders (tests point it at a copy to exercise hot reload).
+  explicit FrameRenderer(gpu::Context& ctx, const std::filesystem::path& shader_root = {});
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
@@ -69,13 +65,17 @@ class FrameRenderer {
   // Compiler errors of pipelines whose latest reload failed (empty when every pipeline is current).
   std::string shader_errors() const;
 
-  void add_pass_hook(PassHook hook) { hooks_.push_back(std::move(hook)); }
+  // Adds a feature: calls its create_gpu() now (with this renderer's pipeline library) and its passes
+  // every frame from then on. Not owned: it must outlive the renderer, whose destructor waits for the
+  // device and calls destroy_gpu() on every feature.
+  void add_feature(RenderFeature& feature);
   void set_exposure(float exposure) { exposure_ = exposure; }
+  gpu::PipelineLibrary& pipeline_library();
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::vector<PassHook> hooks_;
+  std::vector<RenderFeature*> features_;
   float exposure_ = 1.0f;
 };
 

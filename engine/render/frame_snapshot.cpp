@@ -1,6 +1,7 @@
 #include "engine/render/frame_snapshot.h"
 
 #include "engine/core/error.h"
+#include "engine/render/sky_model.h"
 #include "engine/scene/sun.h"
 
 namespace cumulo::render {
@@ -11,22 +12,17 @@ FrameSnapshot extract_frame(const ecs::World& world, ecs::Entity camera, uint32_
   s.height = height;
   const auto* ct = world.try_get<scene::Transform>(camera);
   const auto* cc = world.try_get<scene::Camera>(camera);
-  if (!ct || !cc) fail("camera entity has no %s", ct ? "Camera" : "Transform");
-  if (const auto* n = world.try_get<ecs::Name>(camera)) s.camera_name = n->value;
+  const auto* name = world.try_get<ecs::Name>(camera);
+  if (name) s.camera_name = name->value;
+  if (!ct || !cc)
+    fail("camera entity \"%s\" has no %s component", name ? name->value.c_str() : "(unnamed)", ct ? "Camera" : "Transform");
   s.camera = scene::make_camera_view(*ct, *cc, height ? float(width) / float(height) : 1.0f);
 
-  // Time of day: a world resource wins over a component (levels may use either).
-  const scene::TimeOfDay* tod = world.try_resource<scene::TimeOfDay>();
-  const scene::Sun* sun = world.try_resource<scene::Sun>();
-  if (!tod) world.view<const scene::TimeOfDay>().each([&](const scene::TimeOfDay& t) { if (!tod) tod = &t; });
-  if (!sun) world.view<const scene::Sun>().each([&](const scene::Sun& x) { if (!sun) sun = &x; });
-  scene::TimeOfDay t = tod ? *tod : scene::TimeOfDay{};
-  scene::SunPosition p = scene::sun_position(t);
-  s.sun.direction = p.direction;
-  s.sun.elevation_deg = p.elevation_deg;
-  s.sun.time_of_day_hours = t.hours;
-  s.sun.illuminance = sun ? sun->illuminance : 1.0f;
-  s.sun.color = (sun ? sun->color : glm::vec3(1.0f)) * scene::sun_transmittance(p.elevation_deg);
+  scene::ConstSunSource sun = scene::find_sun(world);
+  scene::TimeOfDay tod = sun.time ? *sun.time : scene::TimeOfDay{};
+  s.sun = scene::sun_light(tod, sun.sun ? *sun.sun : scene::Sun{});
+  s.time_of_day_hours = tod.hours;
+  s.lighting = stand_in_lighting(s.sun);
 
   world.view<const scene::ModelRef, const scene::Transform>().each([&](const scene::ModelRef& m, const scene::Transform& tr) {
     if (m.model) s.models.push_back({m.model, tr.matrix()});

@@ -2,18 +2,24 @@
 // The read-only snapshot the renderer draws from (DESIGN.md "The frame": simulation -> extract ->
 // render). Extraction copies what a frame needs out of the ECS world; from then on the renderer never
 // touches the world, and the simulation never touches Vulkan. Models are shared (immutable) CPU data.
+// Modules add their own per-frame data as typed extensions (the engine knows nothing of clouds), and
+// may replace the stand-in sky lighting (the atmosphere does).
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <typeindex>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "engine/core/error.h"
 #include "engine/ecs/world.h"
 #include "engine/render/budget_mode.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/components.h"
+#include "engine/scene/sun.h"
 
 namespace cumulo::render {
 
@@ -22,12 +28,51 @@ struct ModelDraw {
   glm::mat4 world{1.0f};  // entity transform; the model's own instance matrices apply inside it
 };
 
-struct SunLight {
-  glm::vec3 direction{0.0f, 1.0f, 0.0f};  // unit, toward the sun
-  glm::vec3 color{1.0f};                  // Sun::color x atmospheric transmittance (linear)
-  float illuminance = 1.0f;
-  float elevation_deg = 90.0f;
-  float time_of_day_hours = 12.0f;
+// The light the scene passes (and modules) use, in the renderer's units (exposure 1 maps the noon sun's
+// radiance of about 3 to a bright, unclipped white). extract_frame fills it from the stand-in sky model
+// (sky_model.h); a module's extract may replace it.
+struct SceneLighting {
+  glm::vec3 sun_radiance{0.0f};   // reaching the ground (after the atmosphere)
+  float ambient = 0.0f;           // scale of the hemispheric ambient term
+  glm::vec3 sky_zenith{0.0f}, sky_horizon{0.0f}, ground{0.0f};
+  float fog_density = 0.0f;       // 1/m at sea level
+  float fog_falloff = 0.0f;       // 1/m (exponential height falloff)
+  std::string source = "stand-in";  // who filled it (stats, debugging)
+};
+
+// Per-frame data of modules, one value per type:
+//   snapshot.extensions.set(CloudFrame{...});            // in the module's extract()
+//   if (auto* c = snapshot.extensions.find<CloudFrame>()) ...   // in its add_passes()
+class SnapshotExtensions {
+ public:
+  template <class T>
+  T& set(T value) {
+    auto p = std::make_shared<T>(std::move(value));
+    T& ref = *p;
+    for (auto& [type, v] : items_)
+      if (type == std::type_index(typeid(T))) {
+        v = std::move(p);
+        return ref;
+      }
+    items_.emplace_back(std::type_index(typeid(T)), std::move(p));
+    return ref;
+  }
+  template <class T>
+  const T* find() const {
+    for (auto& [type, v] : items_)
+      if (type == std::type_index(typeid(T))) return static_cast<const T*>(v.get());
+    return nullptr;
+  }
+  template <class T>
+  const T& get() const {
+    if (const T* p = find<T>()) return *p;
+    fail("frame snapshot: no extension of type %s", typeid(T).name());
+  }
+  size_t size() const { return items_.size(); }
+
+ private:
+  // shared_ptr<const void> keeps copies of a snapshot cheap; values are immutable once extracted.
+  std::vector<std::pair<std::type_index, std::shared_ptr<const void>>> items_;
 };
 
 struct FrameSnapshot {
@@ -38,14 +83,17 @@ struct FrameSnapshot {
   uint64_t sim_step = 0;
   std::string camera_name;
   scene::CameraView camera;
-  SunLight sun;
+  scene::SunLight sun;            // the one sun (scene::find_sun decides which TimeOfDay/Sun count)
+  float time_of_day_hours = 12.0f;
+  SceneLighting lighting;
   std::vector<ModelDraw> models;
   std::optional<scene::Ocean> ocean;
+  SnapshotExtensions extensions;
 };
 
-// Reads the camera entity (Camera + Transform), the TimeOfDay/Sun (a world resource, or the first
-// entity that has them) and every ModelRef with a Transform. Throws cumulo::Error if the camera
-// entity lacks a Camera or Transform.
+// Reads the camera entity (Camera + Transform), the sun (scene::find_sun), every ModelRef with a
+// Transform, and fills the stand-in lighting. Throws cumulo::Error naming the camera entity if it lacks
+// a Camera or Transform.
 FrameSnapshot extract_frame(const ecs::World& world, ecs::Entity camera, uint32_t width, uint32_t height);
 
 }  // namespace cumulo::render

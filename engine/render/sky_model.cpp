@@ -12,11 +12,11 @@ float smoothstep(float a, float b, float x) {
 
 }  // namespace
 
-SkyColors sky_colors(const SunLight& sun) {
-  SkyColors c;
+SceneLighting stand_in_lighting(const scene::SunLight& sun) {
+  SceneLighting c;
   // Day factor: civil twilight (-6 deg) to full day (+10 deg).
   float day = smoothstep(-6.0f, 10.0f, sun.elevation_deg);
-  // Low sun: warm horizon. The tint is the sun's transmittance (already reddened by scene::sun_transmittance).
+  // Low sun: warm horizon. The sun's own reddening is in sun.radiance (scene::sun_transmittance).
   float low = 1.0f - smoothstep(2.0f, 25.0f, sun.elevation_deg);
   glm::vec3 night_zenith(0.004f, 0.006f, 0.015f), night_horizon(0.010f, 0.014f, 0.025f);
   // Clear-sky colours in the renderer's units (sun radiance 3 at noon, exposure 1, ACES): a saturated
@@ -24,10 +24,10 @@ SkyColors sky_colors(const SunLight& sun) {
   glm::vec3 day_zenith(0.10f, 0.24f, 0.62f), day_horizon(0.55f, 0.68f, 0.85f);
   glm::vec3 sunset_horizon(0.95f, 0.55f, 0.30f);
   glm::vec3 horizon = glm::mix(day_horizon, sunset_horizon, low * 0.8f);
-  c.zenith = glm::mix(night_zenith, day_zenith * (1.0f - 0.35f * low), day);
-  c.horizon = glm::mix(night_horizon, horizon, day);
-  c.ground = c.horizon * 0.35f;
-  c.sun_radiance = sun.color * sun.illuminance * 3.0f;
+  c.sky_zenith = glm::mix(night_zenith, day_zenith * (1.0f - 0.35f * low), day);
+  c.sky_horizon = glm::mix(night_horizon, horizon, day);
+  c.ground = c.sky_horizon * 0.35f;
+  c.sun_radiance = sun.radiance * kSunRadianceScale;
   c.ambient = glm::mix(0.15f, 1.0f, day);
   // About 15 % extinction over 4 km at sea level (a clear coastal day); halves every ~700 m of height.
   c.fog_density = 0.00004f;
@@ -36,18 +36,24 @@ SkyColors sky_colors(const SunLight& sun) {
 }
 
 shared::FrameParams make_frame_params(const FrameSnapshot& s, float exposure) {
-  SkyColors c = sky_colors(s.sun);
+  const SceneLighting& c = s.lighting;
   shared::FrameParams p{};
   p.view_proj = s.camera.view_proj;
   p.inv_view_proj = s.camera.inv_view_proj;
-  p.camera_pos = glm::vec4(s.camera.position, static_cast<float>(s.sim_time));
-  p.sun_dir = glm::vec4(glm::normalize(s.sun.direction), 1.0f);
-  p.sun_color = glm::vec4(c.sun_radiance, c.ambient);
-  p.sky_zenith = glm::vec4(c.zenith, c.fog_density);
-  p.sky_horizon = glm::vec4(c.horizon, c.fog_falloff);
-  p.ground_color = glm::vec4(c.ground, exposure);
+  p.camera_position = s.camera.position;
+  p.time_s = static_cast<float>(s.sim_time);
+  p.sun_direction = glm::normalize(s.sun.direction);
+  p.ambient = c.ambient;
+  p.sun_radiance = c.sun_radiance;
+  p.exposure = exposure;
+  p.sky_zenith = c.sky_zenith;
+  p.fog_density = c.fog_density;
+  p.sky_horizon = c.sky_horizon;
+  p.fog_falloff = c.fog_falloff;
+  p.ground_color = c.ground;
   float w = static_cast<float>(std::max(1u, s.width)), h = static_cast<float>(std::max(1u, s.height));
-  p.viewport = glm::vec4(w, h, 1.0f / w, 1.0f / h);
+  p.viewport_size = glm::vec2(w, h);
+  p.inv_viewport_size = glm::vec2(1.0f / w, 1.0f / h);
   return p;
 }
 

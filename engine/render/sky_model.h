@@ -1,6 +1,7 @@
 #pragma once
-// The stand-in sky of the engine (the cloud module brings the real atmosphere): colours for the sky
-// gradient, the ambient term and the fog, chosen from the sun's elevation. Pure CPU math, tested alone.
+// The stand-in sky of the engine (until the atmosphere issue brings a physically based one): the
+// SceneLighting of a frame (sky gradient colours, sun radiance at the ground, ambient, fog) chosen from
+// the sun's elevation. Pure CPU math, tested alone. A module may replace the result in its extract().
 #include <glm/glm.hpp>
 
 #include "engine/render/frame_snapshot.h"
@@ -8,17 +9,13 @@
 
 namespace cumulo::render {
 
-struct SkyColors {
-  glm::vec3 zenith{0.0f}, horizon{0.0f}, ground{0.0f};
-  glm::vec3 sun_radiance{0.0f};  // sun colour x intensity as the shaders use it
-  float ambient = 0.0f;          // scale of the hemispheric ambient term
-  float fog_density = 0.0f;      // 1/m at sea level
-  float fog_falloff = 0.0f;      // 1/m (exponential height falloff)
-};
+// The renderer's units: scene::SunLight::radiance (about 1 at noon for a white sun of illuminance 1)
+// times this is what the shaders use, so exposure 1 with ACES shows a noon scene unclipped.
+inline constexpr float kSunRadianceScale = 3.0f;
 
-SkyColors sky_colors(const SunLight& sun);
+SceneLighting stand_in_lighting(const scene::SunLight& sun);
 
-// FrameParams of the engine passes for a snapshot (camera matrices, sun, sky, viewport).
+// FrameParams of the engine passes for a snapshot (camera matrices, sun, snapshot.lighting, viewport).
 shared::FrameParams make_frame_params(const FrameSnapshot& snapshot, float exposure = 1.0f);
 
 }  // namespace cumulo::render

@@ -60,19 +60,39 @@ SunLight sun_light(const TimeOfDay& tod, const Sun& sun) {
   return l;
 }
 
-ecs::Entity find_time_of_day(const ecs::World& world) {
+namespace {
+
+template <class World, class Source>
+Source find_sun_in(World& world) {
+  Source s;
+  if (auto* tod = world.template try_resource<TimeOfDay>()) {
+    s.time = tod;
+    s.sun = world.template try_resource<Sun>();
+    return s;
+  }
   ecs::Entity found = ecs::Entity::null();
   world.each_entity([&](ecs::Entity e) {
-    if (found.is_null() && world.has<TimeOfDay>(e)) found = e;
+    if (found.is_null() && world.template has<TimeOfDay>(e)) found = e;
   });
-  return found;
+  if (found.is_null()) return s;
+  s.time = &world.template get<TimeOfDay>(found);
+  s.sun = world.template try_get<Sun>(found);
+  return s;
 }
 
+}  // namespace
+
+SunSource find_sun(ecs::World& world) { return find_sun_in<ecs::World, SunSource>(world); }
+ConstSunSource find_sun(const ecs::World& world) { return find_sun_in<const ecs::World, ConstSunSource>(world); }
+
 SunLight find_sun_light(const ecs::World& world) {
-  ecs::Entity e = find_time_of_day(world);
-  if (e.is_null()) return sun_light(TimeOfDay{}, Sun{});
-  const Sun* sun = world.try_get<Sun>(e);
-  return sun_light(world.get<TimeOfDay>(e), sun ? *sun : Sun{});
+  ConstSunSource s = find_sun(world);
+  return sun_light(s.time ? *s.time : TimeOfDay{}, s.sun ? *s.sun : Sun{});
+}
+
+TimeOfDay& time_of_day_to_set(ecs::World& world) {
+  if (TimeOfDay* t = find_sun(world).time) return *t;
+  return world.set_resource<TimeOfDay>();
 }
 
 void advance_time_of_day(TimeOfDay& tod, double seconds) {

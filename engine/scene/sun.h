@@ -33,7 +33,7 @@ glm::vec3 direction_from_elevation_azimuth(float elevation_deg, float azimuth_de
 // low sun; the cloud module's atmosphere replaces it with a real sky model.
 glm::vec3 sun_transmittance(float elevation_deg);
 
-// What the renderer's directional light needs.
+// The renderer's directional light: the one sun description every pass and module uses.
 struct SunLight {
   glm::vec3 direction{0.0f, 1.0f, 0.0f};  // toward the sun, world space, unit
   glm::vec3 radiance{1.0f};               // Sun::color * Sun::illuminance * sun_transmittance(elevation)
@@ -41,10 +41,26 @@ struct SunLight {
   float azimuth_deg = 0.0f;
 };
 SunLight sun_light(const TimeOfDay& tod, const Sun& sun);
-// From the first entity with a TimeOfDay (and its Sun, if it has one); defaults when the world has none.
+
+// The one rule for which TimeOfDay and Sun count (the day-cycle system, `--time-of-day`, extraction and
+// every module use it, nothing else looks): the world resource TimeOfDay (with the Sun resource) when the
+// world has one; else the first entity, in slot order, with a TimeOfDay (with that entity's Sun). Null
+// members: none in the world (defaults apply).
+struct SunSource {
+  TimeOfDay* time = nullptr;
+  const Sun* sun = nullptr;
+};
+SunSource find_sun(ecs::World& world);
+struct ConstSunSource {
+  const TimeOfDay* time = nullptr;
+  const Sun* sun = nullptr;
+};
+ConstSunSource find_sun(const ecs::World& world);
+// sun_light() of find_sun(world), defaults where it found nothing.
 SunLight find_sun_light(const ecs::World& world);
-// The first entity with a TimeOfDay (Entity::null() if none): where `--time-of-day` writes its hours.
-ecs::Entity find_time_of_day(const ecs::World& world);
+// The TimeOfDay that counts, created as a world resource when the world has none: where `--time-of-day`
+// writes its hours.
+TimeOfDay& time_of_day_to_set(ecs::World& world);
 
 // Advances hours by `seconds` of simulation at tod.hours_per_second, wrapping into [0, 24).
 void advance_time_of_day(TimeOfDay& tod, double seconds);

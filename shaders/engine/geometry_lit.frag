@@ -5,8 +5,8 @@
 #extension GL_GOOGLE_include_directive : require
 #include "engine/sky_common.glsl"
 
-layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameParams frame; };
-layout(set = 0, binding = 1) uniform sampler2D base_color_tex;
+layout(set = 0, binding = FRAME_PARAMS_BINDING, std140) uniform FrameBlock { FrameParams frame; };
+layout(set = 0, binding = GEOMETRY_BASE_COLOR_BINDING) uniform sampler2D base_color_tex;
 layout(push_constant, std430) uniform DrawBlock { DrawParams draw; };
 
 layout(location = 0) in vec3 in_world;
@@ -18,25 +18,25 @@ void main() {
   vec4 base = texture(base_color_tex, in_uv) * draw.base_color_factor;
   vec3 n = normalize(in_normal);
   if (!gl_FrontFacing) n = -n;
-  vec3 l = frame.sun_dir.xyz;
+  vec3 l = frame.sun_direction;
   float ndl = max(dot(n, l), 0.0);
   // Hemisphere ambient: sky colour from above, ground bounce from below.
   float up = dot(n, kWorldUp) * 0.5 + 0.5;
-  vec3 ambient = mix(frame.ground_color.rgb, mix(frame.sky_horizon.rgb, frame.sky_zenith.rgb, 0.5), up) * frame.sun_color.w;
-  vec3 lit = base.rgb * (frame.sun_color.rgb * frame.sun_dir.w * ndl + ambient);
+  vec3 ambient = mix(frame.ground_color, mix(frame.sky_horizon, frame.sky_zenith, 0.5), up) * frame.ambient;
+  vec3 lit = base.rgb * (frame.sun_radiance * ndl + ambient);
 
   // Sun glint for smooth materials (the ocean): normalized Blinn-Phong with the exponent from the glTF
   // roughness (alpha = r^2, n = 2/alpha^2 - 2, Walter et al. 2007's mapping) and Schlick Fresnel (F0 0.02).
-  vec3 to_cam = frame.camera_pos.xyz - in_world;
+  vec3 to_cam = frame.camera_position - in_world;
   float dist = length(to_cam);
   vec3 v = to_cam / max(dist, 1e-4);
-  float rough = clamp(draw.material.x, 0.05, 1.0);
+  float rough = clamp(draw.roughness, 0.05, 1.0);
   float alpha = rough * rough;
   float spec_n = min(2.0 / (alpha * alpha) - 2.0, 2048.0);
   vec3 h = normalize(l + v);
   float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(v, h), 0.0), 5.0);
   float spec = (spec_n + 8.0) / 25.1327 * pow(max(dot(n, h), 0.0), spec_n) * fresnel * ndl * (1.0 - rough);
-  lit += frame.sun_color.rgb * frame.sun_dir.w * spec;
+  lit += frame.sun_radiance * spec;
 
   vec3 dir = -v;
   float fog = fog_amount(frame, dir, dist);

@@ -3,7 +3,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame_params.h"
 
-layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameParams frame; };
+layout(set = 0, binding = FRAME_PARAMS_BINDING, std140) uniform FrameBlock { FrameParams frame; };
 layout(push_constant, std430) uniform DrawBlock { DrawParams draw; };
 
 layout(location = 0) in vec3 in_position;

@@ -5,7 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame_params.h"
 
-layout(set = 0, binding = 0) uniform sampler2D hdr_color;
+layout(set = 0, binding = TONEMAP_HDR_BINDING) uniform sampler2D hdr_color;
 layout(push_constant, std430) uniform TonemapBlock { TonemapParams tm; };
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_color;
@@ -19,8 +19,8 @@ vec3 linear_to_srgb(vec3 c) {
 }
 
 void main() {
-  vec3 hdr = texelFetch(hdr_color, ivec2(gl_FragCoord.xy), 0).rgb * tm.params.x;
-  vec3 ldr = tm.params.y < 0.5 ? aces_fitted(hdr) : hdr / (1.0 + hdr);
-  if (tm.params.z < 0.5) ldr = linear_to_srgb(ldr);
+  vec3 hdr = texelFetch(hdr_color, ivec2(gl_FragCoord.xy), 0).rgb * tm.exposure;
+  vec3 ldr = tm.op == TONEMAP_ACES ? aces_fitted(hdr) : hdr / (1.0 + hdr);
+  if (tm.output_srgb == 0u) ldr = linear_to_srgb(ldr);
   out_color = vec4(ldr, 1.0);
 }

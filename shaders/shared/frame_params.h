@@ -1,35 +1,58 @@
 // Per-frame parameters of the engine's scene passes (geometry, sky, tonemap), shared by C++ and GLSL.
-// Filled by render::FrameRenderer from the extracted FrameSnapshot; one uniform buffer per frame.
+// Filled by render::FrameRenderer from the extracted FrameSnapshot (camera, sun, SceneLighting); one
+// uniform block per frame, also handed to module passes (render::StageContext::frame_params).
 #ifndef CUMULO_SHARED_FRAME_PARAMS_H
 #define CUMULO_SHARED_FRAME_PARAMS_H
 #include "shared/common.h"
+
+// Descriptor bindings of the engine passes (set 0, push descriptors), used by C++ and GLSL alike.
+#define FRAME_PARAMS_BINDING 0         // FrameParams uniform block (geometry, sky)
+#define GEOMETRY_BASE_COLOR_BINDING 1  // geometry: base-colour texture
+#define TONEMAP_HDR_BINDING 0          // tonemap: the HDR scene colour
 
 CUMULO_SHARED_BEGIN
 
 struct FrameParams {
   mat4 view_proj;      // world -> clip (Vulkan clip space, y down, reversed-Z: near 1, far 0)
   mat4 inv_view_proj;  // clip -> world, for sky rays
-  vec4 camera_pos;     // xyz: world position (m); w: simulation time (s)
-  vec4 sun_dir;        // xyz: unit vector toward the sun; w: sun illuminance scale
-  vec4 sun_color;      // rgb: sun colour (linear); w: ambient sky intensity
-  vec4 sky_zenith;     // rgb: sky colour straight up; w: fog density (1/m)
-  vec4 sky_horizon;    // rgb: sky colour at the horizon; w: fog height falloff (1/m)
-  vec4 ground_color;   // rgb: colour below the horizon (ambient bounce); w: exposure
-  vec4 viewport;       // width, height, 1/width, 1/height
+  vec3 camera_position;  // world (m)
+  float time_s;          // simulation time (s)
+  vec3 sun_direction;    // unit vector toward the sun
+  float ambient;         // scale of the hemispheric ambient term
+  vec3 sun_radiance;     // sun light reaching the ground (linear, renderer units)
+  float exposure;
+  vec3 sky_zenith;       // sky colour straight up
+  float fog_density;     // 1/m at sea level
+  vec3 sky_horizon;      // sky colour at the horizon
+  float fog_falloff;     // 1/m, exponential height falloff
+  vec3 ground_color;     // below the horizon (ambient bounce)
+  float pad0;
+  vec2 viewport_size;      // pixels
+  vec2 inv_viewport_size;  // 1 / pixels
 };
 CUMULO_SHARED_SIZE(FrameParams, 240)
+CUMULO_SHARED_OFFSET(FrameParams, sun_radiance, 160)
+CUMULO_SHARED_OFFSET(FrameParams, viewport_size, 224)
 
 // Per-draw push constants of the geometry pass.
 struct DrawParams {
   mat4 model;               // object -> world (uniform scale assumed for normals)
   vec4 base_color_factor;   // glTF baseColorFactor (linear)
-  vec4 material;            // x: glTF roughness, y: metallic, z: 1 = double-sided, w: unused
+  float roughness;          // glTF roughness
+  float metallic;           // glTF metallic
+  uint double_sided;        // 1: light both faces
+  uint pad0;
 };
 CUMULO_SHARED_SIZE(DrawParams, 96)
 
 // Push constants of the tonemap pass.
+#define TONEMAP_ACES 0
+#define TONEMAP_REINHARD 1
 struct TonemapParams {
-  vec4 params;  // x: exposure, y: operator (0 = ACES fitted, 1 = Reinhard), z: output is sRGB-encoded by the format (1) or by the shader (0), w: unused
+  float exposure;
+  uint op;           // TONEMAP_ACES or TONEMAP_REINHARD
+  uint output_srgb;  // 1: the output format encodes sRGB; 0: the shader encodes it (UNORM targets)
+  uint pad0;
 };
 CUMULO_SHARED_SIZE(TonemapParams, 16)
 

@@ -6,6 +6,7 @@
 #include "engine/core/file_io.h"
 #include "engine/gpu/allocator.h"
 #include "engine/gpu/context.h"
+#include "engine/render/frame_renderer.h"
 #include "engine/render/graph/render_graph.h"
 #include "engine/scene/components.h"
 
@@ -18,7 +19,12 @@ render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t f
   s.frame_index = frame;
   s.sim_time = rc.clock.sim_seconds();  // ticks / rate: exact, unlike a running sum of dt
   s.sim_step = rc.sim.steps();
+  for (const auto& m : rc.modules) m->extract(rc.sim.world(), s);
   return s;
+}
+
+void add_module_features(RunContext& rc, render::FrameRenderer& renderer) {
+  for (const auto& m : rc.modules) renderer.add_feature(*m);
 }
 
 void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {
@@ -38,6 +44,7 @@ void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {
   info.driver_info = d.driver_info;
   info.api_version = strf("%u.%u.%u", VK_API_VERSION_MAJOR(d.api_version), VK_API_VERSION_MINOR(d.api_version),
                           VK_API_VERSION_PATCH(d.api_version));
+  info.validation_enabled = ctx.validation_enabled();
   info.validation_errors = ctx.validation_errors();
   info.validation_warnings = ctx.validation_warnings();
   info.peak_gpu_memory_bytes = ctx.allocator().stats().peak_allocated_bytes;

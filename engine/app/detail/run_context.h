@@ -14,20 +14,24 @@ class Context;
 }
 namespace cumulo::render {
 struct CompiledGraph;
+class FrameRenderer;
 }
 
 namespace cumulo::app::detail {
 
 struct RunContext {
   RunOptions opt;
+  Modules modules;
   Simulation sim;
   ecs::Entity camera;
   FixedStepClock clock;
   RunStats stats;
-  RunContext(const RunOptions& o, const SimulationDesc& d) : opt(o), sim(d), clock(o.sim_hz) {}
+  RunContext(const RunOptions& o, const SimulationDesc& d) : opt(o), modules(d.modules), sim(d), clock(o.sim_hz) {}
 };
 
-// Extract phase + snapshot of the camera entity at w x h.
+// The frame renderer of a run with every module's passes added (create_gpu runs here).
+void add_module_features(RunContext& rc, render::FrameRenderer& renderer);
+// Extract phase + snapshot of the camera entity at w x h, with every module's extension.
 render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t frame);
 // Writes --stats (if asked).
 void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h);

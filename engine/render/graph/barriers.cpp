@@ -10,7 +10,8 @@
 // - a read after a write (RAW) needs the write made available and visible to the reading stage;
 //   a later read in a stage/access already made visible needs nothing (read-after-read);
 // - imported resources start from their declared initial state and end in their final state
-//   (one more batch after the last pass);
+//   (one more batch after the last pass); persistent ones start from the state the previous frame
+//   left them in and have no final barrier (their next first use waits for this frame's last use);
 // - a transient's first use in a frame discards (old layout UNDEFINED) and waits for whatever last
 //   used its memory: the previous occupant of its aliased block or, for the first occupant, the
 //   block's last occupant in the previous frame (frames are recorded in order on one queue).
@@ -123,7 +124,7 @@ void Compiler::derive_barriers() {
   // Imported resources to their final state (also the ones no live pass touched).
   for (uint32_t i = 0; i < out_.resources.size(); ++i) {
     const CompiledResource& r = out_.resources[i];
-    if (!r.imported) continue;
+    if (!r.imported || r.persistent) continue;  // persistent: the next frame starts from the last use
     Track& t = tracks[i];
     if (!started[i]) t = track_from(r.initial.layout, r.initial.stages, r.initial.access);
     // final.layout UNDEFINED means "any layout": keep the current one.

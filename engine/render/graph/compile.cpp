@@ -120,6 +120,7 @@ void Compiler::describe_resources() {
     r.size = d.buffer.size;
     r.initial = d.initial;
     r.final = d.final;
+    r.persistent = d.persistent != nullptr;
     if (!d.image) continue;
     const TextureDesc& t = d.texture;
     r.format = t.format;
@@ -136,7 +137,7 @@ void Compiler::describe_resources() {
 
 // ---- cull: walk back from the outputs ----------------------------------------------------------
 // Outputs are the imported resources: whatever a pass writes into them outlives the graph. A pass is
-// live when a version it writes is needed; the versions a live pass reads become needed. Walking the
+// live when it has a side effect or a version it writes is needed; the versions a live pass reads become needed. Walking the
 // passes backwards visits every consumer before its producer, so one sweep suffices.
 void Compiler::cull() {
   std::set<std::pair<uint32_t, uint32_t>> needed;  // (resource, version)
@@ -149,6 +150,7 @@ void Compiler::cull() {
 
   live_.assign(passes_.size(), false);
   for (uint32_t p = uint32_t(passes_.size()); p-- > 0;) {
+    live_[p] = passes_[p].side_effect;
     for (const AccessDecl& a : passes_[p].accesses)
       if (a.write && needed.count({a.resource, a.version + 1})) live_[p] = true;
     if (!live_[p]) continue;
@@ -172,6 +174,7 @@ void Compiler::order() {
     cp.declared = p;
     cp.name = passes_[p].name;
     cp.queue = passes_[p].queue;
+    cp.side_effect = passes_[p].side_effect;
     cp.accesses = accesses_[p];
     out_.passes.push_back(std::move(cp));
   }

@@ -5,6 +5,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/log.h"
+#include "engine/gpu/barrier.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/image.h"
@@ -15,6 +16,7 @@ namespace cumulo::render {
 // Everything that lives as long as the graph keeps its shape.
 struct Executor::Physical {
   uint64_t hash = 0;
+  uint64_t last_used = 0;  // frame counter of its last execute (least recently used is evicted)
   CompiledGraph compiled;
   std::vector<gpu::Allocation> blocks;  // by memory block; declared before images: destroyed after them
   std::vector<gpu::Image> images;       // by resource index; empty for imported / unused / buffers
@@ -51,7 +53,8 @@ gpu::ImageDesc image_desc(const CompiledResource& r) {
 Executor::Executor(gpu::Context& ctx) : ctx_(ctx) {}
 
 Executor::~Executor() {
-  physical_.reset();
+  physical_ = nullptr;
+  shapes_.clear();
   for (VkQueryPool& pool : pools_)
     if (pool) vkDestroyQueryPool(ctx_.device(), pool, nullptr);
 }
@@ -61,14 +64,17 @@ const CompiledGraph& Executor::compiled() const {
   return physical_->compiled;
 }
 
+size_t Executor::shape_count() const { return shapes_.size(); }
+
 const PhysicalTexture& Executor::texture(uint32_t resource) const { return textures_.at(resource); }
 
 VkDeviceSize Executor::transient_bytes() const {
-  if (!physical_) return 0;
   VkDeviceSize total = 0;
-  for (const gpu::Allocation& a : physical_->blocks) total += a.size;
-  for (const gpu::Buffer& b : physical_->buffers)
-    if (b) total += b.allocation().size;
+  for (const auto& shape : shapes_) {
+    for (const gpu::Allocation& a : shape->blocks) total += a.size;
+    for (const gpu::Buffer& b : shape->buffers)
+      if (b) total += b.allocation().size;
+  }
   return total;
 }
 
@@ -79,10 +85,13 @@ void Executor::rebuild(const RenderGraph& graph) {
   //    ask the device what memory they need. 2. Compile again with those requirements, so that
   //    aliasing decisions use real sizes, alignments and memory types.
   CompiledGraph probe = graph.compile();
-  if (physical_) {
-    LOG_DEBUG("render graph: shape changed, rebuilding transient resources");
-    ctx_.wait_idle();  // the old images may still be in use by frames in flight
-    physical_.reset();
+  if (shapes_.size() >= kMaxShapes) {
+    // Evicting is the only time a shape's objects are freed: frames in flight may still use them.
+    auto lru = std::min_element(shapes_.begin(), shapes_.end(),
+                                [](const auto& a, const auto& b) { return a->last_used < b->last_used; });
+    LOG_DEBUG("render graph: %zu shapes cached, evicting the least recently used", shapes_.size());
+    ctx_.wait_idle();
+    shapes_.erase(lru);
   }
   auto phys = std::make_unique<Physical>();
   phys->ctx = &ctx_;
@@ -131,6 +140,12 @@ void Executor::rebuild(const RenderGraph& graph) {
     const std::string label = "graph:" + r.name;
     phys->buffers[i] = gpu::Buffer(ctx_, {r.size, r.buffer_usage, gpu::MemoryUsage::GpuOnly, label.c_str()});
   }
+  // Single-mip views for passes that build a mip chain (PassContext::mip_view); storage-capable only.
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    const CompiledResource& r = c.resources[i];
+    if (!phys->images[i] || r.mips < 2) continue;
+    for (uint32_t m = 0; m < r.mips; ++m) phys->images[i].mip_view(m);
+  }
 
   // Timestamps: two per pass, in pools that rotate over frames.
   const uint32_t queries = uint32_t(2 * c.passes.size());
@@ -147,50 +162,41 @@ void Executor::rebuild(const RenderGraph& graph) {
     pool_capacity_ = queries;
     last_passes_.clear();
   }
-  physical_ = std::move(phys);
+  shapes_.push_back(std::move(phys));
+  physical_ = shapes_.back().get();
 }
 
 void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const {
-  if (barriers.empty()) return;
   std::vector<VkImageMemoryBarrier2> images;
   std::vector<VkBufferMemoryBarrier2> buffers;
   for (const Barrier& b : barriers) {
     if (b.image) {
       const PhysicalTexture& t = textures_[b.resource];
-      VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-      ib.srcStageMask = b.src_stages;
-      ib.srcAccessMask = b.src_access;
-      ib.dstStageMask = b.dst_stages;
-      ib.dstAccessMask = b.dst_access;
-      ib.oldLayout = b.old_layout;
-      ib.newLayout = b.new_layout;
-      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      ib.image = t.image;
-      ib.subresourceRange = {aspect_of(t.format), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
-      images.push_back(ib);
+      images.push_back(gpu::image_barrier(t.image,
+                                          {aspect_of(t.format), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS},
+                                          b.old_layout, b.new_layout, b.src_stages, b.src_access, b.dst_stages,
+                                          b.dst_access));
     } else {
-      VkBufferMemoryBarrier2 bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-      bb.srcStageMask = b.src_stages;
-      bb.srcAccessMask = b.src_access;
-      bb.dstStageMask = b.dst_stages;
-      bb.dstAccessMask = b.dst_access;
-      bb.srcQueueFamilyIndex = bb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      bb.buffer = buffers_[b.resource].buffer;
-      bb.offset = 0;
-      bb.size = VK_WHOLE_SIZE;
-      buffers.push_back(bb);
+      buffers.push_back(
+          gpu::buffer_barrier(buffers_[b.resource].buffer, b.src_stages, b.src_access, b.dst_stages, b.dst_access));
     }
   }
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.imageMemoryBarrierCount = uint32_t(images.size());
-  dep.pImageMemoryBarriers = images.data();
-  dep.bufferMemoryBarrierCount = uint32_t(buffers.size());
-  dep.pBufferMemoryBarriers = buffers.data();
-  vkCmdPipelineBarrier2(cmd, &dep);
+  gpu::cmd_barriers(cmd, images, buffers);
 }
 
 void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
-  if (!physical_ || physical_->hash != graph.hash()) rebuild(graph);
+  const uint64_t hash = graph.hash();
+  if (!physical_ || physical_->hash != hash) {
+    // A shape seen before (budget mode, debug view, a pass present only while lightning strikes)
+    // comes back as it was: nothing is allocated and nothing waits for the device.
+    auto seen = std::find_if(shapes_.begin(), shapes_.end(), [&](const auto& p) { return p->hash == hash; });
+    if (seen != shapes_.end()) {
+      physical_ = seen->get();
+    } else {
+      rebuild(graph);
+    }
+  }
+  physical_->last_used = frame_;
   const CompiledGraph& c = physical_->compiled;
 
   // Resolve handles for this frame: imported objects may change every frame (swapchain images).
@@ -206,8 +212,10 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
         buffers_[i] = graph.imported_buffer(i);
       }
     } else if (r.image && physical_->images[i]) {
-      const gpu::Image& img = physical_->images[i];
-      textures_[i] = {img.handle(), img.view(), r.format, r.extent, r.mips};
+      gpu::Image& img = physical_->images[i];
+      textures_[i] = {img.handle(), img.view(), r.format, r.extent, r.mips, {}};
+      if (r.mips > 1)
+        for (uint32_t m = 0; m < r.mips; ++m) textures_[i].mip_views.push_back(img.mip_view(m));
     } else if (!r.image && physical_->buffers[i]) {
       buffers_[i] = {physical_->buffers[i].handle(), r.size};
     }
@@ -235,6 +243,8 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
     ctx_.cmd_end_label(cmd);
   }
   record_barriers(cmd, c.final_barriers);
+
+  graph.store_persistent_states(c);  // persistent textures carry their last use into the next frame
 
   // Keep gpu::Image's idea of the layout current for helpers that use it (readback, uploads).
   for (uint32_t i = 0; i < c.resources.size(); ++i) {

@@ -10,10 +10,14 @@
 //   }
 //
 // What execute() does:
-// - compile + physical resources are cached by the graph's hash: the same shape next frame reuses
-//   the compiled barriers, the transient images and their memory (nothing is created per frame).
-//   A new shape (resize, budget-mode switch) waits for the device to go idle, frees the old ones and
-//   builds new ones: rare, so simplicity wins over deferred deletion;
+// - compile + physical resources are cached by the graph's hash, up to kMaxShapes shapes: a shape
+//   seen before (budget-mode toggles, debug views, a pass present only while lightning strikes) reuses
+//   its compiled barriers, transient images and memory, allocating nothing and never waiting for the
+//   device. A new shape is compiled and allocated beside the others; only when the cache is full is the
+//   least recently used shape freed, after waiting for the device (rare: simplicity wins over
+//   deferred deletion);
+// - persistent textures (RenderGraph::import_persistent / import_history) get the state of their last
+//   use written back, so the next frame's graph starts from it;
 // - transient images are created unbound, their real memory requirements fed to compile() so that
 //   aliasing uses the device's sizes, then bound to one allocation per memory block (gpu allocator);
 // - per pass: one vkCmdPipelineBarrier2 with the compiled barriers, a debug label with the pass
@@ -42,6 +46,7 @@ struct PassTiming {
 class Executor {
  public:
   static constexpr uint32_t kTimestampSlots = 3;
+  static constexpr size_t kMaxShapes = 8;
 
   explicit Executor(gpu::Context& ctx);
   ~Executor();  // the caller makes sure the GPU no longer uses the recorded command buffers
@@ -63,7 +68,8 @@ class Executor {
   uint32_t compile_count() const { return compile_count_; }
   uint32_t images_created() const { return images_created_; }
   uint32_t memory_blocks_created() const { return blocks_created_; }
-  VkDeviceSize transient_bytes() const;  // memory held by the current transient blocks and buffers
+  VkDeviceSize transient_bytes() const;  // memory held by the transient blocks and buffers of every cached shape
+  size_t shape_count() const;            // compiled shapes cached
   // The physical object behind a resource of the last execute() (imported ones as imported).
   const PhysicalTexture& texture(uint32_t resource) const;
 
@@ -73,7 +79,8 @@ class Executor {
   void record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const;
 
   gpu::Context& ctx_;
-  std::unique_ptr<Physical> physical_;
+  std::vector<std::unique_ptr<Physical>> shapes_;
+  Physical* physical_ = nullptr;  // the shape of the last execute()
   std::vector<PhysicalTexture> textures_;  // by resource index, resolved per frame
   std::vector<PhysicalBuffer> buffers_;
   VkQueryPool pools_[kTimestampSlots] = {};

@@ -69,6 +69,40 @@ TextureHandle RenderGraph::import_texture(const std::string& name, const Texture
   return {impl_->add_resource(std::move(r)), 0};
 }
 
+TextureHandle RenderGraph::import_persistent(PersistentTexture& t) {
+  if (t.desc.width == 0) fail("render graph: persistent texture '%s' needs an absolute size", t.name.c_str());
+  TextureHandle h = import_texture(t.name, t.desc, t.image, t.view, t.state, ResourceState::undefined());
+  impl_->resources[h.index].persistent = &t.state;
+  return h;
+}
+
+void HistoryTexture::set_images(const TextureDesc& desc, VkImage a, VkImageView av, VkImage b, VkImageView bv) {
+  images_[0] = {name_ + " [0]", desc, a, av, {}};
+  images_[1] = {name_ + " [1]", desc, b, bv, {}};
+  reset_ = true;
+}
+
+HistoryHandles RenderGraph::import_history(HistoryTexture& h) {
+  if (!h.has_images()) fail("render graph: history '%s' has no images (set_images first)", h.name_.c_str());
+  h.current_ ^= 1u;
+  if (h.reset_) {
+    h.frames_ = 0;
+    h.reset_ = false;
+  }
+  HistoryHandles out;
+  out.valid = h.frames_ > 0;
+  ++h.frames_;
+  // Named by role, not by image: the states by role repeat every frame, so the graph's shape (hash) does too.
+  PersistentTexture& cur = h.images_[h.current_];
+  PersistentTexture& prev = h.images_[h.current_ ^ 1u];
+  out.current = import_texture(h.name_, cur.desc, cur.image, cur.view, cur.state, ResourceState::undefined());
+  impl_->resources[out.current.index].persistent = &cur.state;
+  out.previous = import_texture(h.name_ + " (previous)", prev.desc, prev.image, prev.view, prev.state,
+                                ResourceState::undefined());
+  impl_->resources[out.previous.index].persistent = &prev.state;
+  return out;
+}
+
 BufferHandle RenderGraph::import_buffer(const std::string& name, VkBuffer buffer, VkDeviceSize size,
                                         const ResourceState& initial, const ResourceState& final) {
   detail::ResourceDecl r;
@@ -116,10 +150,14 @@ uint64_t RenderGraph::hash() const {
     mix(&r.buffer.size, sizeof r.buffer.size);
     mix_state(r.initial);
     mix_state(r.final);
+    uint8_t persistent = r.persistent != nullptr;
+    mix(&persistent, 1);
   }
   for (const auto& p : impl_->passes) {
     h = hash64(p.name, h);
     mix(&p.queue, sizeof p.queue);
+    uint8_t side = p.side_effect;
+    mix(&side, 1);
     for (const auto& a : p.accesses) {
       mix(&a.resource, sizeof a.resource);
       mix(&a.version, sizeof a.version);
@@ -144,13 +182,14 @@ void RenderGraph::execute_without_device(const CompiledGraph& compiled) const {
   std::vector<PhysicalBuffer> buffers(impl_->resources.size());
   for (size_t i = 0; i < compiled.resources.size(); ++i) {
     const CompiledResource& r = compiled.resources[i];
-    textures[i] = {VK_NULL_HANDLE, VK_NULL_HANDLE, r.format, r.extent, r.mips};
+    textures[i] = {VK_NULL_HANDLE, VK_NULL_HANDLE, r.format, r.extent, r.mips, {}};
     buffers[i] = {VK_NULL_HANDLE, r.size};
   }
   for (const CompiledPass& p : compiled.passes) {
     PassContext context(VK_NULL_HANDLE, p.name, textures, buffers, p.accesses);
     run_pass(p.declared, context);
   }
+  store_persistent_states(compiled);
 }
 
 VkExtent2D RenderGraph::output_size() const { return impl_->output_size; }
@@ -159,8 +198,19 @@ const std::string& RenderGraph::pass_name(uint32_t declared) const { return impl
 
 PhysicalTexture RenderGraph::imported_texture(uint32_t resource) const {
   const auto& r = impl_->resources.at(resource);
-  return {
-      r.vk_image, r.vk_view, r.texture.format, {r.texture.width, r.texture.height, r.texture.depth}, r.texture.mips};
+  return {r.vk_image,     r.vk_view,
+          r.texture.format, {r.texture.width, r.texture.height, r.texture.depth},
+          r.texture.mips,   {}};
+}
+
+void RenderGraph::store_persistent_states(const CompiledGraph& c) const {
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    ResourceState* state = impl_->resources.at(i).persistent;
+    const int last = c.resources[i].last_pass;
+    if (!state || last < 0) continue;
+    for (const ResourceAccess& a : c.passes[last].accesses)
+      if (a.resource == i) *state = {a.layout, a.stages, a.access};
+  }
 }
 
 PhysicalBuffer RenderGraph::imported_buffer(uint32_t resource) const {
@@ -200,6 +250,15 @@ TextureHandle PassBuilder::create_texture(const std::string& name, const Texture
 }
 BufferHandle PassBuilder::create_buffer(const std::string& name, const BufferDesc& desc) {
   return graph_.create_buffer(name, desc);
+}
+void PassBuilder::side_effect() { graph_.impl_->passes[pass_].side_effect = true; }
+
+VkImageView PassContext::mip_view(TextureHandle h, uint32_t mip) const {
+  const PhysicalTexture& t = texture(h);
+  if (mip < t.mip_views.size()) return t.mip_views[mip];
+  if (mip == 0 && t.mips == 1) return t.view;
+  fail("render graph: pass '%s' asks for mip %u of a texture (index %u) with %zu mip views", pass_.c_str(), mip, h.index,
+       t.mip_views.size());
 }
 
 VkImageLayout PassContext::layout(TextureHandle h) const {

@@ -9,6 +9,8 @@
 //   Queue, Usage                 what a pass does to a resource (-> stage, access, layout)
 //   TextureDesc, BufferDesc      transient resources (size relative to the output or absolute)
 //   ResourceState                the state of an imported resource before / after the graph
+//   PersistentTexture            an imported texture whose state the graph carries from frame to frame
+//   HistoryTexture               a persistent ping-pong pair: this frame's target + last frame's version
 //   TextureHandle, BufferHandle  typed, versioned handles: a write returns the next version
 //   PassBuilder                  used inside setup: read / write / read_write / create
 //   PassContext                  given to execute: command buffer + resolved Vulkan objects
@@ -40,7 +42,13 @@
 //   the passes it depends on are live. A pass with no live output is culled; its execute never runs;
 // - every imported resource is unique (one VkImage/VkBuffer imported under two names is an error).
 // - per-mip or per-layer states are not tracked: a pass that works mip by mip (mip generation)
-//   places its own, commented barriers inside; the graph sees the whole image.
+//   declares the whole image (read_write, StorageWrite: GENERAL), writes mip k+1 from mip k through
+//   PassContext::mip_view and places its own, commented barrier between mips; the graph sees the
+//   whole image before and after (tests/engine/render/graph/graph_features_test.cpp builds a chain);
+// - a pass whose effect the graph cannot see (a readback, a query, a host-visible write) calls
+//   PassBuilder::side_effect(): it is never culled;
+// - persistent textures (import_persistent, import_history) start each frame in the state the last
+//   frame left them in and get no final barrier: the next frame's first use orders itself after it.
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
@@ -140,6 +148,42 @@ struct ResourceState {
   bool operator==(const ResourceState&) const = default;
 };
 
+// A texture owned outside the graph (light grid, baked volumes, history) whose state the graph
+// remembers: import_persistent() starts from `state`, and the executor stores the state of its last
+// use back into it. The owner fills image, view and desc (absolute size); state starts undefined.
+struct PersistentTexture {
+  std::string name;
+  TextureDesc desc;
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  ResourceState state;  // written by the executor after every frame that used it
+};
+
+// A ping-pong pair of persistent textures: each frame one is written (current) and the other holds last
+// frame's (previous). import_history() flips the pair. `valid` in the handles is false on the first
+// frame, after invalidate() (camera cut, resize) and after the images were replaced; passes read it to
+// ignore the history. Device-free: render::GpuHistory (engine/render/history.h) owns the images.
+class HistoryTexture {
+ public:
+  explicit HistoryTexture(std::string name = "history") : name_(std::move(name)) {}
+  const std::string& name() const { return name_; }
+  void invalidate() { reset_ = true; }
+  // For the owner of the images: install new images (they hold nothing yet: history invalid).
+  void set_images(const TextureDesc& desc, VkImage a, VkImageView av, VkImage b, VkImageView bv);
+  bool has_images() const { return images_[0].image != VK_NULL_HANDLE; }
+  const TextureDesc& desc() const { return images_[0].desc; }
+  uint64_t frames() const { return frames_; }  // imports since the history last became invalid
+
+ private:
+  friend class RenderGraph;
+  std::string name_;
+  PersistentTexture images_[2];
+  uint32_t current_ = 1;  // index of this frame's target; flips on every import
+  uint64_t frames_ = 0;
+  bool reset_ = true;
+};
+
+
 // Typed, versioned handles. index: the resource; version: how many writes it has seen.
 struct TextureHandle {
   uint32_t index = UINT32_MAX;
@@ -150,6 +194,13 @@ struct BufferHandle {
   uint32_t index = UINT32_MAX;
   uint32_t version = 0;
   bool valid() const { return index != UINT32_MAX; }
+};
+
+// What RenderGraph::import_history returns.
+struct HistoryHandles {
+  TextureHandle current;   // write this frame's result here
+  TextureHandle previous;  // last frame's result (read only)
+  bool valid = false;      // previous holds last frame's result
 };
 
 class RenderGraph;
@@ -167,6 +218,8 @@ class PassBuilder {
   BufferHandle read_write(BufferHandle h, Usage usage, VkPipelineStageFlags2 stages = 0);
   TextureHandle create_texture(const std::string& name, const TextureDesc& desc);
   BufferHandle create_buffer(const std::string& name, const BufferDesc& desc);
+  // The pass has an effect outside the graph's resources: it is kept even when nothing reads its outputs.
+  void side_effect();
 
  private:
   friend class RenderGraph;
@@ -183,6 +236,7 @@ struct PhysicalTexture {
   VkFormat format = VK_FORMAT_UNDEFINED;
   VkExtent3D extent{0, 0, 0};
   uint32_t mips = 1;
+  std::vector<VkImageView> mip_views;  // one view per mip (transients with mips > 1; imported: empty)
 };
 struct PhysicalBuffer {
   VkBuffer buffer = VK_NULL_HANDLE;
@@ -202,6 +256,8 @@ class PassContext {
   VkImage image(TextureHandle h) const { return texture(h).image; }
   VkImageView view(TextureHandle h) const { return texture(h).view; }
   VkExtent3D extent(TextureHandle h) const { return texture(h).extent; }
+  // A view of mip `mip` alone (storage writes of a mip chain). Throws when the graph made none.
+  VkImageView mip_view(TextureHandle h, uint32_t mip) const;
   VkBuffer buffer(BufferHandle h) const { return buffers_.at(h.index).buffer; }
   VkDeviceSize buffer_size(BufferHandle h) const { return buffers_.at(h.index).size; }
   // The layout the graph put the image in for this pass (attachment infos, descriptor writes,
@@ -246,6 +302,7 @@ struct CompiledPass {
   uint32_t declared = 0;  // index in declaration order (RenderGraph::pass_name)
   std::string name;
   Queue queue = Queue::Graphics;
+  bool side_effect = false;
   std::vector<ResourceAccess> accesses;
   std::vector<Barrier> barriers;  // recorded before the pass, as one vkCmdPipelineBarrier2
 };
@@ -264,6 +321,7 @@ struct CompiledResource {
   int first_pass = -1, last_pass = -1;  // positions in CompiledGraph::passes; -1: unused
   int memory_block = -1;                // index in CompiledGraph::memory_blocks; -1: own memory / imported
   ResourceState initial, final;         // imported only
+  bool persistent = false;              // imported with import_persistent/import_history: no final barrier
 };
 
 // A range of device memory shared by transients whose lifetimes do not overlap (each at offset 0).
@@ -326,6 +384,11 @@ class RenderGraph {
   }
   BufferHandle import_buffer(const std::string& name, VkBuffer buffer, VkDeviceSize size, const ResourceState& initial,
                              const ResourceState& final);
+  // Persistent: starts from texture.state; the executor writes the state of its last use back (the
+  // PersistentTexture must outlive the execution of this graph).
+  TextureHandle import_persistent(PersistentTexture& texture);
+  // Flips the pair and imports both ("NAME" = this frame's target, "NAME (previous)" = last frame's).
+  HistoryHandles import_history(HistoryTexture& history);
 
   // setup runs now; execute runs when the compiled graph is executed, only if the pass is live.
   void add_pass(const std::string& name, Queue queue, const SetupFn& setup, ExecuteFn execute);
@@ -354,6 +417,9 @@ class RenderGraph {
   // Executor access: imported objects and callbacks by index.
   PhysicalTexture imported_texture(uint32_t resource) const;
   PhysicalBuffer imported_buffer(uint32_t resource) const;
+  // Writes the state of each persistent texture's last use back into its PersistentTexture (the
+  // executor does it after recording; execute_without_device too, so compiled tests can run frames).
+  void store_persistent_states(const CompiledGraph& compiled) const;
   void run_pass(uint32_t declared, PassContext& context) const;
 
  private:

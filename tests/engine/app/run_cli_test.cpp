@@ -83,6 +83,7 @@ TEST(RunCli, HeadlessGroundRunWritesStatsAndAPlausibleImage) {
   EXPECT_EQ(j["size"][0], 320);
   EXPECT_EQ(j["size"][1], 180);
   EXPECT_EQ(j["mode"], 30);
+  EXPECT_EQ(j["validation_enabled"], true) << r.output;  // CTest sets CUMULO_VALIDATION=1
   EXPECT_EQ(j["validation_errors"], 0) << r.output;
   EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
   EXPECT_GT(j["peak_gpu_memory_bytes"].get<uint64_t>(), 0u);

@@ -18,10 +18,17 @@ TEST(RunStats, JsonHasPerPassMeanMinMaxInFrameOrder) {
   info.mode_hz = 30;
   info.device_name = "llvmpipe";
   info.peak_gpu_memory_bytes = 1234;
+  // Without validation the error count is unknown, never a reassuring 0.
+  auto off = nlohmann::ordered_json::parse(s.to_json(info));
+  EXPECT_EQ(off["validation_enabled"], false);
+  EXPECT_TRUE(off["validation_errors"].is_null());
+  info.validation_enabled = true;
+  info.validation_errors = 2;
   auto j = nlohmann::ordered_json::parse(s.to_json(info));
   EXPECT_EQ(j["frames"], 2);
   EXPECT_EQ(j["size"][0], 320);
-  EXPECT_EQ(j["validation_errors"], 0);
+  EXPECT_EQ(j["validation_enabled"], true);
+  EXPECT_EQ(j["validation_errors"], 2);
   EXPECT_EQ(j["peak_gpu_memory_bytes"], 1234);
   EXPECT_EQ(j["device"]["name"], "llvmpipe");
   EXPECT_DOUBLE_EQ(j["cpu_frame_ms"]["mean"].get<double>(), 20.0);

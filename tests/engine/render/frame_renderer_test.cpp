@@ -13,6 +13,7 @@
 #include "engine/scene/camera.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/sun.h"
+#include "tests/support/render_offscreen.h"
 
 using namespace cumulo;
 using namespace cumulo::render;
@@ -35,31 +36,12 @@ struct FrameRendererTest : ::testing::Test {
     s.camera = scene::make_camera_view(scene::Transform::look_at(pos, target), cam, float(kW) / kH);
     scene::TimeOfDay tod;
     tod.hours = hours;
-    scene::SunPosition p = scene::sun_position(tod);
-    s.sun.direction = p.direction;
-    s.sun.elevation_deg = p.elevation_deg;
-    s.sun.color = scene::sun_transmittance(p.elevation_deg);
+    s.sun = scene::sun_light(tod, scene::Sun{});
+    s.lighting = stand_in_lighting(s.sun);
     return s;
   }
 
-  gpu::Rgba8Image render(FrameRenderer& r, const FrameSnapshot& s) {
-    gpu::Image out(ctx, gpu::ImageDesc::tex2d(kW, kH, VK_FORMAT_R8G8B8A8_UNORM,
-                                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, 1, "test out"));
-    RenderTarget t;
-    t.image = out.handle();
-    t.view = out.view();
-    t.format = out.format();
-    t.extent = {kW, kH};
-    t.initial = ResourceState::undefined();
-    t.final = {VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT};
-    gpu::FrameRing ring(ctx, 1);
-    gpu::Frame& f = ring.begin();
-    r.record_frame(f.cmd, s, t, f.slot);
-    ring.submit(f);
-    ring.wait_all();
-    out.set_layout(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    return gpu::read_image_rgba8(ctx, out);
-  }
+  gpu::Rgba8Image render(FrameRenderer& r, const FrameSnapshot& s) { return test::render_offscreen(ctx, r, s); }
 };
 
 double luminance_rows(const gpu::Rgba8Image& img, uint32_t y0, uint32_t y1, int channel = -1) {
@@ -122,16 +104,24 @@ TEST(SkyModel, FrameParamsCarryCameraAndSun) {
   s.height = 180;
   s.sun.direction = glm::normalize(glm::vec3(0.3f, 0.8f, -0.2f));
   s.sun.elevation_deg = 50.0f;
+  s.lighting = stand_in_lighting(s.sun);
   s.sim_time = 2.5;
   shared::FrameParams p = make_frame_params(s, 1.5f);
-  EXPECT_FLOAT_EQ(p.viewport.x, 320.0f);
-  EXPECT_FLOAT_EQ(p.viewport.w, 1.0f / 180.0f);
-  EXPECT_FLOAT_EQ(p.camera_pos.w, 2.5f);
-  EXPECT_FLOAT_EQ(p.ground_color.w, 1.5f);
-  EXPECT_NEAR(glm::length(glm::vec3(p.sun_dir)), 1.0f, 1e-5f);
+  EXPECT_FLOAT_EQ(p.viewport_size.x, 320.0f);
+  EXPECT_FLOAT_EQ(p.inv_viewport_size.y, 1.0f / 180.0f);
+  EXPECT_FLOAT_EQ(p.time_s, 2.5f);
+  EXPECT_FLOAT_EQ(p.exposure, 1.5f);
+  EXPECT_NEAR(glm::length(p.sun_direction), 1.0f, 1e-5f);
+  // The sun radiance and ambient come from the snapshot's lighting (a module may replace it).
+  EXPECT_FLOAT_EQ(p.sun_radiance.r, s.lighting.sun_radiance.r);
+  EXPECT_FLOAT_EQ(p.ambient, s.lighting.ambient);
+  s.lighting.sun_radiance = glm::vec3(7.0f);
+  s.lighting.ambient = 0.25f;
+  EXPECT_FLOAT_EQ(make_frame_params(s).sun_radiance.g, 7.0f);
+  EXPECT_FLOAT_EQ(make_frame_params(s).ambient, 0.25f);
   // Day sky: zenith bluer than red; night sky far darker than day.
   EXPECT_GT(p.sky_zenith.z, p.sky_zenith.x);
-  SunLight night;
+  scene::SunLight night;
   night.elevation_deg = -30.0f;
-  EXPECT_LT(sky_colors(night).zenith.z, 0.1f * sky_colors(s.sun).zenith.z);
+  EXPECT_LT(stand_in_lighting(night).sky_zenith.z, 0.1f * stand_in_lighting(s.sun).sky_zenith.z);
 }

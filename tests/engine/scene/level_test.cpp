@@ -211,7 +211,7 @@ TEST(Level, SmallTestLevelUsesEveryComponentForm) {
   // The model's bounds (x 10..12, z -2..0) scaled by (1, 2, 1).
   EXPECT_NEAR(level.bounds.min.x, 10.0f, 1e-4f);
   EXPECT_NEAR(level.bounds.min.z, -2.0f, 1e-4f);
-  EXPECT_EQ(find_sun_light(world).elevation_deg, sun_position(world.get<TimeOfDay>(find_time_of_day(world))).elevation_deg);
+  EXPECT_EQ(find_sun_light(world).elevation_deg, sun_position(*find_sun(world).time).elevation_deg);
 
   // Without models: entities only, the path resolved but not opened.
   ecs::World bare;

@@ -98,5 +98,29 @@ TEST(Sun, FindSunLightInAWorld) {
   EXPECT_TRUE(near(l.direction, {0, 1, 0}));
   EXPECT_NEAR(l.radiance.r, 2.0f * sun_transmittance(90.0f).r, 1e-3f);
   EXPECT_NEAR(l.radiance.g, 1.0f * sun_transmittance(90.0f).g, 1e-3f);
-  EXPECT_EQ(find_time_of_day(world), e);
+  EXPECT_EQ(find_sun(world).time, &world.get<TimeOfDay>(e));
+}
+
+TEST(Sun, TheWorldResourceCountsOverEntities) {
+  ecs::World world;
+  ecs::Entity e = world.create();
+  world.emplace<TimeOfDay>(e, at(12, 0));
+  ecs::Entity second = world.create();
+  world.emplace<TimeOfDay>(second, at(6, 0));
+  EXPECT_EQ(find_sun(world).time, &world.get<TimeOfDay>(e));  // the first entity, not the second
+  // --time-of-day writes the one that counts; no resource is made while an entity has one.
+  time_of_day_to_set(world).hours = 9.0f;
+  EXPECT_FLOAT_EQ(world.get<TimeOfDay>(e).hours, 9.0f);
+  EXPECT_FLOAT_EQ(world.get<TimeOfDay>(second).hours, 6.0f);
+  EXPECT_EQ(world.try_resource<TimeOfDay>(), nullptr);
+  // A resource wins over every entity, with the Sun resource beside it.
+  world.set_resource<TimeOfDay>(at(18, 0));
+  world.set_resource<Sun>(Sun{glm::vec3(0.5f), 1.0f});
+  EXPECT_EQ(find_sun(world).time, world.try_resource<TimeOfDay>());
+  EXPECT_NEAR(find_sun_light(world).radiance.r, 0.5f * sun_transmittance(find_sun_light(world).elevation_deg).r, 1e-4f);
+  ecs::World empty;
+  EXPECT_EQ(find_sun(empty).time, nullptr);
+  time_of_day_to_set(empty).hours = 3.0f;
+  ASSERT_NE(empty.try_resource<TimeOfDay>(), nullptr);
+  EXPECT_FLOAT_EQ(empty.try_resource<TimeOfDay>()->hours, 3.0f);
 }

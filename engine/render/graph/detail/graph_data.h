@@ -17,6 +17,7 @@ struct ResourceDecl {
   VkImage vk_image = VK_NULL_HANDLE;
   VkImageView vk_view = VK_NULL_HANDLE;
   VkBuffer vk_buffer = VK_NULL_HANDLE;
+  ResourceState* persistent = nullptr;  // import_persistent / import_history: the state to carry over
   uint32_t version = 0;  // versions handed out so far (writes declared)
 };
 
@@ -34,6 +35,7 @@ struct PassDecl {
   Queue queue = Queue::Graphics;
   ExecuteFn execute;
   std::vector<AccessDecl> accesses;  // in declaration order
+  bool side_effect = false;          // never culled
 };
 
 // What a usage means for synchronization (usage.cpp).

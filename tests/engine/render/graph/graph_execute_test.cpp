@@ -12,6 +12,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/gpu/barrier.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/descriptors.h"
@@ -21,6 +22,7 @@
 #include "engine/gpu/shader_compiler.h"
 #include "engine/render/graph/executor.h"
 #include "engine/render/graph/render_graph.h"
+#include "engine/render/history.h"
 
 using namespace cumulo;
 using namespace cumulo::render;
@@ -111,6 +113,10 @@ class RenderGraphVulkan : public ::testing::Test {
     fill_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "fill.comp", .name = "fill"});
     blur_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "blur.comp", .name = "blur"});
     composite_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "composite.comp", .name = "composite"});
+    accumulate_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "accumulate.comp", .name = "accumulate"});
+    mip_step_ = gpu::Pipeline::compute(*ctx_, compiler, {.shader = "mip_step.comp", .name = "mip step"});
+    mip_first_ = gpu::Pipeline::compute(*ctx_, compiler,
+                                        {.shader = "mip_step.comp", .defines = {{"FIRST_LEVEL", "1"}}, .name = "mip first"});
     sampler_ = ctx_->samplers().get(gpu::SamplerDesc::nearest_clamp());
   }
   void TearDown() override {
@@ -120,6 +126,9 @@ class RenderGraphVulkan : public ::testing::Test {
     fill_.reset();
     blur_.reset();
     composite_.reset();
+    accumulate_.reset();
+    mip_step_.reset();
+    mip_first_.reset();
     resources_.reset();
     ctx_.reset();
     EXPECT_EQ(gpu::total_validation_errors(), errors_before_) << "validation errors while tearing down";
@@ -179,6 +188,17 @@ class RenderGraphVulkan : public ::testing::Test {
           debug = b.write(debug, Usage::StorageWrite);
         },
         [this](PassContext&) { debug_ran_ = true; });
+    if (probe_) {
+      // A pass present only in some frames (lightning, a debug view): its own transient, kept by its side effect.
+      TextureHandle probe = g.create_texture("probe", r32);
+      g.add_pass(
+          "probe", Queue::Compute,
+          [&](PassBuilder& b) {
+            probe = b.write(probe, Usage::StorageWrite);
+            b.side_effect();
+          },
+          [this, probe, frame](PassContext& c) { fill(c.cmd(), c.view(probe), c.extent(probe), frame); });
+    }
     g.add_pass(
         "composite", Queue::Compute,
         [&](PassBuilder& b) {
@@ -238,7 +258,8 @@ class RenderGraphVulkan : public ::testing::Test {
     fill_.dispatch_threads(cmd, size.width, size.height);
   }
 
-  gpu::Pipeline fill_, blur_, composite_;
+  gpu::Pipeline fill_, blur_, composite_, accumulate_, mip_step_, mip_first_;
+  bool probe_ = false;
   VkSampler sampler_ = VK_NULL_HANDLE;
   std::unique_ptr<Persistent> resources_;
   bool debug_ran_ = false;
@@ -471,4 +492,131 @@ TEST_F(RenderGraphVulkan, NewShapeRecompilesAndStaysCorrect) {
   EXPECT_EQ(executor.images_created(), 6u);
   EXPECT_EQ(executor.compiled().output_size.width, 64u);
   EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
+}
+
+// Budget-mode toggles, debug views, a pass present only while lightning strikes: switching back and
+// forth between shapes already seen compiles nothing and creates no image or memory.
+TEST_F(RenderGraphVulkan, SwitchingBetweenSeenShapesAllocatesNothing) {
+  const VkExtent2D size{37, 23};
+  make_persistent(size.width, size.height);
+  Executor executor(*ctx_);
+  run_frame(executor, size, 0.0f);
+  probe_ = true;
+  run_frame(executor, size, 1.0f);
+  ASSERT_NE(executor.compiled().find_pass("probe"), nullptr);
+  const uint32_t compiles = executor.compile_count(), images = executor.images_created(),
+                 blocks = executor.memory_blocks_created();
+  EXPECT_EQ(compiles, 2u);
+  EXPECT_EQ(executor.shape_count(), 2u);
+  for (int i = 2; i < 8; ++i) {
+    probe_ = (i % 2) == 1;
+    run_frame(executor, size, float(i));
+    EXPECT_EQ(executor.compiled().find_pass("probe") != nullptr, probe_);
+  }
+  EXPECT_EQ(executor.compile_count(), compiles);
+  EXPECT_EQ(executor.images_created(), images);
+  EXPECT_EQ(executor.memory_blocks_created(), blocks);
+  EXPECT_EQ(executor.shape_count(), 2u);
+}
+
+// History resources on the device: accumulation over frames through the ping-pong pair, the valid
+// flag on the first frame and after a camera cut, synchronization validation clean.
+TEST_F(RenderGraphVulkan, HistoryAccumulatesAcrossFrames) {
+  const VkExtent2D size{21, 13};
+  gpu::Buffer readback(*ctx_, {VkDeviceSize(size.width) * size.height * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               gpu::MemoryUsage::Readback, "history readback"});
+  GpuHistory history("accumulation", VK_FORMAT_R32_SFLOAT, 1.0f,
+                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  Executor executor(*ctx_);
+  std::vector<float> seen;
+  for (int frame = 0; frame < 5; ++frame) {
+    if (frame == 3) history.invalidate();  // camera cut: start again
+    RenderGraph g(size);
+    BufferHandle rb = g.import_buffer("readback", readback.handle(), readback.size(), ResourceState::host_read(),
+                                      ResourceState::host_read());
+    HistoryHandles h = history.import(*ctx_, g);
+    g.add_pass(
+        "accumulate", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(h.previous, Usage::StorageRead);
+          h.current = b.write(h.current, Usage::StorageWrite);
+        },
+        [this, h](PassContext& c) {
+          accumulate_.bind(c.cmd());
+          gpu::DescriptorWriter().storage_image(0, c.view(h.previous)).storage_image(1, c.view(h.current)).push(*ctx_, c.cmd(), accumulate_);
+          struct {
+            float valid, add;
+          } push{h.valid ? 1.0f : 0.0f, 1.0f};
+          accumulate_.push_constants(c.cmd(), &push, sizeof push);
+          accumulate_.dispatch_threads(c.cmd(), c.extent(h.current).width, c.extent(h.current).height);
+        });
+    g.add_pass(
+        "readback", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(h.current, Usage::TransferSrc);
+          rb = b.write(rb, Usage::TransferDst);
+        },
+        [cur = h.current, rb](PassContext& c) {
+          VkBufferImageCopy region{};
+          region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+          region.imageExtent = c.extent(cur);
+          vkCmdCopyImageToBuffer(c.cmd(), c.image(cur), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(rb), 1, &region);
+        });
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
+    std::vector<float> got(size_t(size.width) * size.height);
+    readback.download(got.data(), got.size() * sizeof(float));
+    for (float v : got) ASSERT_EQ(v, got[0]);
+    seen.push_back(got[0]);
+  }
+  EXPECT_EQ(seen, (std::vector<float>{1, 2, 3, 1, 2}));
+  EXPECT_LE(executor.compile_count(), 2u);  // the first frame (undefined start), then one steady shape
+}
+
+// The documented rule for mip chains: the pass declares the whole image and places its own barrier
+// between mips; mip_view gives it single-mip views. The top mip is the mean of mip 0.
+TEST_F(RenderGraphVulkan, MipChainBuiltPassByPass) {
+  const VkExtent2D size{16, 16};
+  gpu::Buffer readback(*ctx_, {sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::Readback, "mip readback"});
+  RenderGraph g(size);
+  TextureDesc desc = TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, 16, 16);
+  desc.mips = 5;
+  TextureHandle chain = g.create_texture("chain", desc);
+  BufferHandle rb = g.import_buffer("readback", readback.handle(), readback.size(), ResourceState::host_read(),
+                                    ResourceState::host_read());
+  g.add_pass(
+      "build mips", Queue::Compute, [&](PassBuilder& b) { chain = b.write(chain, Usage::StorageWrite); },
+      [this, chain](PassContext& c) {
+        for (uint32_t m = 0; m < 5; ++m) {
+          if (m > 0) {
+            // Inside the pass, on purpose: mip m reads what this pass just wrote into mip m - 1.
+            gpu::cmd_image_barrier(c.cmd(), c.image(chain), {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, 1, 0, 1},
+                                   VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+          }
+          const gpu::Pipeline& p = m == 0 ? mip_first_ : mip_step_;
+          p.bind(c.cmd());
+          gpu::DescriptorWriter set;
+          if (m > 0) set.storage_image(0, c.mip_view(chain, m - 1));
+          set.storage_image(1, c.mip_view(chain, m)).push(*ctx_, c.cmd(), p);
+          p.dispatch_threads(c.cmd(), 16u >> m, 16u >> m);
+        }
+      });
+  g.add_pass(
+      "read top mip", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(chain, Usage::TransferSrc);
+        rb = b.write(rb, Usage::TransferDst);
+      },
+      [chain, rb](PassContext& c) {
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 4, 0, 1};
+        region.imageExtent = {1, 1, 1};
+        vkCmdCopyImageToBuffer(c.cmd(), c.image(chain), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(rb), 1, &region);
+      });
+  Executor executor(*ctx_);
+  ctx_->submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
+  float top = 0;
+  readback.download(&top, sizeof top);
+  EXPECT_FLOAT_EQ(top, 127.5f);  // mean of x + 16 y over 16 x 16
 }

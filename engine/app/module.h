@@ -1,0 +1,77 @@
+#pragma once
+// Modules: how a feature enters the engine without the engine knowing it (DESIGN.md "Modules"; a
+// flecs module's one registration point, Granite's render-pass creators). app/main.cpp owns the list
+// (clouds today, the editor later) and hands it to the command table and to `cumulo run`, whose
+// headless and windowed loops drive every hook below in this order:
+//
+//   register_commands       once, at start-up: `cumulo <name>` subcommands
+//   add_run_options         `cumulo run` flags of the module (parsed with the engine's), then
+//   check_run_options       validation (throw cumulo::Error naming the flag)
+//   register_components     before the level loads: component types with JSON (the level names them)
+//   register_systems        systems in phases (ecs/scheduler.h)
+//   on_level_loaded         the level's entities exist; resolve asset paths against level.directory
+//   create_gpu              (render::RenderFeature) pipelines from the shared library, persistent images
+//   extract                 every rendered frame: typed per-frame data into snapshot.extensions (and,
+//                           for an atmosphere, snapshot.lighting)
+//   add_passes              (render::RenderFeature) every frame, at each render::Stage
+//   destroy_gpu             before the context goes, device idle
+//
+// A short module with one component, one system and one compute pass:
+//
+//   struct Spin { float speed = 1.0f; };
+//   class SpinModule : public app::Module {
+//    public:
+//     const char* name() const override { return "spin"; }
+//     void register_components(ecs::ComponentRegistry& r) override {
+//       r.register_component<Spin>("Spin", [](const Spin& s) { return Json{{"speed", s.speed}}; },
+//                                  [](const JsonView& v) { return Spin{v.get<float>("speed", 1.0f)}; });
+//     }
+//     void register_systems(ecs::Scheduler& s) override {
+//       s.add_system(ecs::Phase::Update, "spin", [](ecs::World& w, const ecs::FrameContext& f) {
+//         w.view<const Spin, scene::Transform>().each([&](const Spin& s, scene::Transform& t) { ... });
+//       });
+//     }
+//     void create_gpu(render::GpuServices& g) override { pipe_ = &g.library.compute({"spin/spin_tint.comp"}); }
+//     void add_passes(render::Stage stage, render::StageContext& f) override {
+//       if (stage != render::Stage::AfterOpaque) return;
+//       f.graph.add_pass("spin tint", render::Queue::Compute,
+//           [&](render::PassBuilder& b) { f.hdr = b.read_write(f.hdr, render::Usage::StorageWrite); },
+//           [this, hdr = f.hdr](render::PassContext& c) { ... bind pipe_, push c.view(hdr), dispatch ... });
+//     }
+//    private:
+//     gpu::Pipeline* pipe_ = nullptr;
+//   };
+#include <memory>
+#include <vector>
+
+#include "engine/ecs/scheduler.h"
+#include "engine/ecs/serialize.h"
+#include "engine/ecs/world.h"
+#include "engine/render/frame_snapshot.h"
+#include "engine/render/render_feature.h"
+#include "engine/scene/level.h"
+
+namespace cumulo {
+class ArgParser;
+class CommandRegistry;
+}  // namespace cumulo
+
+namespace cumulo::app {
+
+class Module : public render::RenderFeature {
+ public:
+  virtual const char* name() const = 0;
+  virtual void register_commands(CommandRegistry&) {}
+  virtual void add_run_options(ArgParser&) {}
+  virtual void check_run_options() {}
+  virtual void register_components(ecs::ComponentRegistry&) {}
+  virtual void register_systems(ecs::Scheduler&) {}
+  // Throws cumulo::Error naming the level file and the place on a bad asset; the run then stops.
+  virtual void on_level_loaded(ecs::World&, const scene::LevelInfo&) {}
+  virtual void extract(const ecs::World&, render::FrameSnapshot&) {}
+};
+
+// In registration order; the engine calls every hook in this order.
+using Modules = std::vector<std::shared_ptr<Module>>;
+
+}  // namespace cumulo::app

@@ -1,0 +1,38 @@
+#include "engine/render/pass_helpers.h"
+
+#include "engine/core/error.h"
+
+namespace cumulo::render {
+
+void set_viewport(VkCommandBuffer cmd, VkExtent3D e) {
+  VkViewport vp{0.0f, 0.0f, float(e.width), float(e.height), 0.0f, 1.0f};
+  VkRect2D sc{{0, 0}, {e.width, e.height}};
+  vkCmdSetViewport(cmd, 0, 1, &vp);
+  vkCmdSetScissor(cmd, 0, 1, &sc);
+}
+
+void begin_rendering(PassContext& c, const Attachment* color, const Attachment* depth) {
+  if (!color && !depth) fail("begin_rendering in pass '%s': no attachment", c.pass_name().c_str());
+  auto info = [&c](const Attachment& a) {
+    VkRenderingAttachmentInfo r{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    r.imageView = c.view(a.handle);
+    r.imageLayout = c.layout(a.handle);
+    r.loadOp = a.load;
+    r.storeOp = a.store;
+    r.clearValue = a.clear;
+    return r;
+  };
+  VkRenderingAttachmentInfo color_info = color ? info(*color) : VkRenderingAttachmentInfo{};
+  VkRenderingAttachmentInfo depth_info = depth ? info(*depth) : VkRenderingAttachmentInfo{};
+  VkExtent3D e = c.extent(color ? color->handle : depth->handle);
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {e.width, e.height}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = color ? 1 : 0;
+  ri.pColorAttachments = color ? &color_info : nullptr;
+  ri.pDepthAttachment = depth ? &depth_info : nullptr;
+  vkCmdBeginRendering(c.cmd(), &ri);
+  set_viewport(c.cmd(), e);
+}
+
+}  // namespace cumulo::render

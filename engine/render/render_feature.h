@@ -1,0 +1,74 @@
+#pragma once
+// How a module's rendering enters the frame without the engine knowing it (DESIGN.md "Modules"; Granite's
+// RenderPassCreator). A RenderFeature creates its GPU objects once, with the context and the renderer's
+// pipeline library (so its shaders hot-reload with the engine's), and adds render-graph passes at named
+// stages of every frame:
+//
+//   Stage::BeforeScene   before geometry: hdr and depth exist but hold nothing yet (compute that later
+//                        passes read: light grids, LUTs, simulation textures)
+//   Stage::AfterOpaque   after geometry and sky: hdr (scene colour) and depth are complete; a pass may
+//                        write a new version of hdr (clouds, fog, transparent effects)
+//   Stage::AfterTonemap  after tonemap: `output` is the display-referred target (UI, debug overlays)
+//
+//   struct Fog : render::RenderFeature {
+//     gpu::Pipeline* pipe = nullptr;
+//     void create_gpu(render::GpuServices& g) override { pipe = &g.library.compute({"fog/fog_apply.comp"}); }
+//     void add_passes(render::Stage stage, render::StageContext& f) override {
+//       if (stage != render::Stage::AfterOpaque) return;
+//       auto u = f.uniforms.push(make_params(f.snapshot));
+//       f.graph.add_pass("fog", render::Queue::Compute,
+//           [&](render::PassBuilder& b) { b.read(f.depth, render::Usage::Sampled); f.hdr = b.read_write(f.hdr, render::Usage::StorageWrite); },
+//           [this, u, hdr = f.hdr, depth = f.depth](render::PassContext& c) { ... });
+//     }
+//   };
+#include <cstdint>
+
+#include "engine/render/frame_snapshot.h"
+#include "engine/render/graph/render_graph.h"
+#include "engine/render/uniform_allocator.h"
+
+namespace cumulo::gpu {
+class Context;
+class PipelineLibrary;
+}  // namespace cumulo::gpu
+
+namespace cumulo::render {
+
+enum class Stage : uint8_t { BeforeScene, AfterOpaque, AfterTonemap };
+inline constexpr int kStageCount = 3;
+const char* stage_name(Stage stage);
+
+// What a feature gets to create its GPU objects with. Objects it creates live until destroy_gpu().
+struct GpuServices {
+  gpu::Context& ctx;
+  gpu::PipelineLibrary& library;  // shared with the engine's passes: poll_reload() covers module shaders
+};
+
+// One stage of one frame. Handles are the current versions; a pass that writes hdr (or output) stores
+// the new version back here so the next pass and the engine see it.
+struct StageContext {
+  RenderGraph& graph;
+  const FrameSnapshot& snapshot;
+  gpu::Context& ctx;
+  gpu::PipelineLibrary& library;
+  UniformAllocator& uniforms;  // this frame's uniform memory (valid until the slot comes round again)
+  UniformSlice frame_params;   // the engine's shared::FrameParams of this frame (camera, sun, sky)
+  uint32_t slot = 0;           // frame-in-flight slot (index per-slot resources with it)
+  TextureHandle hdr, depth;    // scene colour (R16G16B16A16F) and depth (D32F, reversed-Z)
+  TextureHandle output;        // AfterTonemap only: the frame's target
+  VkFormat output_format = VK_FORMAT_UNDEFINED;  // the target's format (swapchain or offscreen)
+};
+
+class RenderFeature {
+ public:
+  virtual ~RenderFeature() = default;
+  // Called once by the renderer the feature is added to. Throws cumulo::Error on failure (a shader
+  // that does not compile names the file and line).
+  virtual void create_gpu(GpuServices&) {}
+  // Called before the context goes away, with the device idle.
+  virtual void destroy_gpu() {}
+  // Called for every stage of every frame, in Stage order, features in the order they were added.
+  virtual void add_passes(Stage, StageContext&) {}
+};
+
+}  // namespace cumulo::render
