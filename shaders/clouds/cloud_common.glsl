@@ -22,6 +22,13 @@ layout(set = 0, binding = CLOUD_BINDING_MODELING) uniform sampler3D modeling_tex
 layout(set = 0, binding = CLOUD_BINDING_FIELD) uniform sampler3D field_tex;
 layout(set = 0, binding = CLOUD_BINDING_NOISE) uniform sampler3D noise_tex;
 
+// lavapipe (LAVAPIPE.md) runs both sides of an `if` for its 8-lane group even when no lane takes it,
+// but stops a loop once every lane is done. So an expensive block that is often empty for the whole
+// group (density and light outside clouds) is written as a loop that runs once where `cond` holds:
+// the same result, and on a CPU device the block costs nothing when no lane needs it. No `break` or
+// `continue` inside (they would bind to this loop).
+#define CLOUD_WHERE(cond) for (int cloud_where_once_ = ((cond) ? 1 : 0); cloud_where_once_ > 0; --cloud_where_once_)
+
 const float kPi = 3.14159265;
 const float kEpsilon = 1e-4;
 // Field NVDF decode range (2023 talk: "originally ranged from -256 to 4096 but we scale it to a zero to 1 range").
@@ -146,7 +153,8 @@ DensitySample sample_density(CloudInstanceParams inst, vec3 asset_pos, float dis
   DensitySample s;
   s.raw_profile = m.profile;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;
-  s.full = m.profile > 0.0 ? uprez_density(m, asset_pos, inst.wind_offset.xyz, dist, mip, details) * inst.sun_dir.w : 0.0;
+  s.full = 0.0;
+  CLOUD_WHERE(m.profile > 0.0) s.full = uprez_density(m, asset_pos, inst.wind_offset.xyz, dist, mip, details) * inst.sun_dir.w;
   return s;
 }
 

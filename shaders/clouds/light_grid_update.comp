@@ -33,7 +33,7 @@ float summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxe
     vec3 uvw = asset_uvw(inst, p);
     float sdf = cloud_distance(uvw);
     float step_len = max(sdf, voxel);
-    if (sdf < 0.0) {
+    CLOUD_WHERE(sdf < 0.0) {
       DensitySample ds = sample_density(inst, p, 1e4, mip, false);
       sum += ds.full * min(step_len, t_exit - t);
     }

@@ -20,6 +20,9 @@
 //   ms_volume = profile * exp(-od_sun * Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128, 0, 0.05, 0.25)))
 // (talk; the summed density is taken as optical depth, i.e. times the extinction coefficient);
 //   ambient = pow(1 - profile, 0.5) * exp(-od_sky) * ambient colour                  (talk)
+// (od_sky = summed sky density x extinction x P.light.y: the talk does not give the scale of its
+// "summed_ambient_density"; at full extinction the base of a 400 m cumulus would be black, while the
+// bounce and multiple scattering the ambient term stands for keep it grey);
 //   point lights: pow(1 - d / radius, 12) * (1 - saturate(density * 5)) * colour      (talk, lightning)
 // Integration: energy-conserving (Hillaire 2016, "Physically Based Sky, Atmosphere and Cloud
 // Rendering in Frostbite"): Sint = (S - S * exp(-sigma_t dt)) / sigma_t.
@@ -126,16 +129,16 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
     float hash = t < P.steps.y ? hash_animated : hash_static;
     float ts = t + hash * step_len * P.misc.x;
     float dt = min(step_len, t1 - t);
-    if (inside && ts < t1) {
+    CLOUD_WHERE(inside && ts < t1) {
       vec3 q = ao + ad * ts;
       float mip = noise_mip(ts);
       DensitySample ds = sample_density(inst, q, ts, mip, true);
-      if (ds.full > 0.0) {
+      CLOUD_WHERE(ds.full > 0.0) {
 #if ABLATION != CLOUD_ABLATION_FULL
         sdf = cloud_distance(asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
         float od_sun = sun_optical_depth(i, inst, q, ts, mip);
-        float od_sky = light_grid(i, q).y * ext;
+        float od_sky = light_grid(i, q).y * ext * P.light.y;
         float ms = ds.profile * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
         vec3 light_in = P.sun_color.rgb * (exp(-od_sun) * phase + ms * P.phase.w / (4.0 * kPi));
         light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));

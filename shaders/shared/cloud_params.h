@@ -84,7 +84,7 @@ struct CloudParams {
   vec4 march;           // x: extinction per unit density (1/m), y: scattering albedo, z: transmittance limit, w: max steps
   vec4 steps;           // x: near/far split distance (200 m), y: animated-jitter distance (250 m), z: base uniform step (m), w: noise mip distance scale
   vec4 phase;           // x: forward HG g, y: backward HG g, z: forward lobe weight, w: multiple-scattering strength
-  vec4 light;           // x, y: distances of the two marched light samples (m), z: base light march length (256 m), w: base light samples (10)
+  vec4 light;           // x: length of each of the two marched light samples (m), y: sky (ambient) optical-depth scale, z: base light march length (256 m), w: base light samples (10)
   vec4 misc;            // x: jitter scale, y: temporal blend (weight of the new frame), z: light-grid debug slice 0..1, w: 1 = history valid
   uvec4 frame;          // x: frame index, y: instance count, z: point-light count, w: debug view
   vec4 light_pos[CLOUD_MAX_POINT_LIGHTS];    // xyz: world position; w: radius (m)

@@ -194,7 +194,7 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   p.march = glm::vec4(s.extinction, s.albedo, s.transmittance_limit, float(uniform_steps ? s.base_max_steps : s.max_steps));
   p.steps = glm::vec4(s.split_distance_m, s.animated_jitter_distance_m, s.base_step_m, s.noise_mip_distance_scale);
   p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
-  p.light = glm::vec4(s.light_sample_m, 0.0f, s.base_light_march_m, float(std::max(1u, s.base_light_samples)));
+  p.light = glm::vec4(s.light_sample_m, s.ambient_occlusion_scale, s.base_light_march_m, float(std::max(1u, s.base_light_samples)));
   p.misc = glm::vec4(s.jitter_scale, s.temporal_blend, s.light_grid_debug_height, history_valid ? 1.0f : 0.0f);
   p.frame = glm::uvec4(uint32_t(in.frame_index), uint32_t(in.instances.size()), uint32_t(in.lights.size()),
                        uint32_t(s.debug));

@@ -102,6 +102,7 @@ struct CloudSettings {
   float transmittance_limit = 0.01f;  // early exit (talk: view_ray_transmittance_limit)
   float hg_forward = 0.8f, hg_backward = -0.3f, hg_forward_weight = 0.7f;  // dual-lobe HG (silver lining)
   float ms_strength = 1.0f;           // weight of the multiple-scattering probability field
+  float ambient_occlusion_scale = 0.25f;  // sky optical depth = summed sky density x extinction x this
   float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
   float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
   float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
