@@ -15,6 +15,7 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pipeline_library.h"
 #include "engine/gpu/sampler.h"
+#include "engine/render/history.h"
 #include "shaders/shared/cloud_params.h"
 
 namespace cumulo::clouds::render {
@@ -37,13 +38,6 @@ constexpr VkFormat kGridFormat = VK_FORMAT_R16G16_SFLOAT;         // summed dens
 // The state an imported image is in when the graph starts and the next user finds it: sampled by
 // compute or fragment shaders.
 ResourceState sampled_state() { return ResourceState::shader_read_only(); }
-// Contents not needed (first use, or about to be overwritten), but earlier sampled reads of the
-// image (last frame's) must finish before the first write: an execution dependency with a discard.
-ResourceState discard_after_reads() {
-  return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-          VK_ACCESS_2_NONE};
-}
-
 }  // namespace
 
 struct CloudResources {
@@ -53,14 +47,6 @@ struct CloudResources {
     glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
     uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
   };
-  struct History {
-    gpu::Image images[2];
-    bool initialized[2] = {false, false};
-    VkExtent2D extent{0, 0};
-    uint32_t last = 0;        // index of the image written by the last frame
-    bool valid = false;       // the last frame wrote a usable history
-    glm::mat4 prev_view_proj{1.0f};
-  };
   using MarchKey = std::tuple<int, int, bool, bool>;  // ablation, segment, bc1 SDF, distance noise mip
 
   gpu::Context& ctx;
@@ -68,12 +54,17 @@ struct CloudResources {
   std::shared_ptr<const CloudNoise> noise;
   CloudResourcesDesc desc;
   gpu::Buffer ubo[gpu::kFramesInFlight];
-  // The light grids of all instances stacked along z (instance i in layers [i * gz, (i + 1) * gz)).
+  // The light grids of all instances stacked along z (instance i in layers [i * gz, (i + 1) * gz)),
+  // a persistent graph texture (the graph carries its state from frame to frame).
   gpu::Image grid_image;
+  cumulo::render::PersistentTexture grid_texture;
   uint32_t grid_instances = 0;
-  bool grid_initialized = false;  // in SHADER_READ_ONLY_OPTIMAL (a graph wrote it)
   LightGrid grids[kMaxInstances];
-  History history;
+  // Temporal accumulation: the graph's history pair (engine/render/history.h).
+  cumulo::render::GpuHistory history{"clouds.history", kColorFormat, 1.0f,
+                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  bool history_on = false;  // the last frame accumulated (a frame without temporal breaks the history)
+  glm::mat4 prev_view_proj{1.0f};
   gpu::Pipeline* grid_pipe = nullptr;
   gpu::Pipeline* temporal_pipe = nullptr;
   gpu::Pipeline* merge_pipe = nullptr;
@@ -183,7 +174,7 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   shared::CloudParams p{};
   p.view_proj = in.camera.view_proj;
   p.inv_view_proj = in.camera.inv_view_proj;
-  p.prev_view_proj = res.history.prev_view_proj;
+  p.prev_view_proj = res.prev_view_proj;
   p.camera_pos = glm::vec4(in.camera.position, float(in.time));
   const glm::vec3 sun = glm::normalize(in.sun_direction);
   p.sun_dir = glm::vec4(sun, 0.0f);
@@ -222,43 +213,17 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   return p;
 }
 
-// Temporal history, until the render graph's history resources land: two images owned here, imported
-// ping-ponged (last frame's as `prev`, sampled; this frame's as `next`, written). The only place that
-// knows the pair; returns whether `prev` holds a usable history for this frame.
+// Temporal history: the graph's ping-pong pair (last frame's result as `prev`, this frame's target as
+// `next`). Invalid on the first frame, after a resize, a camera cut or a frame without accumulation.
 struct HistoryImports {
   TextureHandle prev, next;
-  gpu::Image* next_image = nullptr;
   bool valid = false;
 };
-HistoryImports import_history(CloudResources& res, RenderGraph& graph, VkExtent2D size, bool camera_cut) {
-  CloudResources::History& h = res.history;
-  if (h.extent.width != size.width || h.extent.height != size.height) {
-    if (h.images[0]) res.ctx.wait_idle();  // frames in flight may still read the old pair (resizes are rare)
-    for (int i = 0; i < 2; ++i) {
-      h.images[i] = gpu::Image(res.ctx, gpu::ImageDesc::tex2d(size.width, size.height, kColorFormat,
-                                                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
-                                                              i ? "clouds.history.1" : "clouds.history.0"));
-      h.initialized[i] = false;
-    }
-    h.extent = size;
-    h.valid = false;
-  }
-  const uint32_t prev = h.last, next = 1 - h.last;
-  const TextureDesc d = TextureDesc::absolute(kColorFormat, size.width, size.height);
-  HistoryImports out;
-  out.valid = h.valid && !camera_cut;
-  out.prev = graph.import_texture("clouds.history.prev", d, h.images[prev].handle(), h.images[prev].view(),
-                                  h.initialized[prev] ? sampled_state() : ResourceState::undefined(), sampled_state());
-  out.next = graph.import_texture("clouds.history.next", d, h.images[next].handle(), h.images[next].view(),
-                                  discard_after_reads(), sampled_state());
-  out.next_image = &h.images[next];
-  // After this graph: both images in SHADER_READ_ONLY_OPTIMAL, `next` is the newest history.
-  h.initialized[0] = h.initialized[1] = true;
-  h.images[0].set_layout(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  h.images[1].set_layout(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  h.last = next;
-  h.valid = true;
-  return out;
+HistoryImports import_history(CloudResources& res, RenderGraph& graph, bool camera_cut) {
+  if (camera_cut || !res.history_on) res.history.invalidate();
+  const cumulo::render::HistoryHandles h = res.history.import(res.ctx, graph);
+  res.history_on = true;
+  return {h.previous, h.current, h.valid};
 }
 
 }  // namespace
@@ -325,8 +290,8 @@ uint64_t persistent_gpu_bytes(const CloudResources& res) {
   uint64_t total = 0;
   if (res.grid_image)
     total += uint64_t(res.grid_image.extent().width) * res.grid_image.extent().height * res.grid_image.extent().depth * 4;
-  for (const auto& h : res.history.images)
-    if (h) total += uint64_t(h.extent().width) * h.extent().height * 8;
+  if (res.history.texture().has_images())
+    total += 2ull * res.history.texture().desc().width * res.history.texture().desc().height * 8;
   return total;
 }
 
@@ -376,8 +341,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     res.grid_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(gs.x, gs.y, gs.z * n, kGridFormat,
                                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
                                                            "clouds.light_grid"));
+    res.grid_texture = {"clouds.light_grid", TextureDesc::absolute(kGridFormat, gs.x, gs.y, gs.z * n),
+                        res.grid_image.handle(), res.grid_image.view(), ResourceState::undefined()};
     res.grid_instances = n;
-    res.grid_initialized = false;
     for (auto& g : res.grids) g = {};
   }
   const float cos_threshold = std::cos(glm::radians(s.sun_rebuild_degrees));
@@ -398,21 +364,17 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
       grids[i].layers = slab;
     }
   }
-  // Partial updates keep the other slabs, so the image's content matters once it was written.
-  TextureHandle grid = graph.import_texture("clouds.light_grid", TextureDesc::absolute(kGridFormat, gs.x, gs.y, gs.z * n),
-                                            res.grid_image.handle(), res.grid_image.view(),
-                                            res.grid_initialized ? sampled_state() : discard_after_reads(), sampled_state());
-  res.grid_initialized = true;
-  res.grid_image.set_layout(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  // Partial updates keep the other slabs: the graph carries the grid's content and state across frames.
+  TextureHandle grid = graph.import_persistent(res.grid_texture);
 
   HistoryImports history;
-  if (s.temporal) history = import_history(res, graph, size, in.camera_cut);
-  else res.history.valid = false;
+  if (s.temporal) history = import_history(res, graph, in.camera_cut);
+  else res.history_on = false;
 
   const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
   const shared::CloudParams params = make_params(res, in, size, history.valid);
   std::memcpy(ubo.mapped(), &params, sizeof params);
-  res.history.prev_view_proj = in.camera.view_proj;
+  res.prev_view_proj = in.camera.view_proj;
   const VkBuffer ubo_handle = ubo.handle();
   constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
 

@@ -23,7 +23,7 @@
 //
 // [SECTION] Passes (each a graph pass: debug label + timestamps)
 //   clouds.light_grid  compute  reads the asset NVDFs + noise (imported, sampled); read_write the light
-//                               grid (imported, persistent, StorageWrite; one image, every instance's
+//                               grid (import_persistent, StorageWrite; one image, every instance's
 //                               grid stacked along z). One eighth of each grid per frame (z slabs), all
 //                               of an instance's grid when it is invalid or stale.
 //   clouds.march       compute  30 Hz: one full-resolution march. Reads NVDFs, noise, light grids
@@ -33,13 +33,14 @@
 //   clouds.march_near  compute  40/60 Hz: segment < split at half resolution -> clouds.near_color/depth
 //   clouds.march_far   compute  40/60 Hz: segment >= split at full resolution -> clouds.far_color/depth
 //   clouds.split_merge compute  depth-aware upsample of near, merged over far -> clouds.color/depth
-//   clouds.temporal    compute  reads clouds.color/depth + last frame's history (imported, sampled);
-//                               writes this frame's history (imported; the other image of a pair)
+//   clouds.temporal    compute  reads clouds.color/depth + last frame's history (sampled); writes this
+//                               frame's history (import_history: render::GpuHistory "clouds.history")
 //   clouds.composite   compute  reads the cloud colour (and depth, light grid for debug views);
 //                               read_write hdr (StorageWrite): hdr * transmittance + radiance
 //
-// Every pass declares what it touches; barriers come from the graph. Imported persistent images
-// (assets, light grids, history) are left in SHADER_READ_ONLY_OPTIMAL after the graph.
+// Every pass declares what it touches; barriers come from the graph. The assets are imported per graph
+// in SHADER_READ_ONLY_OPTIMAL (they may be shared by several renderers); the light grid and the history
+// are persistent graph textures (the graph remembers their state between frames).
 #include <array>
 #include <cstdint>
 #include <memory>
