@@ -30,6 +30,8 @@
 // 0.5 (else the first cloud sample, else 1e6), y = steps taken, z = end of the clipped segment.
 //
 // Defines: ABLATION (cloud_params.h CLOUD_ABLATION_*), SEGMENT (CLOUD_SEGMENT_*), SDF_BC1, NOISE_MIP_DISTANCE.
+//   The far segment (40/60 Hz) reads the near layer's transmittance and stops where it is opaque: without
+//   that, the far march would redo, unseen, the dense cloud work the near layer already hid.
 //   base:           uniform step P.steps.z (world m) over the clipped segment, density at every step,
 //                   sun optical depth from a P.light.w-sample, P.light.z-metre light march ("Here is what it
 //                   would look like with a 256 meter, 10 sample light ray march as we did before");
@@ -53,6 +55,9 @@ layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH) uniform sampler2D scene_dep
 layout(set = 0, binding = CLOUD_BINDING_OUT_COLOR, rgba16f) uniform writeonly image2D out_color;
 layout(set = 0, binding = CLOUD_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
+#if SEGMENT == CLOUD_SEGMENT_FAR
+layout(set = 0, binding = CLOUD_BINDING_NEAR_IN) uniform sampler2D near_color;
+#endif
 
 struct PixelData {
   vec3 radiance;
@@ -99,8 +104,11 @@ float sun_optical_depth(int i, CloudInstanceParams inst, vec3 p, float dist, flo
   return sum * P.march.x;
 }
 
+// `t_front`: transmittance in front of this segment (the near layer's, for the far march; 1 otherwise).
+// It only ends the march early (where the near layer is already opaque the far one cannot show); the
+// far layer's own radiance and transmittance stay unattenuated for the merge.
 void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
-                    inout PixelData px) {
+                    float t_front, inout PixelData px) {
   CloudInstanceParams inst = P.instances[i];
   vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
   vec3 ad = mat3(inst.world_to_asset) * rd;  // |ad| = 1 / scale: asset point at world distance t is ao + ad t
@@ -113,7 +121,7 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
   float ext = P.march.x, albedo = P.march.y;
   uint max_steps = uint(P.march.w);
   for (uint s = 0u; s < max_steps; ++s) {
-    if (t >= t1 || px.transmittance < P.march.z) break;
+    if (t >= t1 || px.transmittance * t_front < P.march.z) break;
     px.steps += 1.0;
     vec3 p = ao + ad * t;
 #if ABLATION == CLOUD_ABLATION_FULL
@@ -217,8 +225,21 @@ void main() {
       order[j] = order[j - 1u];
       order[j - 1u] = tmp;
     }
+  float t_front = 1.0;
+#if SEGMENT == CLOUD_SEGMENT_FAR
+  // The largest transmittance of the 4 half-resolution near texels around this pixel: conservative, the
+  // far march stops only where every one of them is opaque.
+  {
+    ivec2 ns = textureSize(near_color, 0);
+    vec2 np = uv * vec2(ns) - 0.5;
+    ivec2 b = ivec2(floor(np));
+    t_front = 0.0;
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) t_front = max(t_front, texelFetch(near_color, clamp(b + ivec2(k, j), ivec2(0), ns - 1), 0).a);
+  }
+#endif
   for (uint k = 0u; k < n; ++k)
-    if (enter[order[k]] < t_end) march_instance(order[k], ro, rd, t_begin, t_end, hash_animated, hash_static, px);
+    if (enter[order[k]] < t_end) march_instance(order[k], ro, rd, t_begin, t_end, hash_animated, hash_static, t_front, px);
 
   float depth = px.depth50 < 1e5 ? px.depth50 : px.first_hit;
   vec4 color = vec4(px.radiance, px.transmittance);

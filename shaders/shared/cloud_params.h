@@ -27,6 +27,7 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_OUT_COLOR 6   // image2D rgba16f: rgb in-scattered radiance, a transmittance
 #define CLOUD_BINDING_OUT_DEPTH 7   // image2D rg32f: x distance where opacity reached 0.5 (or segment end), y steps
 #define CLOUD_BINDING_GRID_OUT 8    // image3D rg16f: the light grid being updated (all slabs)
+#define CLOUD_BINDING_NEAR_IN 9     // sampler2D: the far march reads the near layer's transmittance (early exit)
 // temporal_accumulate.comp
 #define CLOUD_BINDING_CURRENT 1         // sampler2D: this frame's march colour
 #define CLOUD_BINDING_CURRENT_DEPTH 2   // sampler2D: this frame's march depth

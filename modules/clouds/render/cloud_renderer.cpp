@@ -286,6 +286,12 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   return res;
 }
 
+CloudResourcesDesc CloudResourcesDesc::for_device(const gpu::DeviceInfo& device) {
+  CloudResourcesDesc d;
+  if (device.is_cpu()) d.light_grid_size = {128, 16, 128};
+  return d;
+}
+
 uint64_t persistent_gpu_bytes(const CloudResources& res) {
   uint64_t total = 0;
   if (res.grid_image)
@@ -408,7 +414,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
       });
 
   // ---- 2. March (one pass, or near/far + merge) ----
-  auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth) {
+  // `front` (far segment only): the near layer, read for its transmittance (early exit).
+  auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
+                       TextureHandle front = {}) {
     gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip);
     graph.add_pass(name, Queue::Compute,
         [&](PassBuilder& b) {
@@ -417,10 +425,11 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           b.read(noise, Usage::Sampled);
           b.read(grid, Usage::Sampled);
           b.read(depth, Usage::Sampled);
+          if (front.valid()) b.read(front, Usage::Sampled);
           color = b.write(color, Usage::StorageWrite);
           cdepth = b.write(cdepth, Usage::StorageWrite);
         },
-        [r, pipe, grid, modeling, field, noise, depth, color, cdepth, ubo_handle](PassContext& c) {
+        [r, pipe, grid, modeling, field, noise, depth, color, cdepth, front, ubo_handle](PassContext& c) {
           Bindings bind(*pipe);
           bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
               .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
@@ -430,6 +439,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
               .storage(CLOUD_BINDING_OUT_COLOR, c.view(color))
               .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
               .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
+          if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
           bind.push(r->ctx, c.cmd());
           const VkExtent3D e = c.extent(color);
           pipe->push_constants(c.cmd(), target_push(e));
@@ -447,7 +457,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat));
     TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat));
     add_march("clouds.march_near", CLOUD_SEGMENT_NEAR, near_c, near_d);
-    add_march("clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d);
+    add_march("clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
     gpu::Pipeline* merge = res.merge_pipe;
     graph.add_pass("clouds.split_merge", Queue::Compute,
         [&](PassBuilder& b) {

@@ -32,6 +32,7 @@
 //                               steps, segment end), transient.
 //   clouds.march_near  compute  40/60 Hz: segment < split at half resolution -> clouds.near_color/depth
 //   clouds.march_far   compute  40/60 Hz: segment >= split at full resolution -> clouds.far_color/depth
+//                               (reads near_color: stops where the near layer is already opaque)
 //   clouds.split_merge compute  depth-aware upsample of near, merged over far -> clouds.color/depth
 //   clouds.temporal    compute  reads clouds.color/depth + last frame's history (sampled); writes this
 //                               frame's history (import_history: render::GpuHistory "clouds.history")
@@ -103,7 +104,7 @@ struct CloudSettings {
   float transmittance_limit = 0.01f;  // early exit (talk: view_ray_transmittance_limit)
   float hg_forward = 0.8f, hg_backward = -0.3f, hg_forward_weight = 0.7f;  // dual-lobe HG (silver lining)
   float ms_strength = 1.0f;           // weight of the multiple-scattering probability field
-  float ambient_occlusion_scale = 0.25f;  // sky optical depth = summed sky density x extinction x this
+  float ambient_occlusion_scale = 0.1f;   // sky optical depth = summed sky density x extinction x this (not in the talk)
   float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
   float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
   float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
@@ -152,10 +153,16 @@ inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
 inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS
 
 struct CloudResourcesDesc {
+  // The talk's grid on GPUs; on CPU devices (lavapipe) 128x16x128 (32 m voxels over the sample's 4 km
+  // box): the full grid's eighth costs about as much as the whole march there. The two marched light
+  // samples before the grid keep the detail near cloud surfaces either way.
+  static CloudResourcesDesc for_device(const gpu::DeviceInfo& device);
   glm::uvec3 light_grid_size{256, 32, 256};  // the talk's 256x256x32 with its Z-up as our Y-up
   uint32_t light_grid_divisions = 8;         // "amortized over 8 frames": z slabs updated per frame
-  uint32_t light_grid_sun_steps = 48;        // loop bounds of the grid's sphere-traced rays
-  uint32_t light_grid_sky_steps = 16;
+  // Loop bounds of the grid's sphere-traced rays: inside cloud a step is one grid voxel (16 m for the
+  // sample), so 64 steps cover 1 km of cloud toward the sun and 32 the 512 m layer above a voxel.
+  uint32_t light_grid_sun_steps = 64;
+  uint32_t light_grid_sky_steps = 32;
 };
 
 struct CloudResources;  // defined in cloud_renderer.cpp
