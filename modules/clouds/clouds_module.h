@@ -1,11 +1,31 @@
 #pragma once
 // The cloud module's one registration point (DESIGN.md "Modules"): its subcommands (noise, bake,
-// import) today; its components, systems and render passes as they land (clouds_module.cpp).
+// import, bench), the Cloudscape component, its `cumulo run` flags and its render passes.
 #include <memory>
 
 #include "engine/app/module.h"
+#include "modules/clouds/render/cloud_feature.h"
 
 namespace cumulo::clouds {
+
+class CloudsModule final : public app::Module {
+ public:
+  const char* name() const override { return "clouds"; }
+  void register_commands(CommandRegistry& registry) override;
+  void add_run_options(ArgParser& p) override { feature_.add_run_options(p); }
+  void check_run_options() override { feature_.check_run_options(); }
+  void register_components(ecs::ComponentRegistry& registry) override;
+  void on_level_loaded(ecs::World& world, const scene::LevelInfo& level) override { feature_.on_level_loaded(world, level); }
+  void extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) override { feature_.extract(world, snapshot); }
+  void create_gpu(cumulo::render::GpuServices& g) override { feature_.create_gpu(g); }
+  void destroy_gpu() override { feature_.destroy_gpu(); }
+  void add_passes(cumulo::render::Stage stage, cumulo::render::StageContext& f) override { feature_.add_passes(stage, f); }
+
+  render::CloudFeature& feature() { return feature_; }
+
+ private:
+  render::CloudFeature feature_;
+};
 
 std::shared_ptr<app::Module> make_clouds_module();
 

@@ -30,7 +30,7 @@ fs::path write_level(const fs::path& dir, const std::string& entities_json) {
 TEST(Level, SampleLevelLoadsWithCamerasSunAndTerrain) {
   ecs::World world;
   auto& reg = world.set_resource<ecs::ComponentRegistry>();
-  register_components(reg);
+  test::register_sample_level_components(reg);
   LevelInfo level = load_level(sample_level(), world);
 
   EXPECT_EQ(level.name, "sample");
@@ -64,8 +64,12 @@ TEST(Level, SampleLevelLoadsWithCamerasSunAndTerrain) {
 
 TEST(Level, LoadsWithADefaultRegistryWhenTheWorldHasNone) {
   ecs::World world;
-  LevelInfo level = load_level(sample_level(), world);
-  EXPECT_EQ(level.cameras.size(), 4u);
+  LevelInfo level = load_level(repo_root() / "tests/engine/scene/data/levels/small.json", world);
+  EXPECT_EQ(level.cameras.size(), 1u);
+  // The default registry knows the scene components only: a module's component is refused, by name.
+  ecs::World other;
+  test::expect_error([&] { load_level(sample_level(), other); }, {"Cloudscape"});
+  EXPECT_EQ(other.alive_count(), 0u);
 }
 
 TEST(Level, ComponentJsonForms) {

@@ -9,6 +9,9 @@
 #include <unistd.h>
 
 #include "engine/core/error.h"
+#include "engine/core/json.h"
+#include "engine/ecs/serialize.h"
+#include "engine/scene/serialization.h"
 
 namespace cumulo::scene::test {
 
@@ -34,6 +37,18 @@ inline std::string expect_error(const std::function<void()>& fn, std::initialize
   }
   ADD_FAILURE() << "expected a cumulo::Error";
   return {};
+}
+
+// The sample level also names module components (the clouds module's Cloudscape). The engine's tests
+// must not link modules, so they accept those as opaque JSON; the module's own tests check them.
+struct ModuleComponentStandIn {
+  Json value;
+};
+inline void register_sample_level_components(ecs::ComponentRegistry& reg) {
+  register_components(reg);
+  reg.register_component<ModuleComponentStandIn>(
+      "Cloudscape", [](const ModuleComponentStandIn& c) { return c.value; },
+      [](const JsonView& v) { return ModuleComponentStandIn{v.raw()}; });
 }
 
 }  // namespace cumulo::scene::test

@@ -11,6 +11,7 @@
 #include "engine/scene/gltf.h"
 #include "engine/scene/level.h"
 #include "engine/scene/tools/terrain_gen.h"
+#include "tests/engine/scene/scene_test_util.h"
 
 using namespace cumulo;
 using namespace cumulo::scene;
@@ -161,7 +162,9 @@ TEST(Terrain, SampleLevelCamerasSitWhereTheBriefSays) {
   Archipelago arch{TerrainOptions{}};
   Heightfield hf = sample_heightfield(arch);
   ecs::World world;
-  load_level(sample_dir() / "level.json", world);
+  ecs::ComponentRegistry reg;
+  scene::test::register_sample_level_components(reg);
+  load_level(sample_dir() / "level.json", world, reg);
 
   // ground: on a beach, about 2 m up, looking 20-30 degrees up at the sky.
   const Transform& ground = world.get<Transform>(find_camera(world, "ground"));

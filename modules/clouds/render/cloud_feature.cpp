@@ -1,0 +1,185 @@
+#include "modules/clouds/render/cloud_feature.h"
+
+#include <cmath>
+
+#include "engine/core/args.h"
+#include "engine/core/error.h"
+#include "engine/ecs/world.h"
+#include "engine/gpu/context.h"
+#include "engine/render/budget_mode.h"
+#include "engine/scene/components.h"
+#include "engine/scene/level.h"
+#include "modules/clouds/scene/cloudscape.h"
+#include "modules/clouds/scene/cloudscape_assets.h"
+
+namespace cumulo::clouds::render {
+namespace fs = std::filesystem;
+namespace {
+
+bool parse_on_off(const std::string& flag, const std::string& text) {
+  if (text == "on") return true;
+  if (text == "off") return false;
+  fail("%s: expected on or off, got \"%s\"", flag.c_str(), text.c_str());
+}
+
+// A camera that jumps further than this in one frame (a cut, a teleport) invalidates the history.
+constexpr float kCameraCutMetres = 200.0f;
+
+}  // namespace
+
+void CloudFeature::add_run_options(ArgParser& p) {
+  p.option("--clouds", "on|off", "draw the cloud module's passes (default on)", &clouds_text_)
+      .option("--cloud-debug", "VIEW", "cloud debug view: none, profile, steps, light-grid, split", &debug_text_)
+      .option("--cloud-formats", "SET", "cloud GPU formats: compressed (BC1) or uncompressed (RGBA8 + R16); default by device",
+              &formats_text_)
+      .option("--cloud-ablation", "A", "cloud march variant of the talk's cost table: base, voxel-lighting, full (default)",
+              &ablation_text_)
+      .option("--cloud-temporal", "on|off", "temporal accumulation of the jittered cloud march (default on)", &temporal_text_);
+}
+
+void CloudFeature::check_run_options() {
+  options_.enabled = parse_on_off("--clouds", clouds_text_);
+  options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
+  if (!debug_text_.empty() && !parse_debug_view(debug_text_, &options_.debug))
+    fail("--cloud-debug: unknown view \"%s\" (expected none, profile, steps, light-grid or split)", debug_text_.c_str());
+  if (!formats_text_.empty()) {
+    CloudFormatSet set;
+    if (!parse_format_set(formats_text_, &set))
+      fail("--cloud-formats: unknown set \"%s\" (expected compressed or uncompressed)", formats_text_.c_str());
+    options_.formats = set;
+  }
+  if (!ablation_text_.empty() && !parse_ablation(ablation_text_, &options_.ablation))
+    fail("--cloud-ablation: unknown variant \"%s\" (expected base, voxel-lighting or full)", ablation_text_.c_str());
+}
+
+void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& level) {
+  bool any = false;
+  world.view<Cloudscape>().each([&](ecs::Entity e, Cloudscape& c) {
+    if (const auto* t = world.try_get<scene::Transform>(e)) {
+      const glm::vec3 s = t->scale;
+      if (std::fabs(s.x - s.y) > 1e-4f * std::fabs(s.x) || std::fabs(s.x - s.z) > 1e-4f * std::fabs(s.x) || !(s.x > 0.0f))
+        fail("%s: a Cloudscape's Transform needs one positive uniform scale, got (%g, %g, %g)", c.where.c_str(), s.x, s.y,
+             s.z);
+    }
+    fs::path p(c.asset);
+    c.resolved = prepare_cloudscape_asset((p.is_absolute() ? p : level.directory / p).lexically_normal(), c.where);
+    any = true;
+  });
+  if (any && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
+}
+
+void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) const {
+  CloudFrame frame;
+  world.view<const Cloudscape>().each([&](ecs::Entity e, const Cloudscape& c) {
+    if (c.resolved.empty()) return;  // added after the level loaded: not resolved (the editor will)
+    CloudInstanceFrame i;
+    i.folder = c.resolved;
+    if (const auto* t = world.try_get<scene::Transform>(e)) {
+      i.position = t->position;
+      i.rotation = t->rotation;
+      i.scale = t->scale.x;
+    }
+    i.density = c.density;
+    i.wind_direction = c.wind_direction;
+    i.wind_speed = c.wind_speed;
+    i.dissipation = c.dissipation;
+    frame.instances.push_back(std::move(i));
+  });
+  snapshot.extensions.set(std::move(frame));
+}
+
+void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
+  ctx_ = &g.ctx;
+  cache_ = std::make_unique<CloudAssetCache>(g.ctx);
+  if (noise_file_.empty()) return;  // the level has no cloudscape
+  resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_));
+}
+
+void CloudFeature::destroy_gpu() {
+  resources_.reset();
+  cache_.reset();
+  ctx_ = nullptr;
+}
+
+uint64_t CloudFeature::asset_gpu_bytes() const { return cache_ ? cache_->gpu_bytes() : 0; }
+
+void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::StageContext& f) {
+  if (stage != cumulo::render::Stage::AfterOpaque || !options_.enabled || !resources_) return;
+  const CloudFrame* frame = f.snapshot.extensions.find<CloudFrame>();
+  if (!frame || frame->instances.empty()) return;
+  const cumulo::render::FrameSnapshot& s = f.snapshot;
+  const CloudFormats formats = CloudFormats::from_set(options_.formats.value_or(default_format_set(ctx_->info())));
+
+  CloudFrameInputs in;
+  in.camera = s.camera;
+  in.frame_index = s.frame_index;
+  in.time = s.sim_time;
+  in.slot = f.slot;
+  in.sun_direction = glm::normalize(s.sun.direction);
+  in.sun_color = s.lighting.sun_radiance;
+  // The sky dome's mean colour, as the geometry pass's hemispheric ambient sees it from above.
+  in.ambient_color = 0.5f * (s.lighting.sky_horizon + s.lighting.sky_zenith) * s.lighting.ambient;
+  for (const CloudInstanceFrame& i : frame->instances) {
+    CloudInstance ci;
+    ci.asset = cache_->cloudscape(i.folder, formats);
+    ci.position = i.position;
+    ci.rotation = i.rotation;
+    ci.scale = i.scale;
+    ci.density = i.density;
+    ci.wind_direction = i.wind_direction;
+    ci.wind_speed = i.wind_speed;
+    ci.dissipation = i.dissipation;
+    in.instances.push_back(std::move(ci));
+  }
+  in.lights = frame->lights;
+  const bool cut = have_last_camera_ && (s.camera_name != last_camera_name_ ||
+                                         glm::length(s.camera.position - last_camera_) > kCameraCutMetres);
+  in.camera_cut = cut;
+  last_camera_ = s.camera.position;
+  last_camera_name_ = s.camera_name;
+  have_last_camera_ = true;
+  in.settings.ablation = options_.ablation;
+  in.settings.debug = options_.debug;
+  in.settings.temporal = options_.temporal;
+  apply_budget_mode(in.settings, cumulo::render::budget_hz(s.mode));
+  CloudPassOutputs outputs;
+  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ ? &outputs : nullptr);
+  if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
+}
+
+void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth) {
+  using namespace cumulo::render;
+  const VkExtent2D size = f.graph.output_size();
+  const uint64_t pixels = uint64_t(size.width) * size.height;
+  if (!steps_buffer_ || steps_pixels_ != pixels) {
+    if (steps_buffer_) ctx_->wait_idle();
+    steps_buffer_ = gpu::Buffer(*ctx_, {pixels * sizeof(glm::vec4), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                        gpu::MemoryUsage::Readback, "clouds steps readback"});
+    steps_pixels_ = pixels;
+  }
+  BufferHandle buf = f.graph.import_buffer("clouds steps", steps_buffer_.handle(), steps_buffer_.size(),
+                                           ResourceState::host_read(), ResourceState::host_read());
+  f.graph.add_pass(kStepsReadbackPass, Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(depth, Usage::TransferSrc);
+        buf = b.write(buf, Usage::TransferDst);
+        b.side_effect();
+      },
+      [depth, buf](PassContext& c) {
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = c.extent(depth);
+        vkCmdCopyImageToBuffer(c.cmd(), c.image(depth), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buf), 1, &region);
+      });
+}
+
+double CloudFeature::read_steps_per_pixel() const {
+  if (!steps_buffer_ || steps_pixels_ == 0) return 0.0;
+  std::vector<glm::vec4> px(steps_pixels_);
+  steps_buffer_.download(px.data(), px.size() * sizeof(glm::vec4));
+  double sum = 0;
+  for (const glm::vec4& p : px) sum += p.y;
+  return sum / double(px.size());
+}
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,105 @@
+#pragma once
+// The clouds module's runtime (the wiring of cloud_renderer.h into the engine): `cumulo run` flags,
+// the Cloudscape assets of a level, the per-frame CloudFrame extension, and the cloud passes at the
+// AfterOpaque stage (between sky and tonemap), using the sun and ambient colours of the snapshot's
+// SceneLighting (the atmosphere replaces those later).
+//
+//   --clouds on|off            off: the same frame without the module's passes
+//   --cloud-debug VIEW         none | profile | steps | light-grid | split
+//   --cloud-formats SET        compressed | uncompressed (default: by device type)
+//   --cloud-ablation A         base | voxel-lighting | full (the talk's cost table; default full)
+//   --cloud-temporal on|off    temporal accumulation of the jittered march (default on)
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "engine/ecs/world.h"
+#include "engine/gpu/buffer.h"
+#include "engine/render/frame_snapshot.h"
+#include "engine/render/render_feature.h"
+#include "modules/clouds/render/cloud_renderer.h"
+
+namespace cumulo {
+class ArgParser;
+}
+namespace cumulo::scene {
+struct LevelInfo;
+}
+
+namespace cumulo::clouds::render {
+
+// One Cloudscape entity, as extracted for a frame.
+struct CloudInstanceFrame {
+  std::filesystem::path folder;  // resolved NVDF folder
+  glm::vec3 position{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+  float scale = 1.0f;
+  float density = 1.0f;
+  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
+  float wind_speed = 0.0f;
+  float dissipation = 0.0f;
+};
+
+// The snapshot extension of the clouds module.
+struct CloudFrame {
+  std::vector<CloudInstanceFrame> instances;
+  std::vector<CloudPointLight> lights;
+};
+
+struct CloudRunOptions {
+  bool enabled = true;
+  CloudDebugView debug = CloudDebugView::None;
+  std::optional<CloudFormatSet> formats;  // empty: default_format_set(device)
+  CloudAblation ablation = CloudAblation::Full;
+  bool temporal = true;
+  int noise_size = 128;
+};
+
+class CloudFeature : public cumulo::render::RenderFeature {
+ public:
+  void add_run_options(ArgParser& p);
+  void check_run_options();
+  CloudRunOptions& options() { return options_; }
+
+  // Resolves every Cloudscape's asset (bakes recipes into the cache) and the noise. Throws naming the
+  // level file and entity for a bad asset or a non-uniform scale.
+  void on_level_loaded(ecs::World& world, const scene::LevelInfo& level);
+  void extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) const;
+
+  void create_gpu(cumulo::render::GpuServices& g) override;
+  void destroy_gpu() override;
+  void add_passes(cumulo::render::Stage stage, cumulo::render::StageContext& f) override;
+
+  // For `cumulo bench` and tests: the renderer state (null before create_gpu), GPU bytes of the loaded
+  // assets, and the mean march steps per pixel of the last completed frame (measure_steps on: a
+  // side-effect pass copies the cloud depth target, whose y is the step count, to a host buffer).
+  const CloudResources* resources() const { return resources_.get(); }
+  uint64_t asset_gpu_bytes() const;
+  CloudAssetCache* asset_cache() { return cache_.get(); }
+  void set_measure_steps(bool on) { measure_steps_ = on; }
+  double read_steps_per_pixel() const;  // call once the frame has completed
+  static constexpr const char* kStepsReadbackPass = "clouds.steps_readback";
+
+ private:
+  void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
+  CloudRunOptions options_;
+  std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on";
+  std::filesystem::path noise_file_;
+  gpu::Context* ctx_ = nullptr;
+  std::unique_ptr<CloudAssetCache> cache_;
+  CloudResourcesPtr resources_;
+  glm::vec3 last_camera_{0.0f};
+  std::string last_camera_name_;
+  bool have_last_camera_ = false;
+  bool measure_steps_ = false;
+  gpu::Buffer steps_buffer_;
+  uint64_t steps_pixels_ = 0;
+};
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,142 @@
+#include "modules/clouds/scene/cloudscape_assets.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/core/hash.h"
+#include "engine/core/log.h"
+#include "engine/core/progress.h"
+#include "engine/gpu/context.h"
+#include "modules/clouds/bake/bake.h"
+#include "modules/clouds/noise/noise_encode.h"
+#include "modules/clouds/noise/noise_textures.h"
+#include "modules/clouds/volume/volume_file.h"
+
+namespace cumulo::clouds {
+namespace fs = std::filesystem;
+namespace {
+
+// The files the renderer reads from a cloudscape folder (both format sets).
+constexpr const char* kAssetFiles[] = {"modeling.nvdf", "modeling_bc1.nvdf", "field.nvdf", "field_bc1.nvdf"};
+
+// An exclusive lock on `path` for the lifetime of the object (flock: released if the process dies).
+class FileLock {
+ public:
+  explicit FileLock(const fs::path& path) {
+    fd_ = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail("%s: cannot create lock file", path.string().c_str());
+    while (::flock(fd_, LOCK_EX) != 0) {
+      if (errno != EINTR) fail("%s: cannot lock", path.string().c_str());
+    }
+  }
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+bool complete_folder(const fs::path& dir) {
+  std::error_code ec;
+  for (const char* f : kAssetFiles)
+    if (!fs::is_regular_file(dir / f, ec)) return false;
+  return true;
+}
+
+uint64_t file_stamp(const fs::path& p, uint64_t h) {
+  std::error_code ec;
+  auto size = fs::file_size(p, ec);
+  auto time = fs::last_write_time(p, ec).time_since_epoch().count();
+  h = hash64(p.string(), h);
+  h = hash64(&size, sizeof size, h);
+  return hash64(&time, sizeof time, h);
+}
+
+}  // namespace
+
+fs::path bake_cache_folder(const fs::path& recipe) {
+  uint64_t h = hash64(std::string_view(kBakeCacheVersion));
+  h = hash64(read_file_text(recipe), h);
+  // Mesh and volume edits read other files: their size and time are part of the key.
+  bake::Recipe r = bake::load_recipe(recipe);
+  for (const bake::Edit& e : r.edits)
+    if (!e.source.empty()) h = file_stamp(e.source, h);
+  char key[17];
+  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(h));
+  return gpu::default_cache_dir() / "bakes" / (recipe.stem().string() + "-" + key);
+}
+
+fs::path prepare_cloudscape_asset(const fs::path& asset, const std::string& where) {
+  std::error_code ec;
+  if (fs::is_directory(asset, ec)) {
+    if (!complete_folder(asset)) {
+      std::string missing;
+      for (const char* f : kAssetFiles)
+        if (!fs::is_regular_file(asset / f, ec)) missing += std::string(missing.empty() ? "" : ", ") + f;
+      fail("%s: cloudscape folder %s lacks %s (write it with `cumulo bake` or `cumulo import`)", where.c_str(),
+           asset.string().c_str(), missing.c_str());
+    }
+    return asset;
+  }
+  if (!fs::is_regular_file(asset, ec)) fail("%s: cloudscape asset not found: %s", where.c_str(), asset.string().c_str());
+  if (asset.extension() != ".json")
+    fail("%s: %s is neither a recipe (.json) nor a folder of .nvdf files", where.c_str(), asset.string().c_str());
+  fs::path dir;
+  try {
+    dir = bake_cache_folder(asset);
+  } catch (const Error& e) {
+    fail("%s: %s", where.c_str(), e.what());
+  }
+  if (complete_folder(dir)) return dir;
+  fs::create_directories(dir.parent_path());
+  FileLock lock(dir.string() + ".lock");
+  if (complete_folder(dir)) return dir;  // another process baked it while we waited
+  std::printf("cumulo: baking %s into the bake cache %s (first use; later runs reuse it)\n", asset.string().c_str(),
+              dir.string().c_str());
+  std::fflush(stdout);
+  try {
+    bake::Recipe recipe = bake::load_recipe(asset);
+    bake::BakeResult result = bake::bake_recipe(recipe);
+    // Written beside the final name and renamed at the end: a killed bake never leaves a half folder.
+    fs::path tmp = dir.string() + ".partial";
+    fs::remove_all(tmp, ec);
+    bake::write_bake_outputs(recipe, result, tmp);
+    fs::remove_all(dir, ec);
+    fs::rename(tmp, dir);
+  } catch (const Error& e) {
+    fail("%s: %s", where.c_str(), e.what());
+  }
+  return dir;
+}
+
+fs::path prepare_voxel_noise(int size, uint64_t seed) {
+  fs::path file = gpu::default_cache_dir() / "noise" /
+                  ("voxel_noise-" + std::to_string(size) + "-s" + std::to_string(seed) + "-rgba8.nvdf");
+  std::error_code ec;
+  if (fs::is_regular_file(file, ec)) return file;
+  fs::create_directories(file.parent_path());
+  FileLock lock(file.string() + ".lock");
+  if (fs::is_regular_file(file, ec)) return file;
+  std::printf("cumulo: generating the %d^3 voxel noise into %s (first use)\n", size, file.string().c_str());
+  std::fflush(stdout);
+  VoxelNoiseParams p;
+  p.size = size;
+  p.seed = seed;
+  Progress progress("voxel noise", double(size) * size * size);
+  NoiseTexture tex = generate_voxel_noise(p, &progress);
+  progress.finish();
+  // The channels `cumulo noise` writes into voxel_noise.nvdf.
+  save_volume(file, noise_to_volume(tex, VolumeEncoding::RGBA8,
+                                    {{"curly_alligator_low"}, {"curly_alligator_high"}, {"alligator_low"}, {"alligator_high"}}));
+  return file;
+}
+
+}  // namespace cumulo::clouds

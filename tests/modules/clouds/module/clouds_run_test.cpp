@@ -1,0 +1,175 @@
+// `cumulo run` with the clouds module, headless on lavapipe with validation: the cloud passes draw the
+// level's Cloudscape over the scene, `--clouds off` gives exactly the frame of a level without one, a
+// moved Transform moves the cloud, and the module's flags and level errors are refused clearly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+// Our own static copy of the PNG decoder (the scene library's copy is private to it).
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+
+#include "engine/app/application.h"
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "modules/clouds/clouds_module.h"
+#include "tests/support/temp_dir.h"
+
+namespace fs = std::filesystem;
+using namespace cumulo;
+
+namespace {
+
+struct Png {
+  int w = 0, h = 0;
+  std::vector<uint8_t> rgba;
+  int at(int x, int y, int c) const { return rgba[(size_t(y) * w + x) * 4 + c]; }
+};
+
+Png load_png(const fs::path& p) {
+  std::string bytes = read_file_text(p);
+  Png img;
+  int n = 0;
+  uint8_t* d = stbi_load_from_memory(reinterpret_cast<const uint8_t*>(bytes.data()), int(bytes.size()), &img.w, &img.h, &n, 4);
+  if (d) {
+    img.rgba.assign(d, d + size_t(img.w) * img.h * 4);
+    stbi_image_free(d);
+  }
+  return img;
+}
+
+class CloudsRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::unique_temp_path("cumulo_clouds_run");
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file("tests/modules/clouds/module/data/small_cloud.json", dir_ / "small_cloud.json");
+    level_text_ = read_file_text("tests/modules/clouds/module/data/level.json");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes the level with `from` replaced by `to` and returns its path.
+  fs::path level(const std::string& name, const std::string& from = "", const std::string& to = "") {
+    std::string text = level_text_;
+    if (!from.empty()) {
+      size_t p = text.find(from);
+      EXPECT_NE(p, std::string::npos) << from;
+      if (p != std::string::npos) text.replace(p, from.size(), to);
+    }
+    fs::path file = dir_ / (name + ".json");
+    write_file_atomic(file, text);
+    return file;
+  }
+
+  // Runs `cumulo run LEVEL --headless` in this process with a fresh clouds module; returns the exit code.
+  int run(const fs::path& level_file, const std::string& shot, std::vector<std::string> extra = {}, int frames = 3) {
+    std::vector<std::string> args{"run", level_file.string(), "--headless", "--frames", std::to_string(frames), "--size", "160x90",
+                                  "--screenshot", (dir_ / shot).string(), "--dump-graph", (dir_ / (shot + ".txt")).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    app::Modules modules{clouds::make_clouds_module()};
+    auto o = app::parse_run_options(int(argv.size()), argv.data(), modules);
+    return o ? app::run_level(*o, modules) : -1;
+  }
+
+  // Mean absolute difference per pixel column band and its centroid (x) where the images differ.
+  static double mean_diff(const Png& a, const Png& b) {
+    double d = 0;
+    for (size_t i = 0; i < a.rgba.size(); ++i) d += std::abs(int(a.rgba[i]) - int(b.rgba[i]));
+    return d / double(a.rgba.size());
+  }
+  static double diff_centroid_x(const Png& a, const Png& b) {
+    double sum = 0, wsum = 0;
+    for (int y = 0; y < a.h; ++y)
+      for (int x = 0; x < a.w; ++x) {
+        double d = 0;
+        for (int c = 0; c < 3; ++c) d += std::abs(a.at(x, y, c) - b.at(x, y, c));
+        sum += d * x;
+        wsum += d;
+      }
+    return wsum > 0 ? sum / wsum : -1.0;
+  }
+
+  fs::path dir_;
+  std::string level_text_;
+};
+
+const std::string kCloudEntity =
+    R"({"name": "cloud", "components": {"Transform": {"position": [0, 500, 0]}, "Cloudscape": {"asset": "small_cloud.json"}}},)";
+
+}  // namespace
+
+TEST_F(CloudsRun, CloudsDrawAndOffGivesTheFrameWithoutThem) {
+  fs::path with = level("with");
+  fs::path without = level("without", kCloudEntity, "");
+  ASSERT_EQ(run(with, "on.png"), 0);  // 3: validation errors
+  ASSERT_EQ(run(with, "off.png", {"--clouds", "off"}), 0);
+  ASSERT_EQ(run(without, "none.png"), 0);
+  Png on = load_png(dir_ / "on.png"), off = load_png(dir_ / "off.png"), none = load_png(dir_ / "none.png");
+  ASSERT_EQ(on.w, 160);
+  EXPECT_EQ(off.rgba, none.rgba);  // bit-exact: the module added nothing
+  // The cloud fills the middle of the view: the centre changes, the corners stay sky.
+  double centre = 0;
+  for (int y = 35; y < 55; ++y)
+    for (int x = 70; x < 90; ++x)
+      for (int c = 0; c < 3; ++c) centre += std::abs(on.at(x, y, c) - none.at(x, y, c));
+  EXPECT_GT(centre / (20.0 * 20 * 3), 10.0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(on.at(1, 1, c), none.at(1, 1, c), 3) << c;
+  // The graph: the march and the composite between sky and tonemap; none of it with --clouds off.
+  std::string g_on = read_file_text(dir_ / "on.png.txt"), g_off = read_file_text(dir_ / "off.png.txt");
+  EXPECT_NE(g_on.find("clouds.march"), std::string::npos);
+  EXPECT_LT(g_on.find(" sky ("), g_on.find("clouds.composite"));
+  EXPECT_LT(g_on.find("clouds.composite"), g_on.find(" tonemap ("));
+  EXPECT_EQ(g_off.find("clouds."), std::string::npos);
+}
+
+TEST_F(CloudsRun, MovedTransformMovesTheCloud) {
+  fs::path centre = level("centre");
+  fs::path right = level("right", "\"position\": [0, 500, 0]", "\"position\": [120, 500, 0]");
+  fs::path without = level("without", kCloudEntity, "");
+  ASSERT_EQ(run(centre, "centre.png"), 0);
+  ASSERT_EQ(run(right, "right.png"), 0);
+  ASSERT_EQ(run(without, "none.png"), 0);
+  Png c = load_png(dir_ / "centre.png"), r = load_png(dir_ / "right.png"), n = load_png(dir_ / "none.png");
+  double xc = diff_centroid_x(c, n), xr = diff_centroid_x(r, n);
+  EXPECT_NEAR(xc, 80.0, 8.0);  // centred
+  EXPECT_GT(xr, xc + 10.0);    // 120 m to the right at 450 m distance: about 20 px at 160 px / 60 deg
+  EXPECT_GT(mean_diff(r, c), 1.0);
+}
+
+TEST_F(CloudsRun, DebugViewsRunClean) {
+  fs::path with = level("with");
+  for (const char* view : {"profile", "steps", "light-grid", "split"})
+    EXPECT_EQ(run(with, std::string(view) + ".png", {"--cloud-debug", view, "--mode", "60"}, 1), 0) << view;
+}
+
+TEST_F(CloudsRun, BadFlagsAndLevelsAreRefusedClearly) {
+  fs::path with = level("with");
+  auto error_of = [&](const fs::path& file, std::vector<std::string> extra) -> std::string {
+    try {
+      run(file, "x.png", extra);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_NE(error_of(with, {"--cloud-debug", "heat"}).find("--cloud-debug"), std::string::npos);
+  EXPECT_NE(error_of(with, {"--clouds", "maybe"}).find("--clouds"), std::string::npos);
+  EXPECT_NE(error_of(with, {"--cloud-formats", "bc6h"}).find("--cloud-formats"), std::string::npos);
+  EXPECT_NE(error_of(with, {"--cloud-ablation", "fast"}).find("--cloud-ablation"), std::string::npos);
+  fs::path scaled = level("scaled", "\"position\": [0, 500, 0]", "\"position\": [0, 500, 0], \"scale\": [1, 2, 1]");
+  std::string s = error_of(scaled, {});
+  EXPECT_NE(s.find("uniform scale"), std::string::npos) << s;
+  EXPECT_NE(s.find("Cloudscape"), std::string::npos) << s;
+  fs::path missing = level("missing", "\"asset\": \"small_cloud.json\"", "\"asset\": \"absent.json\"");
+  std::string m = error_of(missing, {});
+  EXPECT_NE(m.find("missing.json"), std::string::npos) << m;
+  EXPECT_NE(m.find("absent.json"), std::string::npos) << m;
+}
