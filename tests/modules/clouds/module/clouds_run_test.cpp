@@ -141,7 +141,7 @@ TEST_F(CloudsRun, MovedTransformMovesTheCloud) {
   double xc = diff_centroid_x(c, n), xr = diff_centroid_x(r, n);
   EXPECT_NEAR(xc, 80.0, 8.0);  // centred
   EXPECT_GT(xr, xc + 10.0);    // 120 m to the right at 450 m distance: about 20 px at 160 px / 60 deg
-  EXPECT_GT(mean_diff(r, c), 1.0);
+  EXPECT_GT(mean_diff(r, c), 0.3);  // identical frames would give 0
 }
 
 TEST_F(CloudsRun, DebugViewsRunClean) {
