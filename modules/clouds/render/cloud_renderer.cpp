@@ -286,6 +286,21 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   return res;
 }
 
+CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snap, uint32_t slot,
+                                            const CloudSettings& settings) {
+  CloudFrameInputs in;
+  in.camera = snap.camera;
+  in.frame_index = snap.frame_index;
+  in.time = snap.sim_time;
+  in.slot = slot;
+  in.settings = settings;
+  apply_budget_mode(in.settings, cumulo::render::budget_hz(snap.mode));
+  in.sun_direction = snap.sun.direction;
+  in.sun_color = snap.sun.radiance * 3.14159265f;
+  in.ambient_color = 0.5f * (snap.lighting.sky_zenith + snap.lighting.sky_horizon) * snap.lighting.ambient;
+  return in;
+}
+
 CloudResourcesDesc CloudResourcesDesc::for_device(const gpu::DeviceInfo& device) {
   CloudResourcesDesc d;
   if (device.is_cpu()) d.light_grid_size = {128, 16, 128};

@@ -55,6 +55,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/frames.h"
 #include "engine/gpu/image.h"
+#include "engine/render/frame_snapshot.h"
 #include "engine/render/graph/render_graph.h"
 #include "engine/scene/camera.h"
 #include "modules/clouds/render/cloud_assets.h"
@@ -148,6 +149,15 @@ struct CloudFrameInputs {
   bool rebuild_light_grid = false;            // force a full light-grid rebuild
   CloudSettings settings;
 };
+
+// The engine-side fields of CloudFrameInputs from a frame snapshot: camera, frame index, time, the budget
+// mode (apply_budget_mode), the sun and the ambient; the module adds its instances, lights and other
+// settings. Units: the engine's sun radiance is what a white Lambertian surface returns (E / pi); the
+// march multiplies the sun by a phase function in 1/sr, so its sun colour is pi x that radiance. The
+// ambient is the stand-in sky's hemispheric term as geometry_lit.frag uses it (mean of zenith and
+// horizon x ambient scale): a thick cloud under a uniform sky scatters about the sky's radiance.
+CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snapshot, uint32_t slot,
+                                            const CloudSettings& settings = {});
 
 inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
 inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS

@@ -344,6 +344,29 @@ TEST_F(CloudRender, LightGridIsAmortizedAndRebuiltWhenTheSunMoves) {
   std::printf("  persistent cloud memory %.2f MB\n", double(persistent_gpu_bytes(*res_)) / 1e6);
 }
 
+TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
+  cumulo::render::FrameSnapshot snap;
+  snap.frame_index = 42;
+  snap.sim_time = 12.5;
+  snap.mode = cumulo::render::BudgetMode::Hz60;
+  snap.camera.position = glm::vec3(1, 2, 3);
+  snap.sun.direction = glm::vec3(0, 1, 0);
+  snap.sun.radiance = glm::vec3(3.0f, 2.0f, 1.0f);
+  snap.lighting.sky_zenith = glm::vec3(0.2f, 0.4f, 0.8f);
+  snap.lighting.sky_horizon = glm::vec3(0.6f, 0.6f, 0.6f);
+  snap.lighting.ambient = 0.5f;
+  CloudFrameInputs in = cloud_inputs_from_snapshot(snap, 1);
+  EXPECT_EQ(in.frame_index, 42u);
+  EXPECT_EQ(in.time, 12.5);
+  EXPECT_EQ(in.slot, 1u);
+  EXPECT_EQ(in.camera.position, glm::vec3(1, 2, 3));
+  EXPECT_TRUE(in.settings.split);  // 60 Hz: near/far split
+  EXPECT_NEAR(in.sun_color.r, 3.0f * 3.14159265f, 1e-4f);
+  EXPECT_NEAR(in.ambient_color.b, 0.35f, 1e-6f);
+  snap.mode = cumulo::render::BudgetMode::Hz30;
+  EXPECT_FALSE(cloud_inputs_from_snapshot(snap, 0).settings.split);
+}
+
 TEST_F(CloudRender, DebugViewsDrawSomethingDifferentFromTheImage) {
   const scene::CameraView cam = camera();
   CloudFrameInputs in = inputs(asset(), cam);
