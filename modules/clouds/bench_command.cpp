@@ -24,7 +24,7 @@ namespace {
 using render::CloudAblation;
 
 struct BenchOptions {
-  std::string level = "content/levels/sample/level.json";
+  std::string level = (repo_root() / "content/levels/sample/level.json").string();
   uint32_t width = 320, height = 180;
   uint32_t frames = 6;  // measured frames per run, after the warm-up
   uint32_t warmup = 3;  // lavapipe JITs on first use; the light grid is rebuilt whole on the first frame

@@ -96,6 +96,8 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
 }
 
 void CloudFeature::destroy_gpu() {
+  steps_buffer_.reset();
+  steps_pixels_ = 0;
   resources_.reset();
   cache_.reset();
   ctx_ = nullptr;

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Regenerates the README's screenshots: the sample level's three cameras (ground, mixed, immersed) at noon
+# and near sunset, headless, with the clouds (docs/images/<camera>_<time>.png). Builds first.
+# Usage: scripts/screenshots.sh [WxH] [FRAMES]   (default 480x270, 12 frames so the temporal accumulation settles)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SIZE=${1:-480x270}
+FRAMES=${2:-12}
+scripts/build.sh >/dev/null
+BUILD_DIR=${CUMULO_BUILD_DIR:-build}
+mkdir -p docs/images
+for cam in ground mixed immersed; do
+  for tod in noon:12.5 sunset:18.0; do
+    name=${tod%%:*}
+    hours=${tod##*:}
+    "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --camera "$cam" --time-of-day "$hours" \
+      --size "$SIZE" --frames "$FRAMES" --screenshot "docs/images/${cam}_${name}.png" >/dev/null
+    echo "docs/images/${cam}_${name}.png"
+  done
+done

@@ -1,0 +1,48 @@
+// `cumulo bench` through the real executable on a reduced matrix (one view, two ablations, both modes,
+// tiny size): it runs clean and writes the JSON the issue names. Its numbers are for people to read,
+// never asserted here.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/engine/app/cli_test_util.h"
+#include "tests/support/temp_dir.h"
+
+namespace fs = std::filesystem;
+
+TEST(BenchCli, WritesTheTableAndTheJson) {
+  fs::path out = cumulo::test::unique_temp_path("cumulo_bench") += ".json";
+  auto r = cumulo::test::run_cumulo("bench --size 64x36 --frames 1 --warmup 1 --views ground --ablations base,full --out " +
+                                    out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| view | ablation | mode |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[4/4] ground full 60 Hz"), std::string::npos) << r.output;  // a progress line per run
+  std::ifstream f(out);
+  auto j = nlohmann::json::parse(f);
+  EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
+  EXPECT_EQ(j["size"][0], 64);
+  EXPECT_EQ(j["frames"], 1);
+  EXPECT_GT(j["memory"]["cloudscape_compressed"].get<uint64_t>(), 0u);
+  EXPECT_LE(j["memory"]["cloudscape_compressed"].get<uint64_t>(), 25200000u);  // the talk's budget per cloudscape
+  ASSERT_EQ(j["runs"].size(), 4u);
+  for (auto& run : j["runs"]) {
+    for (const char* key : {"view", "ablation", "mode", "cloud_ms", "geometry_ms", "steps_per_pixel", "passes"})
+      EXPECT_TRUE(run.contains(key)) << key;
+    EXPECT_GT(run["cloud_ms"].get<double>(), 0.0);
+    EXPECT_TRUE(run["passes"].contains(run["mode"] == 30 ? "clouds.march" : "clouds.march_far")) << run.dump();
+  }
+  // The full method takes fewer steps than the uniform base march (the SDF skips empty space).
+  EXPECT_LT(j["runs"][1]["steps_per_pixel"].get<double>(), j["runs"][0]["steps_per_pixel"].get<double>());
+  fs::remove(out);
+}
+
+TEST(BenchCli, BadMatrixIsRefused) {
+  auto r = cumulo::test::run_cumulo("bench --ablations fastest");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--ablations"), std::string::npos) << r.output;
+  r = cumulo::test::run_cumulo("bench --views nowhere --frames 1 --warmup 0 --size 32x18");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("nowhere"), std::string::npos) << r.output;
+}
