@@ -34,12 +34,18 @@ void CloudFeature::add_run_options(ArgParser& p) {
               &formats_text_)
       .option("--cloud-ablation", "A", "cloud march variant of the talk's cost table: base, voxel-lighting, full (default)",
               &ablation_text_)
-      .option("--cloud-temporal", "on|off", "temporal accumulation of the jittered cloud march (default on)", &temporal_text_);
+      .option("--cloud-temporal", "on|off", "temporal accumulation of the jittered cloud march (default on)", &temporal_text_)
+      .option("--cloud-light-grid", "talk|device",
+              "light grid size: the talk's 256x256x32, or sized for the device (default: 128x128x16 on CPU devices)",
+              &light_grid_text_);
 }
 
 void CloudFeature::check_run_options() {
   options_.enabled = parse_on_off("--clouds", clouds_text_);
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
+  if (light_grid_text_ != "talk" && light_grid_text_ != "device")
+    fail("--cloud-light-grid: expected talk or device, got \"%s\"", light_grid_text_.c_str());
+  options_.talk_light_grid = light_grid_text_ == "talk";
   if (!debug_text_.empty() && !parse_debug_view(debug_text_, &options_.debug))
     fail("--cloud-debug: unknown view \"%s\" (expected none, profile, steps, light-grid or split)", debug_text_.c_str());
   if (!formats_text_.empty()) {
@@ -92,7 +98,10 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   ctx_ = &g.ctx;
   cache_ = std::make_unique<CloudAssetCache>(g.ctx);
   if (noise_file_.empty()) return;  // the level has no cloudscape
-  resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_));
+  // The talk's 256x256x32 grid, or on CPU devices a smaller one (its eighth per frame would cost about
+  // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
+  CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
+  resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
 }
 
 void CloudFeature::destroy_gpu() {
@@ -112,15 +121,12 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   const cumulo::render::FrameSnapshot& s = f.snapshot;
   const CloudFormats formats = CloudFormats::from_set(options_.formats.value_or(default_format_set(ctx_->info())));
 
-  CloudFrameInputs in;
-  in.camera = s.camera;
-  in.frame_index = s.frame_index;
-  in.time = s.sim_time;
-  in.slot = f.slot;
-  in.sun_direction = glm::normalize(s.sun.direction);
-  in.sun_color = s.lighting.sun_radiance;
-  // The sky dome's mean colour, as the geometry pass's hemispheric ambient sees it from above.
-  in.ambient_color = 0.5f * (s.lighting.sky_horizon + s.lighting.sky_zenith) * s.lighting.ambient;
+  CloudSettings settings;
+  settings.ablation = options_.ablation;
+  settings.debug = options_.debug;
+  settings.temporal = options_.temporal;
+  // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
+  CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame->instances) {
     CloudInstance ci;
     ci.asset = cache_->cloudscape(i.folder, formats);
@@ -140,10 +146,6 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   last_camera_ = s.camera.position;
   last_camera_name_ = s.camera_name;
   have_last_camera_ = true;
-  in.settings.ablation = options_.ablation;
-  in.settings.debug = options_.debug;
-  in.settings.temporal = options_.temporal;
-  apply_budget_mode(in.settings, cumulo::render::budget_hz(s.mode));
   CloudPassOutputs outputs;
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ ? &outputs : nullptr);
   if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);

@@ -9,6 +9,8 @@
 //   --cloud-formats SET        compressed | uncompressed (default: by device type)
 //   --cloud-ablation A         base | voxel-lighting | full (the talk's cost table; default full)
 //   --cloud-temporal on|off    temporal accumulation of the jittered march (default on)
+//   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
+//                              (default: 128x128x16 on CPU devices, the talk's elsewhere)
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -58,6 +60,7 @@ struct CloudRunOptions {
   std::optional<CloudFormatSet> formats;  // empty: default_format_set(device)
   CloudAblation ablation = CloudAblation::Full;
   bool temporal = true;
+  bool talk_light_grid = false;  // true: 256x256x32 on every device
   int noise_size = 128;
 };
 
@@ -89,7 +92,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
  private:
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
   CloudRunOptions options_;
-  std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on";
+  std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
+      light_grid_text_ = "device";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
