@@ -18,6 +18,8 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "modules/clouds/clouds_module.h"
+#include "modules/clouds/volume/import.h"
+#include "modules/clouds/volume/import_outputs.h"
 #include "tests/support/temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -142,6 +144,34 @@ TEST_F(CloudsRun, MovedTransformMovesTheCloud) {
   EXPECT_NEAR(xc, 80.0, 8.0);  // centred
   EXPECT_GT(xr, xc + 10.0);    // 120 m to the right at 450 m distance: about 20 px at 160 px / 60 deg
   EXPECT_GT(mean_diff(r, c), 0.3);  // identical frames would give 0
+}
+
+// A volume that did not come from our baker (an imported SDF: what `cumulo import` makes of a VDB or of
+// TGA slices) renders like a baked one: same place, comparable coverage.
+TEST_F(CloudsRun, ImportedVolumeRendersLikeABakedOne) {
+  const glm::uvec3 dims(64, 32, 64);
+  std::vector<float> sdf(size_t(dims.x) * dims.y * dims.z);
+  for (uint32_t k = 0; k < dims.z; ++k)
+    for (uint32_t j = 0; j < dims.y; ++j)
+      for (uint32_t i = 0; i < dims.x; ++i) {
+        glm::vec3 p = glm::vec3(-256.0f, 0.0f, -256.0f) + (glm::vec3(i, j, k) + 0.5f) * 8.0f;
+        sdf[(size_t(k) * dims.y + j) * dims.x + i] = glm::length(p - glm::vec3(0, 128, 0)) - 100.0f;
+      }
+  clouds::DeriveOptions derive;
+  derive.detail_type = 0.8f;
+  clouds::write_imported_cloudscape(dir_ / "imported",
+                                    clouds::nvdfs_from_sdf(sdf, dims, 8.0f, glm::vec3(-256.0f, 0.0f, -256.0f), derive));
+  fs::path imported = level("imported", "\"asset\": \"small_cloud.json\"", "\"asset\": \"imported\"");
+  fs::path baked = level("baked");
+  fs::path without = level("without", kCloudEntity, "");
+  ASSERT_EQ(run(imported, "imported.png"), 0);
+  ASSERT_EQ(run(baked, "baked.png"), 0);
+  ASSERT_EQ(run(without, "none.png"), 0);
+  Png i = load_png(dir_ / "imported.png"), b = load_png(dir_ / "baked.png"), n = load_png(dir_ / "none.png");
+  EXPECT_NEAR(diff_centroid_x(i, n), diff_centroid_x(b, n), 6.0);
+  const double di = mean_diff(i, n), db = mean_diff(b, n);
+  EXPECT_GT(di, 0.5 * db);  // the same sphere, without the recipe's erosion: similar coverage
+  EXPECT_LT(di, 2.0 * db);
 }
 
 TEST_F(CloudsRun, DebugViewsRunClean) {
