@@ -1,6 +1,14 @@
 # libFuzzer targets, built with clang (-fsanitize=fuzzer,address,undefined) beside the main g++
 # build: each source is compiled by its own custom command (with a depfile, so header edits
-# rebuild it) and linked into build/tests/fuzz/<NAME>. A CTest test `fuzz_<NAME>` runs it briefly.
+# rebuild it) and linked into build/fuzz/<NAME>/<NAME>. A CTest test `fuzz_<NAME>` runs it briefly and
+# deterministically: a fixed -seed and a fixed -runs count, so a CI run either always or never finds a
+# given input (a random seed made CI fail by chance). Long campaigns with random seeds are
+# scripts/fuzz.sh [SECONDS], which reads build/fuzz/<NAME>/seed_dirs.txt written here.
+#
+# Regressions: tests/fuzz/seeds/<NAME>/ holds one file per input that ever crashed the fuzzer (kept
+# forever, so the fix stays tested). A CTest test `fuzz_<NAME>_regressions` runs each of them once;
+# they are not part of the fuzzing corpus, because some are large by nature (a 400 KB chain of 20,000
+# glTF nodes) and would slow every run and raise libFuzzer's maximum input length.
 #
 #   include(CumuloFuzz)   # from any CMakeLists.txt (CMAKE_MODULE_PATH has cmake/)
 #   cumulo_add_fuzzer(NAME recipe_fuzz
@@ -8,7 +16,8 @@
 #     LINK -lzstd                       # extra link flags (optional)
 #     SEED_DIRS content/levels/sample   # existing folders of seed inputs (optional)
 #     FIXTURES my_seed_fixture          # CTest fixtures that must run first, e.g. to write seeds (optional)
-#     RUNS 50000 MAX_SECONDS 20)        # the CTest run stops at whichever comes first (defaults)
+#     RUNS 50000 MAX_SECONDS 20         # the CTest run stops at whichever comes first (defaults)
+#     SEED 1)                           # libFuzzer -seed of the CTest run (default 1)
 #
 # SOURCES / SEED_DIRS are relative to the repository root (or absolute). The target must define
 # LLVMFuzzerTestOneInput; it is compiled with -DCUMULO_FUZZ=1 and the repo root on the include path.
@@ -34,7 +43,7 @@ endif()
 set(CUMULO_FUZZ_AVAILABLE ${_cumulo_fuzz} CACHE INTERNAL "clang libFuzzer available")
 
 function(cumulo_add_fuzzer)
-  cmake_parse_arguments(F "" "NAME;RUNS;MAX_SECONDS" "SOURCES;LINK;SEED_DIRS;FIXTURES" ${ARGN})
+  cmake_parse_arguments(F "" "NAME;RUNS;MAX_SECONDS;SEED" "SOURCES;LINK;SEED_DIRS;FIXTURES" ${ARGN})
   if(NOT CUMULO_FUZZ_AVAILABLE)
     return()
   endif()
@@ -43,6 +52,9 @@ function(cumulo_add_fuzzer)
   endif()
   if(NOT F_MAX_SECONDS)
     set(F_MAX_SECONDS 20)
+  endif()
+  if(NOT F_SEED)
+    set(F_SEED 1)
   endif()
   set(dir ${CMAKE_BINARY_DIR}/fuzz/${F_NAME})
   set(flags -std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
@@ -74,17 +86,26 @@ function(cumulo_add_fuzzer)
     endif()
     list(APPEND seeds ${s})
   endforeach()
+  list(JOIN seeds "\n" seed_lines)
+  file(WRITE ${dir}/seed_dirs.txt "${seed_lines}\n")
   # The first corpus folder is libFuzzer's output; start it empty so every run is the same length.
+  # A prefix of the same input sequence is run even when -max_total_time ends it early on a busy machine.
   set(corpus ${dir}/corpus)
   list(JOIN seeds "' '" seed_args)
   if(seeds)
     set(seed_args "'${seed_args}'")
   endif()
   add_test(NAME fuzz_${F_NAME}
-    COMMAND sh -c "rm -rf '${corpus}' && mkdir -p '${corpus}' && exec '${exe}' -runs=${F_RUNS} -max_total_time=${F_MAX_SECONDS} -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 '${corpus}' ${seed_args}"
+    COMMAND sh -c "rm -rf '${corpus}' && mkdir -p '${corpus}' && exec '${exe}' -seed=${F_SEED} -runs=${F_RUNS} -max_total_time=${F_MAX_SECONDS} -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 '${corpus}' ${seed_args}"
     WORKING_DIRECTORY ${dir})
   set_tests_properties(fuzz_${F_NAME} PROPERTIES LABELS "fuzz" TIMEOUT 120)
   if(F_FIXTURES)
     set_tests_properties(fuzz_${F_NAME} PROPERTIES FIXTURES_REQUIRED "${F_FIXTURES}")
   endif()
+  # Globbed when the test runs, so a newly added regression needs no re-configure.
+  set(regressions ${PROJECT_SOURCE_DIR}/tests/fuzz/seeds/${F_NAME})
+  add_test(NAME fuzz_${F_NAME}_regressions
+    COMMAND sh -c "[ -d '${regressions}' ] || exit 0; exec '${exe}' -timeout=10 -rss_limit_mb=2048 '${regressions}'/*"
+    WORKING_DIRECTORY ${dir})
+  set_tests_properties(fuzz_${F_NAME}_regressions PROPERTIES LABELS "fuzz" TIMEOUT 120)
 endfunction()

@@ -3,28 +3,82 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+#include <type_traits>
 
 #include "engine/core/error.h"
+#include "engine/core/message.h"
+#include "engine/core/number.h"
 
 namespace cumulo {
-namespace {
-
-double to_double(const std::string& flag, const std::string& s) {
+template <typename T>
+T parse_flag_number(const std::string& flag, const std::string& text) {
+  const char* kind = std::is_floating_point_v<T> ? "a number" : "an integer";
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0])))
+    fail("%s: expected %s, got %s", flag.c_str(), kind, quote(text).c_str());
   char* end = nullptr;
   errno = 0;
-  double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end || errno) fail("%s: expected a number, got \"%s\"", flag.c_str(), s.c_str());
-  return v;
+  std::optional<std::string> why;
+  T out{};
+  if constexpr (std::is_floating_point_v<T>) {
+    // Overflow (ERANGE with +-HUGE_VAL) is left to the rule, which names it; underflow to 0 or a
+    // denormal is a value like any other.
+    const double v = std::strtod(text.c_str(), &end);
+    if (*end) fail("%s: expected %s, got %s", flag.c_str(), kind, quote(text).c_str());
+    why = number_problem<T>(v);
+    out = static_cast<T>(v);
+  } else if constexpr (std::is_signed_v<T>) {
+    const long long v = std::strtoll(text.c_str(), &end, 10);
+    if (*end) fail("%s: expected %s, got %s", flag.c_str(), kind, quote(text).c_str());
+    why = errno == ERANGE ? strf("%s does not fit %s", clip(text).c_str(), number_type_name<T>()) : integer_problem<T>(v);
+    out = static_cast<T>(v);
+  } else {
+    // strtoull accepts "-1" and wraps it; a sign is never a valid unsigned value.
+    const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+    if (*end) fail("%s: expected %s, got %s", flag.c_str(), kind, quote(text).c_str());
+    if (text[0] == '-' || errno == ERANGE) why = strf("%s does not fit %s", clip(text).c_str(), number_type_name<T>());
+    else why = integer_problem<T>(v);
+    out = static_cast<T>(v);
+  }
+  if (why) fail("%s: %s", flag.c_str(), why->c_str());
+  return out;
 }
 
-long long to_int(const std::string& flag, const std::string& s) {
-  char* end = nullptr;
-  errno = 0;
-  long long v = std::strtoll(s.c_str(), &end, 10);
-  if (s.empty() || *end || errno) fail("%s: expected an integer, got \"%s\"", flag.c_str(), s.c_str());
-  return v;
+template <typename T>
+std::vector<T> parse_flag_list(const std::string& flag, const std::string& text, size_t n) {
+  std::vector<T> out;
+  size_t start = 0;
+  while (out.size() <= n) {
+    const size_t comma = text.find(',', start);
+    out.push_back(parse_flag_number<T>(flag, text.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (out.size() != n) fail("%s: expected %zu comma-separated numbers, got %s", flag.c_str(), n, quote(text).c_str());
+  return out;
+}
+
+#define CUMULO_ARGS_NUMBER(T)                                                      \
+  template T parse_flag_number<T>(const std::string&, const std::string&);        \
+  template std::vector<T> parse_flag_list<T>(const std::string&, const std::string&, size_t);
+CUMULO_ARGS_NUMBER(int)
+CUMULO_ARGS_NUMBER(uint32_t)
+CUMULO_ARGS_NUMBER(uint64_t)
+CUMULO_ARGS_NUMBER(float)
+CUMULO_ARGS_NUMBER(double)
+#undef CUMULO_ARGS_NUMBER
+
+namespace {
+
+std::string range_text(double lo, double hi, Open open) {
+  const bool lo_open = open == Open::Low || open == Open::Both, hi_open = open == Open::High || open == Open::Both;
+  if (std::isinf(hi)) return strf("%s %g", lo_open ? ">" : ">=", lo);
+  if (std::isinf(lo)) return strf("%s %g", hi_open ? "<" : "<=", hi);
+  if (!lo_open && !hi_open) return strf("%g..%g", lo, hi);
+  return strf("%g %s x %s %g", lo, lo_open ? "<" : "<=", hi_open ? "<" : "<=", hi);
 }
 
 }  // namespace
@@ -38,37 +92,51 @@ ArgParser& ArgParser::positional(const std::string& name, const std::string& hel
 
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h,
                              std::function<void(const std::string&)> set) {
-  opts_.push_back({n, v, h, std::move(set), false});
+  opts_.push_back({n, v, h, [set = std::move(set)](const std::string& s, const Opt&) { set(s); }, false, {}});
   return *this;
 }
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h, std::string* out) {
   return option(n, v, h, [out](const std::string& s) { *out = s; });
 }
+
+template <typename T>
+ArgParser& ArgParser::number_option(const std::string& n, const std::string& v, const std::string& h, T* out) {
+  opts_.push_back({n, v, h, [out](const std::string& s, const Opt& o) {
+                     const T x = parse_flag_number<T>(o.name, s);
+                     const Range& r = o.range;
+                     const bool lo_open = r.open == Open::Low || r.open == Open::Both;
+                     const bool hi_open = r.open == Open::High || r.open == Open::Both;
+                     const double d = double(x);
+                     if (r.set && ((lo_open ? !(d > r.lo) : !(d >= r.lo)) || (hi_open ? !(d < r.hi) : !(d <= r.hi))))
+                       fail("%s: %s is out of range (expected %s)", o.name.c_str(), clip(s).c_str(),
+                            range_text(r.lo, r.hi, r.open).c_str());
+                     *out = x;
+                   },
+                   false, {}});
+  return *this;
+}
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h, int* out) {
-  return option(n, v, h, [n, out](const std::string& s) { *out = static_cast<int>(to_int(n, s)); });
+  return number_option(n, v, h, out);
 }
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h, uint32_t* out) {
-  return option(n, v, h, [n, out](const std::string& s) {
-    long long x = to_int(n, s);
-    if (x < 0 || x > 0xffffffffll) fail("%s: %s is out of range", n.c_str(), s.c_str());
-    *out = static_cast<uint32_t>(x);
-  });
+  return number_option(n, v, h, out);
 }
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h, uint64_t* out) {
-  return option(n, v, h, [n, out](const std::string& s) {
-    long long x = to_int(n, s);
-    if (x < 0) fail("%s: %s is out of range", n.c_str(), s.c_str());
-    *out = static_cast<uint64_t>(x);
-  });
+  return number_option(n, v, h, out);
 }
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h, float* out) {
-  return option(n, v, h, [n, out](const std::string& s) { *out = static_cast<float>(to_double(n, s)); });
+  return number_option(n, v, h, out);
 }
 ArgParser& ArgParser::option(const std::string& n, const std::string& v, const std::string& h, double* out) {
-  return option(n, v, h, [n, out](const std::string& s) { *out = to_double(n, s); });
+  return number_option(n, v, h, out);
 }
 ArgParser& ArgParser::flag(const std::string& n, const std::string& h, bool* out) {
-  opts_.push_back({n, "", h, [out](const std::string&) { *out = true; }, true});
+  opts_.push_back({n, "", h, [out](const std::string&, const Opt&) { *out = true; }, true, {}});
+  return *this;
+}
+ArgParser& ArgParser::range(double lo, double hi, Open open) {
+  if (opts_.empty() || opts_.back().is_flag) fail("%s: range() must follow a numeric option", command_.c_str());
+  opts_.back().range = {lo, hi, open, true};
   return *this;
 }
 
@@ -99,16 +167,17 @@ bool ArgParser::parse(int argc, char** argv) {
         has_value = true;
       }
       const Opt* o = find(name);
-      if (!o) fail("%s: unknown option %s (see %s --help)", command_.c_str(), name.c_str(), command_.c_str());
+      if (!o) fail("%s: unknown option %s (see %s --help)", command_.c_str(), clip(name).c_str(), command_.c_str());
       if (!o->is_flag && !has_value) {
         if (i + 1 >= argc) fail("%s: %s needs a value (%s)", command_.c_str(), name.c_str(), o->value.c_str());
         value = argv[++i];
       }
-      o->set(value);
+      o->set(value, *o);
       set_.push_back(name);
       continue;
     }
-    if (next_pos >= pos_.size()) fail("%s: unexpected argument \"%s\" (see %s --help)", command_.c_str(), a.c_str(), command_.c_str());
+    if (next_pos >= pos_.size())
+      fail("%s: unexpected argument %s (see %s --help)", command_.c_str(), quote(a).c_str(), command_.c_str());
     *pos_[next_pos++].out = a;
   }
   for (size_t k = next_pos; k < pos_.size(); ++k)
@@ -128,7 +197,9 @@ std::string ArgParser::help() const {
   s += "\noptions:\n";
   for (auto& o : opts_) {
     std::string lhs = o.name + (o.value.empty() ? "" : " " + o.value);
-    s += strf("  %-26s %s\n", lhs.c_str(), o.help.c_str());
+    std::string help = o.help;
+    if (o.range.set) help += " [" + range_text(o.range.lo, o.range.hi, o.range.open) + "]";
+    s += strf("  %-26s %s\n", lhs.c_str(), help.c_str());
   }
   s += strf("  %-26s %s\n", "-h, --help", "show this help");
   return s;

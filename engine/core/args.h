@@ -4,13 +4,28 @@
 //
 //   ArgParser p("cumulo noise", "Generate tileable cloud noises.");
 //   p.option("-o", "DIR", "output folder", &out).option("--seed", "N", "random seed", &seed);
+//   p.option("--voxel-size", "M", "voxel size", &voxel).range(0.0, 1024.0, Open::Low);   // 0 < M <= 1024
 //   if (!p.parse(argc, argv)) return 0;   // --help was printed
+//
+// Numbers follow the one rule for outside numbers (core/number.h): finite, in range of the type they
+// are stored in (4294967312 is not an int, nan and 1e39 are not floats), then in the option's range.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace cumulo {
+
+// `text` as a T for the flag `flag`, by the rule above; throws "FLAG: ..." naming the value.
+template <typename T>
+T parse_flag_number(const std::string& flag, const std::string& text);
+// "a,b,c": exactly n comma-separated numbers, each by parse_flag_number.
+template <typename T>
+std::vector<T> parse_flag_list(const std::string& flag, const std::string& text, size_t n);
+
+// Which ends of a range() are excluded.
+enum class Open { None, Low, High, Both };
 
 class ArgParser {
  public:
@@ -27,6 +42,8 @@ class ArgParser {
   ArgParser& option(const std::string& name, const std::string& value, const std::string& help,
                     std::function<void(const std::string&)> set);
   ArgParser& flag(const std::string& name, const std::string& help, bool* out);
+  // The range of the numeric option added last ("--iso: -1 is outside 0..1"); also shown by --help.
+  ArgParser& range(double lo, double hi, Open open = Open::None);
 
   // argv[0] is the subcommand name. Returns false after printing --help. Throws cumulo::Error on
   // unknown flags, missing values, bad numbers or missing positionals.
@@ -35,11 +52,19 @@ class ArgParser {
   std::string help() const;
 
  private:
+  struct Range {
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    Open open = Open::None;
+    bool set = false;
+  };
   struct Opt {
     std::string name, value, help;
-    std::function<void(const std::string&)> set;
+    std::function<void(const std::string&, const Opt&)> set;
     bool is_flag = false;
+    Range range;
   };
+  template <typename T>
+  ArgParser& number_option(const std::string& name, const std::string& value, const std::string& help, T* out);
   struct Pos {
     std::string name, help;
     std::string* out;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -39,8 +40,10 @@ class JsonView {
   std::vector<JsonView> elements() const;              // array elements (fails if not an array)
   std::vector<std::string> keys() const;               // object keys in document order
 
+  // bool, int, int64_t, uint32_t, uint64_t, float, double, std::string. Numbers follow the one rule
+  // of core/number.h: finite and in range of T (1e39 is not a float, 4294967312 not a uint32_t).
   template <typename T>
-  T as() const;  // bool, int, int64_t, uint32_t, uint64_t, float, double, std::string
+  T as() const;
   template <typename T>
   T get(const std::string& key) const {
     return (*this)[key].template as<T>();
@@ -68,6 +71,8 @@ class JsonView {
  private:
   std::string type_name() const;
   std::vector<float> floats(size_t n) const;
+  template <typename T>
+  T integer() const;
 
   const Json* value_;
   std::shared_ptr<const std::string> file_;
@@ -87,8 +92,13 @@ class JsonDocument {
   std::shared_ptr<const std::string> file_;
 };
 
-// Throws cumulo::Error "FILE:LINE:COL: syntax error: ..." or "FILE: cannot open: ...".
+// Throws cumulo::Error "FILE:LINE:COL: JSON syntax error: ..." or "FILE: cannot open: ...". Every
+// parse refuses, with the line and column: text nested deeper than 256 levels (checked before any
+// parser runs) and numbers that overflow a double ("FILE:L:C: $.a.b: number 1e999999 does not fit...").
 JsonDocument load_json_file(const std::filesystem::path& path);
 JsonDocument parse_json_text(const std::string& text, const std::string& name);
+// The same checks without building a document: the gate in front of other JSON readers (tinygltf),
+// so they only ever see text that our rules accept.
+void check_json_text(std::string_view text, const std::string& name);
 
 }  // namespace cumulo

@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "engine/core/error.h"
+#include "engine/core/message.h"
 
 namespace cumulo::scene {
 
@@ -105,8 +106,8 @@ ecs::Entity find_camera(const ecs::World& world, std::string_view name) {
   if (found.is_null()) {
     std::string list;
     for (auto& n : camera_names(world)) list += (list.empty() ? "" : ", ") + n;
-    throw Error(strf("no camera named \"%.*s\" (the level has: %s)", int(name.size()), name.data(),
-                     list.empty() ? "no cameras" : list.c_str()));
+    throw Error(strf("no camera named %s (the level has: %s)", quote(name).c_str(),
+                     list.empty() ? "no cameras" : clip(list, 300).c_str()));
   }
   return found;
 }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <unordered_set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -17,7 +18,10 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/json.h"
 #include "engine/core/log.h"
+#include "engine/core/message.h"
+#include "engine/core/number.h"
 
 // ---- third-party implementations --------------------------------------------------------------------
 // stb_image is compiled here with static linkage so that no other library's copy (cumulo_core owns
@@ -171,6 +175,11 @@ class Reader {
 
   [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
     throw Error(file_ + ": " + where + ": " + msg);
+  }
+
+  // A glTF number (tinygltf keeps doubles) narrowed to the float we store, by core/number.h's rule.
+  float to_float(double v, const std::string& where) const {
+    return narrow_number<float>(v, [&](const std::string& why) { fail(where, why); });
   }
 
   const tinygltf::Accessor& accessor(int index, const std::string& where) const {
@@ -416,8 +425,7 @@ Material load_material(const Reader& r, const tinygltf::Model& g, size_t index) 
   Material mat;
   mat.name = m.name;
   if (pbr.baseColorFactor.size() == 4)
-    mat.base_color_factor = glm::vec4(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
-                                      float(pbr.baseColorFactor[2]), float(pbr.baseColorFactor[3]));
+    for (int i = 0; i < 4; ++i) mat.base_color_factor[i] = r.to_float(pbr.baseColorFactor[size_t(i)], where + ".baseColorFactor");
   if (pbr.baseColorTexture.index >= 0) {
     if (size_t(pbr.baseColorTexture.index) >= g.textures.size())
       r.fail(where, strf("baseColorTexture %d out of range (%zu textures)", pbr.baseColorTexture.index, g.textures.size()));
@@ -425,29 +433,33 @@ Material load_material(const Reader& r, const tinygltf::Model& g, size_t index) 
     if (pbr.baseColorTexture.texCoord != 0)
       LOG_WARN("%s: baseColorTexture uses TEXCOORD_%d; cumulo reads TEXCOORD_0", where.c_str(), pbr.baseColorTexture.texCoord);
   }
-  mat.metallic = float(pbr.metallicFactor);
-  mat.roughness = float(pbr.roughnessFactor);
+  mat.metallic = r.to_float(pbr.metallicFactor, where + ".metallicFactor");
+  mat.roughness = r.to_float(pbr.roughnessFactor, where + ".roughnessFactor");
   if (m.emissiveFactor.size() == 3)
-    mat.emissive = glm::vec3(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]), float(m.emissiveFactor[2]));
+    for (int i = 0; i < 3; ++i) mat.emissive[i] = r.to_float(m.emissiveFactor[size_t(i)], where + ".emissiveFactor");
   mat.alpha_mode = m.alphaMode == "MASK" ? AlphaMode::Mask : m.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
-  mat.alpha_cutoff = float(m.alphaCutoff);
+  mat.alpha_cutoff = r.to_float(m.alphaCutoff, where + ".alphaCutoff");
   mat.double_sided = m.doubleSided;
   return mat;
 }
 
 // ---- node hierarchy ---------------------------------------------------------------------------------
-glm::mat4 local_matrix(const tinygltf::Node& n) {
+glm::mat4 local_matrix(const Reader& r, const tinygltf::Node& n, const std::string& where) {
+  auto f = [&](const std::vector<double>& v, size_t i, const char* what) { return r.to_float(v[i], where + "." + what); };
   if (n.matrix.size() == 16) {
     glm::mat4 m;
-    for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(n.matrix[size_t(i)]);  // column-major, as glm
+    for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = f(n.matrix, size_t(i), "matrix");  // column-major, as glm
     return m;
   }
   glm::mat4 m(1.0f);
   if (n.translation.size() == 3)
-    m = glm::translate(m, glm::vec3(float(n.translation[0]), float(n.translation[1]), float(n.translation[2])));
+    m = glm::translate(m, glm::vec3(f(n.translation, 0, "translation"), f(n.translation, 1, "translation"),
+                                    f(n.translation, 2, "translation")));
   if (n.rotation.size() == 4)  // glTF stores x, y, z, w; glm's constructor takes w first
-    m *= glm::mat4_cast(glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2])));
-  if (n.scale.size() == 3) m = glm::scale(m, glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+    m *= glm::mat4_cast(glm::quat(f(n.rotation, 3, "rotation"), f(n.rotation, 0, "rotation"), f(n.rotation, 1, "rotation"),
+                                  f(n.rotation, 2, "rotation")));
+  if (n.scale.size() == 3)
+    m = glm::scale(m, glm::vec3(f(n.scale, 0, "scale"), f(n.scale, 1, "scale"), f(n.scale, 2, "scale")));
   return m;
 }
 
@@ -468,6 +480,46 @@ void decode_buffer_images(const Reader& r, tinygltf::Model& g) {
     std::string err;
     if (!decode_rgba8(&img, int(i), buffer.data.data() + view.byteOffset, view.byteLength, &err))
       r.fail(where, err.substr(0, err.find_last_not_of('\n') + 1));
+  }
+}
+
+// Depth-first walk of the hierarchy under `roots`, calling visit(node, world matrix) in document order.
+// Iterative, so a chain of 20,000 nodes cannot exhaust the stack. A node met again on its own path is
+// a cycle; a node shared by several parents is visited once per path (glTF forbids sharing, but
+// tinygltf does not check), and at most kMaxNodeVisits visits are made in all, because sharing at
+// every level multiplies the paths to 2^depth.
+constexpr size_t kMaxNodeVisits = size_t(1) << 20;
+
+template <typename Visit>
+void visit_nodes(const Reader& r, const tinygltf::Model& g, const std::vector<int>& roots, Visit&& visit) {
+  struct Item {
+    int index;
+    bool leave;  // pops the node off the current path
+    glm::mat4 parent;
+  };
+  std::vector<Item> stack;
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, false, glm::mat4(1.0f)});
+  std::vector<bool> on_path(g.nodes.size(), false);
+  size_t visits = 0;
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    if (item.leave) {
+      on_path[size_t(item.index)] = false;
+      continue;
+    }
+    if (item.index < 0 || size_t(item.index) >= g.nodes.size())
+      r.fail("nodes", strf("node index %d out of range (%zu nodes)", item.index, g.nodes.size()));
+    const std::string where = strf("nodes[%d]", item.index);
+    if (on_path[size_t(item.index)]) r.fail(where, "node hierarchy has a cycle");
+    if (++visits > kMaxNodeVisits)
+      r.fail(where, strf("more than %zu node visits (nodes shared by several parents multiply)", kMaxNodeVisits));
+    on_path[size_t(item.index)] = true;
+    const tinygltf::Node& n = g.nodes[size_t(item.index)];
+    const glm::mat4 world = item.parent * local_matrix(r, n, where);
+    visit(item.index, world);
+    stack.push_back({item.index, true, glm::mat4(1.0f)});
+    for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, false, world});
   }
 }
 
@@ -502,35 +554,29 @@ Model convert(tinygltf::Model& g, const std::string& file) {
     for (size_t i = 0; i < g.nodes.size(); ++i)
       if (!is_child[i]) roots.push_back(int(i));
   }
-  std::vector<bool> visiting(g.nodes.size(), false);
-  std::function<void(int, const glm::mat4&)> visit = [&](int index, const glm::mat4& parent) {
-    if (index < 0 || size_t(index) >= g.nodes.size())
-      r.fail("nodes", strf("node index %d out of range (%zu nodes)", index, g.nodes.size()));
-    if (visiting[size_t(index)]) r.fail(strf("nodes[%d]", index), "node hierarchy has a cycle");
-    visiting[size_t(index)] = true;
+  visit_nodes(r, g, roots, [&](int index, const glm::mat4& world) {
     const auto& n = g.nodes[size_t(index)];
-    glm::mat4 world = parent * local_matrix(n);
-    if (n.mesh >= 0) {
-      if (size_t(n.mesh) >= g.meshes.size())
-        r.fail(strf("nodes[%d]", index), strf("mesh %d out of range (%zu meshes)", n.mesh, g.meshes.size()));
-      if (n.skin >= 0) LOG_WARN("%s: nodes[%d]: skin ignored (bind pose drawn)", file.c_str(), index);
-      for (uint32_t mi : mesh_prims[size_t(n.mesh)]) {
-        model.instances.push_back(MeshInstance{mi, world, n.name});
-        model.bounds.add(model.meshes[mi].bounds.transformed(world));
-      }
+    if (n.mesh < 0) return;
+    if (size_t(n.mesh) >= g.meshes.size())
+      r.fail(strf("nodes[%d]", index), strf("mesh %d out of range (%zu meshes)", n.mesh, g.meshes.size()));
+    if (n.skin >= 0) LOG_WARN("%s: nodes[%d]: skin ignored (bind pose drawn)", file.c_str(), index);
+    for (uint32_t mi : mesh_prims[size_t(n.mesh)]) {
+      model.instances.push_back(MeshInstance{mi, world, n.name});
+      model.bounds.add(model.meshes[mi].bounds.transformed(world));
     }
-    for (int c : n.children) visit(c, world);
-    visiting[size_t(index)] = false;
-  };
-  for (int root : roots) visit(root, glm::mat4(1.0f));
+  });
   return model;
 }
 
-std::string trim(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
-  for (auto& c : s)
-    if (c == '\n') c = ';';
-  return s;
+// The JSON text of a .gltf, or of a .glb's first chunk (glTF 2.0 spec 4.4: 12-byte header, then chunk
+// length, type "JSON", data). Nothing for a malformed container: tinygltf refuses it with its own message.
+std::optional<std::string_view> json_chunk(std::span<const uint8_t> bytes, bool binary) {
+  const char* text = reinterpret_cast<const char*>(bytes.data());
+  if (!binary) return std::string_view(text, bytes.size());
+  if (bytes.size() < 20 || std::memcmp(bytes.data() + 16, "JSON", 4) != 0) return std::nullopt;
+  uint32_t length;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  return std::string_view(text + 20, std::min<size_t>(length, bytes.size() - 20));
 }
 
 }  // namespace
@@ -546,6 +592,9 @@ Model load_gltf_from_memory(std::span<const uint8_t> bytes, const std::string& n
   tinygltf::Model g;
   std::string err, warn;
   bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  // Our JSON rules first (depth limit, numbers that overflow): tinygltf converts JSON recursively and
+  // would report an overflow as a raw library exception.
+  if (auto json = json_chunk(bytes, binary)) check_json_text(*json, name);
   bool ok;
   try {  // tinygltf reports through err, but its JSON library may still throw on hostile input
     if (binary) {
@@ -555,10 +604,10 @@ Model load_gltf_from_memory(std::span<const uint8_t> bytes, const std::string& n
                                       unsigned(bytes.size()), base_dir.string());
     }
   } catch (const std::exception& e) {
-    throw Error(name + ": glTF parse error: " + e.what());
+    throw Error(name + ": glTF parse error: " + library_message(e.what()));
   }
-  if (!ok) throw Error(name + ": glTF parse error: " + (err.empty() ? std::string("unknown error") : trim(err)));
-  if (!warn.empty()) LOG_WARN("%s: %s", name.c_str(), trim(warn).c_str());
+  if (!ok) throw Error(name + ": glTF parse error: " + (err.empty() ? std::string("unknown error") : library_message(err)));
+  if (!warn.empty()) LOG_WARN("%s: %s", name.c_str(), library_message(warn).c_str());
   return convert(g, name);
 }
 

@@ -58,6 +58,11 @@ LevelInfo load_level_document(const JsonDocument& doc, const std::filesystem::pa
   JsonView entities = root["entities"];
   info.entities = ecs::load_entities(entities, world, registry);  // parses everything before creating
   try {
+    // A camera is placed by its Transform; without one `--camera NAME` could only say "no camera
+    // named NAME" about a camera the level does have.
+    for (size_t k = 0; k < info.entities.size(); ++k)
+      if (world.has<Camera>(info.entities[k]) && !world.has<Transform>(info.entities[k]))
+        entities.at(k)["components"]["Camera"].fail("a camera needs a Transform component on the same entity");
     if (with_models) {
       load_models(entities, info.entities, world, info);
     } else {

@@ -48,8 +48,11 @@ int run_gen_terrain(int argc, char** argv) {
   p.option("-o", "FILE", "output .glb (required)", &out)
       .option("--seed", "N", "random seed (default 1)", &o.seed)
       .option("--resolution", "N", "grid vertices per side (default 257: 16 m spacing)", &o.resolution)
+      .range(3, 8193)  // 8193^2 vertices is about 2 GB of glTF
       .option("--texture", "N", "base-color texture size (default 512: 8 m per texel)", &o.texture_size)
+      .range(4, 16384)  // the glTF loader's image limit
       .option("--size", "METRES", "terrain side (default 4096)", &o.size_m)
+      .range(0.0, 1.0e6, Open::Low)
       .flag("--beaches", "also print beach spots around the main island (for placing cameras)", &beaches);
   if (!p.parse(argc, argv)) return 0;
   if (out.empty()) throw Error("cumulo gen-terrain: -o FILE is required (see --help)");

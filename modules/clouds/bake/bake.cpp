@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.h"
+#include "engine/core/memory_budget.h"
 #include "engine/core/file_io.h"
 #include "engine/core/parallel.h"
 #include "engine/core/progress.h"
@@ -50,6 +51,18 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
   BakeResult r;
   r.grid = make_grid(recipe, settings.dims);
   const BakeGrid& g = r.grid;
+  {
+    // Peak bytes per voxel, counted from the buffers below: composed sdf/detail/density (12), field
+    // and its EDT scratch (4 + 8), field16 (2), modeling floats (12), BC1 blocks (1), the serialized
+    // RGBA8 + R16 files and their zstd copies (12), rounded up.
+    constexpr uint64_t kBakeBytesPerVoxel = 56;
+    const std::string source = settings.dims.x ? "--dims"
+                               : settings.voxel_size > 0.0f ? strf("--voxel-size %g", settings.voxel_size)
+                                                            : strf("$.voxel_size %g", recipe.voxel_size);
+    check_memory_budget(saturating_product({g.dims.x, g.dims.y, g.dims.z, kBakeBytesPerVoxel}),
+                        strf("%s: a bake grid of %ux%ux%u voxels (%s)", recipe.file.c_str(), g.dims.x, g.dims.y,
+                             g.dims.z, source.c_str()));
+  }
   finalize_edits(recipe, 3.0f * std::max(g.spacing.x, std::max(g.spacing.y, g.spacing.z)));
   const size_t n = g.count();
 
@@ -171,10 +184,12 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
                       {"modeling_bc1.nvdf", &modeling_bc1, "bc1", "modeling NVDF, BC1 (GPUs)"},
                       {"field.nvdf", &field, "r16", "field NVDF, 16-bit SDF"},
                       {"field_bc1.nvdf", &field_bc1, "bc1", "field NVDF, conservative BC1 SDF"}};
+  // One set: a failed write (of any file, the report included) leaves the previous bake untouched.
+  FileSet files;
   nlohmann::ordered_json outputs = nlohmann::ordered_json::array();
   for (const Out& o : outs) {
     std::vector<uint8_t> bytes = serialize_volume(*o.v);
-    write_file_atomic(dir / o.file, bytes);
+    files.add(dir / o.file, bytes);
     outputs.push_back({{"file", o.file},
                        {"format", o.format},
                        {"purpose", o.purpose},
@@ -226,7 +241,8 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
                       {"bc1_field", t.bc1_field}, {"bc1_modeling", t.bc1_modeling}, {"verify", t.verify},
                       {"total", t.total},          {"threads", worker_count()}};
   std::string text = rep.dump(2) + "\n";
-  write_file_atomic(dir / "bake_report.json", text);
+  files.add(dir / "bake_report.json", text);
+  files.commit();
   return text;
 }
 

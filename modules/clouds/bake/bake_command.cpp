@@ -1,10 +1,10 @@
 #include "modules/clouds/bake/bake_command.h"
 
 #include <cstdio>
-#include <sstream>
 
 #include "engine/core/args.h"
 #include "engine/core/error.h"
+#include "engine/core/message.h"
 #include "engine/core/parallel.h"
 #include "modules/clouds/bake/bake.h"
 
@@ -13,15 +13,10 @@ namespace cumulo::clouds {
 namespace {
 
 glm::uvec3 parse_dims(const std::string& s) {
-  glm::uvec3 d(0);
-  char c1 = 0, c2 = 0;
-  unsigned x = 0, y = 0, z = 0;
-  std::istringstream in(s);
-  if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',' || !in.eof() || x == 0 || y == 0 || z == 0 ||
-      x > 4096 || y > 4096 || z > 4096)
-    fail("--dims: expected X,Y,Z (1..4096 each, world axes with Y up), got \"%s\"", s.c_str());
-  d = {x, y, z};
-  return d;
+  std::vector<uint32_t> d = parse_flag_list<uint32_t>("--dims", s, 3);
+  for (uint32_t n : d)
+    if (n == 0 || n > 4096) fail("--dims: expected X,Y,Z (1..4096 each, world axes with Y up), got %s", quote(s).c_str());
+  return {d[0], d[1], d[2]};
 }
 
 double mb(uint64_t bytes) { return bytes / 1.0e6; }
@@ -40,12 +35,12 @@ int run_bake_command(int argc, char** argv) {
       .option("--slices", "DIR", "also write PNG cross-sections of the profile and the SDF here", &slices_dir)
       .option("--seed", "N", "override the recipe's seed (particles, erosion noise)", &seed)
       .option("--voxel-size", "M", "override the recipe's voxel size in metres", &voxel)
+      .range(0.0, 1024.0, Open::Low)
       .option("--dims", "X,Y,Z", "override the grid resolution over the same bounds (Y up)",
               [&dims](const std::string& v) { dims = parse_dims(v); })
       .flag("--no-verify", "skip decoding every BC1 texel (faster; the bound is then unchecked)", &no_verify);
   if (!p.parse(argc, argv)) return 0;
   if (out_dir.empty()) fail("cumulo bake: -o DIR is required");
-  if (p.was_set("--voxel-size") && !(voxel > 0.0f && voxel <= 1024.0f)) fail("--voxel-size: expected 0 < M <= 1024");
 
   bake::RecipeOptions ro;
   if (p.was_set("--seed")) ro.seed = seed;

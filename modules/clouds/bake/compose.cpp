@@ -19,9 +19,17 @@ uint64_t cell_key(glm::ivec3 c) {
          uint64_t(uint32_t(c.z) & 0x1FFFFF);
 }
 
+// The bin of a point. The quotient is clamped before it becomes an int: a point far from tiny
+// particles gives one beyond int's range (undefined behaviour, found by recipe_fuzz). Clamped bins
+// only ever hold particles too far away to matter, and keys wrap at 2^21 anyway.
+glm::ivec3 cell_of(glm::vec3 p, float cell) {
+  const glm::vec3 q = glm::clamp(glm::floor(p / cell), glm::vec3(-1.0e9f), glm::vec3(1.0e9f));
+  return glm::ivec3(glm::isnan(q.x) ? 0.0f : q.x, glm::isnan(q.y) ? 0.0f : q.y, glm::isnan(q.z) ? 0.0f : q.z);
+}
+
 float particles_distance(const Edit& e, glm::vec3 q) {
   const ParticleBins& bins = *e.bins;
-  glm::ivec3 c(glm::floor(q / bins.cell));
+  glm::ivec3 c = cell_of(q, bins.cell);
   float d = kFarDistance;
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
@@ -108,7 +116,7 @@ std::shared_ptr<const ParticleBins> build_particle_bins(const std::vector<Partic
   for (const Particle& p : particles) rmax = std::max(rmax, p.radius);
   bins->cell = 2.0f * rmax + blend;
   for (uint32_t i = 0; i < particles.size(); ++i)
-    bins->cells[cell_key(glm::ivec3(glm::floor(particles[i].center / bins->cell)))].push_back(i);
+    bins->cells[cell_key(cell_of(particles[i].center, bins->cell))].push_back(i);
   return bins;
 }
 

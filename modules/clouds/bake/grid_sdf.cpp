@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/core/error.h"
+#include "engine/core/memory_budget.h"
 #include "engine/core/parallel.h"
 #include "modules/clouds/volume/distance.h"
 #include "modules/clouds/volume/volume_file.h"
@@ -98,6 +99,9 @@ std::shared_ptr<GridSdf> voxelize_triangles(const std::vector<glm::vec3>& tris, 
     grid->dims[a] = static_cast<uint32_t>(n);
   }
   const glm::uvec3 d = grid->dims;
+  // inside + outside masks (2), two squared-distance fields (8), the values (4).
+  check_memory_budget(saturating_product({d.x, d.y, d.z, 14}),
+                      strf("mesh: a %ux%ux%u voxelization at resolution %g", d.x, d.y, d.z, spacing));
   const size_t count = size_t(d.x) * d.y * d.z;
 
   // Inside/outside: parity of crossings along x, majority of three slightly offset rays per row.

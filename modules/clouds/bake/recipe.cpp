@@ -15,6 +15,9 @@ namespace cumulo::clouds::bake {
 namespace {
 
 constexpr float kMaxCoord = 1.0e6f;  // metres; anything larger is a typo
+// Smallest particle radius and scale: far below any voxel (>= 0.25 m), far above the tiny values
+// (1e-40) whose reciprocals overflow a float and empty the bake silently.
+constexpr float kMinSize = 1.0e-3f;
 constexpr size_t kMaxEdits = 100000;
 constexpr size_t kMaxParticles = 1000000;
 constexpr int kMaxDepth = 16;  // group nesting
@@ -61,11 +64,16 @@ Transform parse_transform(const JsonView& e) {
   }
   if (e.has("scale")) {
     JsonView s = e["scale"];
+    auto factor = [](const JsonView& f) {
+      const float x = f.as<float>();
+      if (!(x >= kMinSize && x <= 1000.0f)) f.fail(strf("scale %g is outside %g..1000", x, kMinSize));
+      return x;
+    };
     if (s.raw().is_number()) {
-      t.scale = glm::vec3(positive(s, 1000.0f));
+      t.scale = glm::vec3(factor(s));
     } else {
       t.scale = s.as_vec3();
-      for (int i = 0; i < 3; ++i) positive(s.at(i), 1000.0f);
+      for (int i = 0; i < 3; ++i) factor(s.at(i));
     }
   }
   return t;
@@ -78,7 +86,8 @@ std::vector<Particle> generate_particles(const JsonView& g, uint64_t seed) {
   if (count == 0 || count > 100000) g["count"].fail("expected 1..100000 particles");
   glm::vec3 radii = positive3(g["radii"]);
   glm::vec2 r = g["radius"].as_vec2();
-  if (!(r.x > 0.0f) || r.y < r.x || r.y > kMaxCoord) g["radius"].fail("expected [min, max] radii with 0 < min <= max");
+  if (!(r.x >= kMinSize) || r.y < r.x || r.y > kMaxCoord)
+    g["radius"].fail(strf("expected [min, max] radii with %g <= min <= max <= %g", kMinSize, kMaxCoord));
   uint64_t s = g.get<uint64_t>("seed", 0) ^ (seed * 0x9E3779B97F4A7C15ull);
   bool flat = g.get<bool>("flatten_bottom", false);
   auto next = [&s]() {  // splitmix64 -> [0, 1)
@@ -166,7 +175,8 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
       if (e.has("points")) {
         for (const JsonView& p : e["points"].elements()) {
           glm::vec4 v = p.as_vec4();
-          if (!(v.w > 0.0f)) p.at(3).fail("particle radius must be > 0");
+          if (!(v.w >= kMinSize && v.w <= kMaxCoord))
+            p.at(3).fail(strf("particle radius %g is outside %g..%g m", v.w, kMinSize, kMaxCoord));
           for (int i = 0; i < 3; ++i)
             if (std::abs(v[i]) > kMaxCoord) p.at(i).fail("coordinate out of range");
           out.particles.push_back({glm::vec3(v), v.w});

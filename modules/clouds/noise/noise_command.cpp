@@ -20,11 +20,14 @@
 // 4.2 MB more GPU memory, about a sixth of one cloudscape's 25.2 MB. On a GPU the texture unit decodes
 // 4-bit for free and the halved footprint is what the talk bought; `--format 4` writes that form.
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
 #include "engine/core/args.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/core/memory_budget.h"
 #include "engine/core/progress.h"
 #include "engine/core/time.h"
 #include "modules/clouds/noise/noise_preview.h"
@@ -40,8 +43,9 @@ const std::vector<NoiseChannelInfo> kSkyBaseChannels = {
     {"perlin_worley"}, {"worley_low"}, {"worley_mid"}, {"worley_high"}};
 const std::vector<NoiseChannelInfo> kSkyDetailChannels = {{"worley_low"}, {"worley_mid"}, {"worley_high"}};
 
-NoiseFileInfo save(const std::filesystem::path& path, const Volume& v) {
-  save_volume(path, v);
+NoiseFileInfo save(FileSet& files, const std::filesystem::path& path, const Volume& v) {
+  const std::vector<uint8_t> bytes = serialize_volume(v);
+  files.add(path, bytes);
   NoiseFileInfo info;
   info.path = path;
   info.encoding = encoding_name(v.encoding);
@@ -52,7 +56,7 @@ NoiseFileInfo save(const std::filesystem::path& path, const Volume& v) {
   info.channels = static_cast<uint32_t>(v.channels.size());
   info.gpu_bytes_level0 = v.level_bytes(0);
   info.gpu_bytes = v.payload_bytes();
-  info.file_bytes = std::filesystem::file_size(path);
+  info.file_bytes = bytes.size();
   return info;
 }
 
@@ -75,6 +79,13 @@ NoiseSetReport write_noise_set(const NoiseSetOptions& o) {
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec || !std::filesystem::is_directory(o.out_dir))
     fail("%s: cannot create the output folder (%s)", o.out_dir.string().c_str(), ec.message().c_str());
+
+  // Peak bytes per texel of the two 128^3-class textures: float channels with mips (2 x 4 x 4 x 8/7),
+  // their encoded volumes and serialized copies (about 12), rounded up.
+  constexpr uint64_t kNoiseBytesPerTexel = 64;
+  const uint64_t side = uint64_t(std::max(o.size, 0));
+  check_memory_budget(saturating_product({side, side, side, kNoiseBytesPerTexel}),
+                      strf("%s: noise textures of %d^3 texels (--size)", o.out_dir.string().c_str(), o.size));
 
   VoxelNoiseParams vp;
   vp.size = o.size;
@@ -101,26 +112,29 @@ NoiseSetReport write_noise_set(const NoiseSetOptions& o) {
   const VolumeEncoding chosen = o.format == NoiseFormat::Bits8   ? VolumeEncoding::RGBA8
                                 : o.format == NoiseFormat::Bits4 ? VolumeEncoding::R4G4B4A4
                                                                  : kVoxelNoiseEncoding;
-  report.files.push_back(save(o.out_dir / "voxel_noise.nvdf", noise_to_volume(voxel, chosen, kVoxelChannels)));
+  // One set: a failed write leaves the previous noise files as they were.
+  FileSet files;
+  report.files.push_back(save(files, o.out_dir / "voxel_noise.nvdf", noise_to_volume(voxel, chosen, kVoxelChannels)));
   if (o.format == NoiseFormat::Both) {
     for (VolumeEncoding e : {VolumeEncoding::R4G4B4A4, VolumeEncoding::RGBA8})
-      report.files.push_back(save(o.out_dir / strf("voxel_noise_%s.nvdf", encoding_name(e)),
+      report.files.push_back(save(files, o.out_dir / strf("voxel_noise_%s.nvdf", encoding_name(e)),
                                   noise_to_volume(voxel, e, kVoxelChannels)));
   }
-  report.files.push_back(save(o.out_dir / "sky_noise_base.nvdf", noise_to_volume(base, VolumeEncoding::RGBA8, kSkyBaseChannels)));
+  report.files.push_back(save(files, o.out_dir / "sky_noise_base.nvdf", noise_to_volume(base, VolumeEncoding::RGBA8, kSkyBaseChannels)));
   report.files.push_back(
-      save(o.out_dir / "sky_noise_detail.nvdf", noise_to_volume(detail, VolumeEncoding::RGBA8, kSkyDetailChannels)));
+      save(files, o.out_dir / "sky_noise_detail.nvdf", noise_to_volume(detail, VolumeEncoding::RGBA8, kSkyDetailChannels)));
   // generate_curl_2d stores c / max|c| * 0.5 + 0.5; the decode range maps it back to curl units.
   const float cr = curl2d.signed_range;
   const std::vector<NoiseChannelInfo> curl_channels = {{"curl_x", -cr, cr}, {"curl_y", -cr, cr}, {"curl_z", -cr, cr}};
-  report.files.push_back(save(o.out_dir / "curl_noise.nvdf", noise_to_volume(curl2d, VolumeEncoding::RGBA8, curl_channels)));
+  report.files.push_back(save(files, o.out_dir / "curl_noise.nvdf", noise_to_volume(curl2d, VolumeEncoding::RGBA8, curl_channels)));
 
   if (o.previews) {
-    write_noise_preview(o.out_dir / "voxel_noise_preview.png", voxel);
-    write_noise_preview(o.out_dir / "sky_noise_base_preview.png", base);
-    write_noise_preview(o.out_dir / "sky_noise_detail_preview.png", detail);
-    write_noise_preview(o.out_dir / "curl_noise_preview.png", curl2d);
+    files.add(o.out_dir / "voxel_noise_preview.png", encode_noise_preview(voxel));
+    files.add(o.out_dir / "sky_noise_base_preview.png", encode_noise_preview(base));
+    files.add(o.out_dir / "sky_noise_detail_preview.png", encode_noise_preview(detail));
+    files.add(o.out_dir / "curl_noise_preview.png", encode_noise_preview(curl2d));
   }
+  files.commit();
 
   if (o.measure) {
     for (VolumeEncoding e : {VolumeEncoding::R4G4B4A4, VolumeEncoding::RGBA8})

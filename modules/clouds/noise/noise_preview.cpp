@@ -8,7 +8,7 @@
 
 namespace cumulo::clouds {
 
-void write_noise_preview(const std::filesystem::path& path, const NoiseTexture& tex) {
+std::vector<uint8_t> encode_noise_preview(const NoiseTexture& tex) {
   const int w = tex.width, h = tex.height, ch = tex.channels;
   const int out_w = ch * 2 * w, out_h = 2 * h;
   std::vector<uint8_t> pixels(static_cast<size_t>(out_w) * out_h);
@@ -19,7 +19,7 @@ void write_noise_preview(const std::filesystem::path& path, const NoiseTexture& 
         pixels[static_cast<size_t>(y) * out_w + c * 2 * w + x] =
             static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
       }
-  cumulo::write_png(path, pixels.data(), uint32_t(out_w), uint32_t(out_h), 1);
+  return cumulo::encode_png(pixels.data(), uint32_t(out_w), uint32_t(out_h), 1);
 }
 
 }  // namespace cumulo::clouds

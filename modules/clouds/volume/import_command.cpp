@@ -1,10 +1,11 @@
 #include "modules/clouds/volume/import_command.h"
 
+#include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "engine/core/args.h"
 #include "engine/core/error.h"
+#include "engine/core/message.h"
 #include "engine/core/time.h"
 #include "modules/clouds/volume/import.h"
 #include "modules/clouds/volume/import_outputs.h"
@@ -17,19 +18,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "a,b,c" -> exactly n floats; throws naming the option.
-std::vector<float> parse_floats(const std::string& option, const std::string& text, size_t n) {
-  std::vector<float> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const float v = std::strtof(item.c_str(), &end);
-    if (item.empty() || *end != '\0') fail("%s: '%s' is not a number (in '%s')", option.c_str(), item.c_str(), text.c_str());
-    out.push_back(v);
-  }
-  if (out.size() != n) fail("%s: expected %zu comma-separated numbers, got '%s'", option.c_str(), n, text.c_str());
-  return out;
+// World coordinates given on the command line: the args rule (finite floats), then a box that a
+// cloudscape can sit in (the recipe's limit), so origin + extent stays finite.
+constexpr float kMaxWorldCoord = 1.0e6f;
+std::vector<float> parse_coords(const std::string& option, const std::string& text, size_t n) {
+  std::vector<float> f = parse_flag_list<float>(option, text, n);
+  for (float v : f)
+    if (std::abs(v) > kMaxWorldCoord)
+      fail("%s: %g is outside -%g..%g metres (in %s)", option.c_str(), v, kMaxWorldCoord, kMaxWorldCoord, quote(text).c_str());
+  return f;
 }
 
 void print_volume(const fs::path& path, const Volume& v) {
@@ -56,14 +53,20 @@ int run_import(int argc, char** argv) {
       .option("--grid", "NAME", "VDB: grid to read (default: the first float grid)", &vo.grid)
       .option("--voxel-size", "M", "voxel size in metres (VDB default: the VDB's, coarsened to --max-size; slices: 8)",
               &voxel_size)
+      .range(0.0, 1.0e5, Open::Low)
       .option("--max-size", "N", "VDB: most voxels along an axis for the automatic voxel size (512)", &vo.max_dimension)
+      .range(1, 4096)
       .option("--bounds", "X0,Y0,Z0,X1,Y1,Z1", "VDB: world box to resample (default: active voxels + padding)",
               [&](const std::string& s) {
-                auto f = parse_floats("--bounds", s, 6);
+                auto f = parse_coords("--bounds", s, 6);
                 vo.bounds = std::make_pair(glm::vec3(f[0], f[1], f[2]), glm::vec3(f[3], f[4], f[5]));
+                for (int a = 0; a < 3; ++a)
+                  if (!(f[size_t(a) + 3] > f[size_t(a)])) fail("--bounds: max must be larger than min on every axis, got %s", quote(s).c_str());
               })
       .option("--padding", "M", "VDB: empty margin around the active voxels (default: 2 voxels)", &vo.padding_m)
+      .range(0.0, kMaxWorldCoord)
       .option("--iso", "V", "VDB fog volumes: density of the cloud surface (0.5)", &vo.iso)
+      .range(0.0, 1.0e6, Open::Low)
       .option("--filter", "box|trilinear", "VDB fog volumes: resampling filter (box)", &filter)
       .option("--modeling", "DIR", "slices: folder of modeling TGA slices (R profile, G detail, B density)",
               &modeling_dir)
@@ -78,7 +81,8 @@ int run_import(int argc, char** argv) {
               [&](const std::string& s) { so.sdf_channel = parse_channel_letter(s); })
       .option("--sdf-range", "MIN,MAX", "slices: metres that field values 0 and 255 stand for (-256,4096)",
               [&](const std::string& s) {
-                auto f = parse_floats("--sdf-range", s, 2);
+                auto f = parse_coords("--sdf-range", s, 2);
+                if (!(f[1] > f[0])) fail("--sdf-range: expected MIN,MAX with MIN < MAX, got %s", quote(s).c_str());
                 so.sdf_min = f[0];
                 so.sdf_max = f[1];
               })
@@ -90,14 +94,18 @@ int run_import(int argc, char** argv) {
               })
       .option("--origin", "X,Y,Z", "slices: world position of the min corner (default: centred on x/z, base at y 0)",
               [&](const std::string& s) {
-                auto f = parse_floats("--origin", s, 3);
+                auto f = parse_coords("--origin", s, 3);
                 so.origin = glm::vec3(f[0], f[1], f[2]);
               })
       .option("--profile-depth", "M", "derived profile: metres inside the surface where it reaches 1 (96)",
               &derive.profile_depth_m)
+      .range(0.0, 4096.0, Open::Low)  // the recipe's limits (bake/recipe.cpp)
       .option("--profile-exponent", "E", "derived profile: saturate(depth / M) ^ E (1)", &derive.profile_exponent)
+      .range(0.05, 20.0)
       .option("--detail-type", "V", "derived modeling: detail type 0 wispy..1 billowy (0.5)", &derive.detail_type)
+      .range(0.0, 1.0)
       .option("--density-scale", "V", "derived modeling: density scale (1)", &derive.density_scale)
+      .range(0.0, 1.0)
       .flag("--no-compress", "store the payload without zstd", &no_compress);
   if (!p.parse(argc, argv)) return 0;
 
@@ -105,10 +113,6 @@ int run_import(int argc, char** argv) {
   const bool slices = !modeling_dir.empty() || !field_dir.empty();
   if (slices == !vdb.empty())
     fail("cumulo import: give either FILE.vdb or --modeling/--field slice folders (see cumulo import --help)");
-  if (!(derive.profile_depth_m > 0.0f)) fail("--profile-depth: %g must be positive", derive.profile_depth_m);
-  if (!(derive.detail_type >= 0.0f && derive.detail_type <= 1.0f)) fail("--detail-type: %g is not in 0..1", derive.detail_type);
-  if (!(derive.density_scale >= 0.0f && derive.density_scale <= 1.0f))
-    fail("--density-scale: %g is not in 0..1", derive.density_scale);
 
   Stopwatch clock;
   CloudscapeVolumes result;

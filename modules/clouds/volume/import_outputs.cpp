@@ -62,11 +62,14 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
                                                              {kModelingBc1FileName, &modeling_bc1},
                                                              {kFieldFileName, &v.field},
                                                              {kFieldBc1FileName, &field_bc1}};
+  // One set: a failed write leaves the previous import untouched (no half-replaced outputs).
+  FileSet files;
   for (const auto& [name, vol] : outs) {
     std::vector<uint8_t> bytes = serialize_volume(*vol, {.compress = compress});
-    write_file_atomic(dir / name, bytes);
+    files.add(dir / name, bytes);
     report.bytes_written += bytes.size();
   }
+  files.commit();
   LOG_DEBUG("import: files written %.2f s", clock.seconds());
   report.field_bc1_mean_error_m = check.mean_error_m;
   report.field_bc1_max_error_m = check.max_error_m;

@@ -5,9 +5,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <map>
 
 #include "engine/core/error.h"
 #include "engine/core/log.h"
+#include "engine/core/memory_budget.h"
+#include "engine/core/message.h"
+#include "engine/core/number.h"
 #include "engine/core/parallel.h"
 #include "modules/clouds/volume/distance.h"
 #include "modules/clouds/volume/import.h"
@@ -16,8 +23,107 @@ namespace cumulo::clouds {
 
 namespace {
 
+// ---- truncation and size checks before OpenVDB reads anything -----------------------------------
+// OpenVDB trusts the stream: a file cut short imports with garbage values past the cut (the active
+// voxel count lives in the intact part), and lengths read from a cut header size allocations (one
+// 300-byte cut made it allocate 18 GB). So the container is walked first with every length and
+// position checked against the file's size: the header (io::Archive::readHeader), the file metadata
+// (MetaMap::readMeta: name, type name, byte count and bytes per item) and the grid descriptors
+// (io::GridDescriptor::read: names, type, then the grid, block and end positions; grids follow each
+// other, each descriptor at the previous grid's end). OpenVDB then reads only files whose every grid
+// ends inside the file, and its reads are bounded by what the file holds.
+class VdbScan {
+ public:
+  VdbScan(const std::string& path, const char* name) : in_(path, std::ios::binary), n_(name) {
+    if (!in_) fail("%s: cannot read VDB file: cannot open: %s", n_, std::strerror(errno));
+    in_.seekg(0, std::ios::end);
+    size_ = uint64_t(in_.tellg());
+    in_.seekg(0);
+  }
+
+  // The end position of every grid the descriptors list, by grid name.
+  std::map<std::string, uint64_t> grids() {
+    if (u64("magic") != uint64_t(uint32_t(openvdb::OPENVDB_MAGIC))) fail("%s: cannot read VDB file: not an OpenVDB file (bad magic)", n_);
+    const uint32_t version = u32("file version");
+    if (version < openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP || version > 1000)
+      fail("%s: cannot read VDB file: unsupported OpenVDB file version %u", n_, version);
+    skip(8, "library version");  // major, minor
+    const bool offsets = bytes(1, "grid offsets flag")[0] != 0;
+    if (version >= openvdb::OPENVDB_FILE_VERSION_SELECTIVE_COMPRESSION &&
+        version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION)
+      skip(1, "compression flag");
+    skip(version >= openvdb::OPENVDB_FILE_VERSION_BOOST_UUID ? 36 : 16, "uuid");
+    if (!offsets) fail("%s: the file has no grid offsets (written as a stream): re-save it with openvdb::io::File", n_);
+    const uint32_t meta = u32("file metadata count");
+    for (uint32_t i = 0; i < meta; ++i) {
+      skip(u32("file metadata name"), "file metadata name");
+      skip(u32("file metadata type"), "file metadata type");
+      skip(u32("file metadata size"), "file metadata value");
+    }
+    const uint32_t count = u32("grid count");
+    std::map<std::string, uint64_t> out;
+    for (uint32_t i = 0; i < count; ++i) {
+      const std::string unique = text("grid name");
+      skip(u32("grid type"), "grid type");
+      if (version >= openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING) skip(u32("grid instance parent"), "grid instance parent");
+      const uint64_t at = pos_;
+      const uint64_t grid = u64("grid position"), block = u64("block position"), end = u64("end position");
+      const std::string name = openvdb::io::GridDescriptor::stripSuffix(unique);
+      if (grid < at || block < grid || end < block)
+        fail("%s: grid '%s': corrupt positions (grid %llu, data %llu, end %llu)", n_, clip(name, 64).c_str(),
+             (unsigned long long)grid, (unsigned long long)block, (unsigned long long)end);
+      if (end > size_)
+        fail("%s: truncated: grid '%s' ends at byte %llu, the file has %llu bytes", n_, clip(name, 64).c_str(),
+             (unsigned long long)end, (unsigned long long)size_);
+      out.emplace(name, end);
+      seek(end);  // the next descriptor follows this grid
+    }
+    return out;
+  }
+  uint64_t size() const { return size_; }
+
+ private:
+  void check(uint64_t n, const char* what) const {
+    if (n > size_ - pos_)
+      fail("%s: truncated: %s at byte %llu needs %llu bytes, the file has %llu", n_, what, (unsigned long long)pos_,
+           (unsigned long long)n, (unsigned long long)size_);
+  }
+  void seek(uint64_t to) {
+    pos_ = to;
+    in_.seekg(std::streamoff(to));
+  }
+  void skip(uint64_t n, const char* what) {
+    check(n, what);
+    seek(pos_ + n);
+  }
+  std::string bytes(uint64_t n, const char* what) {
+    check(n, what);  // so the allocation below is bounded by the file
+    std::string b(size_t(n), '\0');
+    in_.read(b.data(), std::streamsize(n));
+    if (!in_) fail("%s: read error in %s", n_, what);
+    pos_ += n;
+    return b;
+  }
+  std::string text(const char* what) { return bytes(u32(what), what); }
+  uint32_t u32(const char* what) {
+    uint32_t v;
+    std::memcpy(&v, bytes(4, what).data(), 4);
+    return v;
+  }
+  uint64_t u64(const char* what) {
+    uint64_t v;
+    std::memcpy(&v, bytes(8, what).data(), 8);
+    return v;
+  }
+
+  std::ifstream in_;
+  const char* n_;
+  uint64_t size_ = 0, pos_ = 0;
+};
+
 openvdb::FloatGrid::Ptr read_float_grid(const std::string& file_name, const std::string& wanted) {
   const char* n = file_name.c_str();
+  VdbScan(file_name, n).grids();  // throws for a truncated or inconsistent container
   openvdb::io::File file(file_name);
   file.open(false);  // no delayed loading: we read the whole grid now
   openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
@@ -99,11 +205,21 @@ CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportO
   openvdb::FloatGrid::Ptr grid;
   try {
     grid = read_float_grid(file_name, o.grid);
-  } catch (const openvdb::Exception& e) {
-    fail("%s: cannot read VDB file: %s", n, e.what());
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    // The scan bounds every length by the file size; what remains is a grid larger than memory.
+    fail("%s: out of memory reading the VDB grid (%llu-byte file)", n,
+         static_cast<unsigned long long>(std::filesystem::file_size(path)));
+  } catch (const std::exception& e) {  // openvdb::Exception and what its readers let through
+    fail("%s: cannot read VDB file: %s", n, library_message(e.what()).c_str());
   }
   const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
-  const float vdb_voxel = float(grid->voxelSize()[0]);
+  // The transform is read from the file: its voxel size is an outside number like any other.
+  const double vdb_voxel_d = grid->voxelSize()[0];
+  if (number_problem<float>(vdb_voxel_d) || !(vdb_voxel_d > 0.0))
+    fail("%s: grid '%s': voxel size %g is not a positive 32-bit float", n, grid->getName().c_str(), vdb_voxel_d);
+  const float vdb_voxel = float(vdb_voxel_d);
 
   // Our grid: an axis-aligned box around the active voxels (or the given bounds) at one voxel size.
   glm::vec3 bmin, bmax;
@@ -133,6 +249,12 @@ CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportO
            bmax[a] - bmin[a], voxel, cells, "xyz"[a]);
     size[a] = uint32_t(cells);
   }
+  // Peak bytes per voxel of the resampled grid: samples, SDF and its refined copy (12), masks (2),
+  // EDT scratch (8), then the four outputs with their float and serialized copies (about 34).
+  constexpr uint64_t kImportBytesPerVoxel = 56;
+  check_memory_budget(saturating_product({size.x, size.y, size.z, kImportBytesPerVoxel}),
+                      strf("%s: importing as %ux%ux%u voxels of %g m (--voxel-size, --bounds, --max-size)", n, size.x,
+                           size.y, size.z, voxel));
   LOG_INFO("import: %s grid '%s' (voxel %g m) -> %ux%ux%u at %g m", level_set ? "level set" : "density",
            grid->getName().c_str(), vdb_voxel, size.x, size.y, size.z, voxel);
 

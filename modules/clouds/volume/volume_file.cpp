@@ -256,6 +256,15 @@ Volume parse_volume(std::span<const uint8_t> bytes, const std::string& name, con
                        payload.begin() + static_cast<ptrdiff_t>(off + level_bytes[l]));
     off += static_cast<size_t>(level_bytes[l]);
   }
+  // R32F texels are outside numbers like the header's: a NaN or infinite distance would otherwise
+  // bake or render an empty cloud with no error.
+  if (v.encoding == VolumeEncoding::R32F)
+    for (uint32_t l = 0; l < mip_count; ++l)
+      for (size_t i = 0; i + 4 <= v.levels[l].size(); i += 4) {
+        float f;
+        std::memcpy(&f, v.levels[l].data() + i, 4);
+        if (!std::isfinite(f)) fail("%s: mip level %u: texel %zu is not a finite number (%g)", n, l, i / 4, double(f));
+      }
   v.validate(name);  // bounds, voxel size, channel ranges
   return v;
 }

@@ -62,6 +62,14 @@ TEST(RunOptions, BadValuesAreClearErrors) {
   EXPECT_NE(message({"l.json", "--frames", "many"}).find("--frames"), std::string::npos);
   EXPECT_NE(message({"l.json", "--bogus"}).find("unknown option"), std::string::npos);
   EXPECT_NE(message({}).find("missing LEVEL"), std::string::npos);
+  // NaN passed the old range check and became ~9.2e18 fast-forward steps (a hang).
+  EXPECT_NE(message({"l.json", "--start-at", "nan"}).find("--start-at: expected a finite number, got nan"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--start-at", "-1"}).find("--start-at: -1 is out of range"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--time-of-day", "nan"}).find("--time-of-day: expected a finite number"), std::string::npos);
+  // 4294967312 used to wrap to 16.
+  EXPECT_NE(message({"l.json", "--frames", "4294967312"}).find("--frames: 4294967312 does not fit"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--seed", "-1"}).find("--seed: -1 does not fit"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--sim-hz", "0"}).find("--sim-hz: 0 is out of range (expected 1..1000)"), std::string::npos);
 }
 
 TEST(RunOptions, SizeParser) {

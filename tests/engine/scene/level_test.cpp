@@ -156,6 +156,13 @@ TEST(Level, BadValuesAreReportedAtTheirJsonPath) {
       {R"([{"components": {"Sun": {"color": [1, -1, 1]}}}])", {"Sun.color[1]"}},
       {R"([{"components": {"ModelRef": {}}}])", {"$.entities[0].components.ModelRef", "path"}},
       {R"({"not": "an array"})", {"$.entities"}},
+      // Outside numbers: finite as doubles but not floats (rendered a flat frame), and past a double.
+      {R"([{"components": {"Camera": {"far": 1e39}}}])", {"$.entities[0].components.Camera.far", "does not fit a 32-bit float"}},
+      {R"([{"components": {"Camera": {"far": 1e999999}}}])",
+       {"$.entities[0].components.Camera.far", "1e999999 does not fit a 64-bit float"}},
+      {R"([{"components": {"TimeOfDay": {"day_of_year": 4294967312}}}])", {"TimeOfDay.day_of_year", "does not fit"}},
+      // Used to surface only as `no camera named "c"` for --camera c.
+      {R"([{"name": "c", "components": {"Camera": {}}}])", {"$.entities[0].components.Camera", "needs a Transform"}},
   };
   for (const Case& c : cases) {
     fs::path file = write_level(dir, c.entities);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <numeric>
 
+#include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "modules/clouds/bake/bake.h"
 #include "modules/clouds/volume/nvdf.h"
@@ -240,4 +241,45 @@ TEST(SampleCloudscape, ReducedBakeIsConservative) {
   EXPECT_EQ(b.field_bc1_report.midpoint_violations, 0u);
   EXPECT_EQ(b.field_bc1_report.texels, b.grid.count());
   EXPECT_LT(b.field_bc1_report.mean_error_m, 16.0);
+}
+
+TEST(Bake, GridOverTheMemoryBudgetIsRefusedNamingTheOption) {
+  Recipe r = small_recipe();
+  BakeSettings s = quiet();
+  s.dims = {4096, 4096, 4096};  // each axis within its limit, the total (6.9e10 voxels) not
+  try {
+    bake_recipe(r, s);
+    FAIL() << "a 4096^3 bake was accepted";
+  } catch (const cumulo::Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("small.json: a bake grid of 4096x4096x4096 voxels (--dims)"), std::string::npos) << m;
+    EXPECT_NE(m.find("memory budget"), std::string::npos) << m;
+  }
+  s.dims = {};
+  s.voxel_size = 0.25f;  // 4096 x 1024 x 4096 over the small recipe's box
+  try {
+    bake_recipe(r, s);
+    FAIL() << "a 0.25 m bake of a 1 km box was accepted";
+  } catch (const cumulo::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(--voxel-size 0.25)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Bake, FailedWriteLeavesThePreviousOutputsUntouched) {
+  std::filesystem::path dir = cumulo::test::unique_temp_path("cumulo_bake_file_set");
+  std::filesystem::remove_all(dir);
+  Recipe r = small_recipe();
+  write_bake_outputs(r, bake_recipe(r, quiet()), dir);
+  const char* files[] = {"modeling.nvdf", "modeling_bc1.nvdf", "field.nvdf", "field_bc1.nvdf"};
+  std::vector<std::vector<uint8_t>> before;
+  for (const char* f : files) before.push_back(cumulo::read_file_bytes(dir / f));
+  // The last file of the set cannot be written: its path is a folder now.
+  std::filesystem::remove(dir / "bake_report.json");
+  std::filesystem::create_directories(dir / "bake_report.json");
+  Recipe other = small_recipe(99);  // different bytes
+  EXPECT_THROW(write_bake_outputs(other, bake_recipe(other, quiet()), dir), cumulo::Error);
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ(cumulo::read_file_bytes(dir / files[i]), before[i]) << files[i];
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path() << " left behind";
+  std::filesystem::remove_all(dir);
 }

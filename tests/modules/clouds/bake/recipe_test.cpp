@@ -128,3 +128,31 @@ TEST(Recipe, MeshEditVoxelizesAGltfCube) {
   std::filesystem::remove_all(dir);
 }
 #endif
+
+// ---- outside numbers and files (issue: hardening every loader) ---------------------------------------
+
+TEST(Recipe, NumbersOutsideTheirTypeOrRangeAreRefusedWithTheirPath) {
+  // 1e999999 overflows a double (nlohmann's out_of_range.406): named like any other bad value.
+  std::string e = error_of(R"({"edits": [{"type": "sphere", "radius": 1e999999}]})");
+  EXPECT_NE(e.find("test.json:1:"), std::string::npos) << e;
+  EXPECT_NE(e.find("$.edits[0].radius"), std::string::npos) << e;
+  EXPECT_EQ(e.find("json.exception"), std::string::npos) << e;
+  // 1e39 is a double but not a float: it used to become inf and bake to nothing.
+  e = error_of(R"({"edits": [{"type": "particles", "points": [[0, 100, 0, 1e39]]}]})");
+  EXPECT_NE(e.find("$.edits[0].points[0][3]: 1e+39 does not fit a 32-bit float"), std::string::npos) << e;
+  // A tiny radius made the particle bins overflow an int (recipe_fuzz); a tiny scale does the same.
+  e = error_of(R"({"edits": [{"type": "particles", "points": [[1000, 100, 0, 1e-40]]}]})");
+  EXPECT_NE(e.find("$.edits[0].points[0][3]: particle radius"), std::string::npos) << e;
+  e = error_of(R"({"edits": [{"type": "particles", "generate": {"count": 3, "radii": [1, 1, 1], "radius": [1e-30, 1]}}]})");
+  EXPECT_NE(e.find("$.edits[0].generate.radius"), std::string::npos) << e;
+  e = error_of(R"({"edits": [{"type": "sphere", "radius": 5, "scale": 1e-30}]})");
+  EXPECT_NE(e.find("$.edits[0].scale: scale"), std::string::npos) << e;
+  e = error_of(R"({"seed": 18446744073709551616, "edits": []})");
+  EXPECT_NE(e.find("$.seed"), std::string::npos) << e;
+}
+
+TEST(Recipe, VolumeEditNamingADeviceIsRefused) {
+  // /dev/zero never ends: reading it grew memory until std::bad_alloc, which named nothing.
+  std::string e = error_of(R"({"edits": [{"type": "volume", "file": "/dev/zero"}]})");
+  EXPECT_NE(e.find("test.json: $.edits[0].file: /dev/zero: not a regular file"), std::string::npos) << e;
+}

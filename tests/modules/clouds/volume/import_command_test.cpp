@@ -86,6 +86,23 @@ TEST(ImportCommand, WriterReportsConservativeBc1) {
   fs::remove_all(root);
 }
 
+TEST(ImportCommand, FailedImportLeavesThePreviousSetUntouched) {
+  const fs::path root = cumulo::test::unique_temp_path("cumulo_volume_import_set");
+  fs::remove_all(root);
+  const fs::path field = write_sphere_field(root / "field"), out = root / "out";
+  ASSERT_EQ(run_import({"--field", field.string(), "-o", out.string(), "--voxel-size", "4"}), 0);
+  const std::string_view names[] = {kModelingFileName, kModelingBc1FileName, kFieldFileName};
+  std::vector<std::vector<uint8_t>> before;
+  for (std::string_view n : names) before.push_back(read_file_bytes(out / n));
+  // The last file of the set cannot be written: its path is a folder now.
+  fs::remove(out / kFieldBc1FileName);
+  fs::create_directories(out / kFieldBc1FileName);
+  EXPECT_THROW(run_import({"--field", field.string(), "-o", out.string(), "--voxel-size", "8"}), Error);
+  for (size_t i = 0; i < 3; ++i) EXPECT_EQ(read_file_bytes(out / names[i]), before[i]) << names[i];
+  for (const auto& e : fs::directory_iterator(out)) EXPECT_NE(e.path().extension(), ".tmp") << e.path() << " left behind";
+  fs::remove_all(root);
+}
+
 TEST(ImportCommand, CommandLineErrors) {
   auto error_of = [](std::vector<std::string> args) {
     try {
@@ -98,7 +115,25 @@ TEST(ImportCommand, CommandLineErrors) {
   EXPECT_NE(error_of({"x.vdb"}).find("-o DIR is required"), std::string::npos);
   EXPECT_NE(error_of({"-o", "/tmp/x"}).find("give either FILE.vdb or --modeling/--field"), std::string::npos);
   EXPECT_NE(error_of({"x.vdb", "--modeling", "d", "-o", "/tmp/x"}).find("give either"), std::string::npos);
-  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-range", "1,b"}).find("--sdf-range: 'b' is not a number"),
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-range", "1,b"}).find("--sdf-range: expected a number, got \"b\""),
+            std::string::npos);
+  // Outside numbers on the command line: finite and in range, or refused naming the flag (NaN and
+  // negative values used to fall back to defaults or bake an empty cloud with exit 0).
+  EXPECT_NE(error_of({"x.vdb", "-o", "/tmp/x", "--iso", "nan"}).find("--iso: expected a finite number"), std::string::npos);
+  EXPECT_NE(error_of({"x.vdb", "-o", "/tmp/x", "--iso", "-1"}).find("--iso: -1 is out of range"), std::string::npos);
+  EXPECT_NE(error_of({"x.vdb", "-o", "/tmp/x", "--voxel-size", "nan"}).find("--voxel-size: expected a finite number"),
+            std::string::npos);
+  EXPECT_NE(error_of({"x.vdb", "-o", "/tmp/x", "--voxel-size", "-2"}).find("--voxel-size: -2 is out of range"),
+            std::string::npos);
+  EXPECT_NE(error_of({"x.vdb", "-o", "/tmp/x", "--profile-exponent", "nan"}).find("--profile-exponent: expected a finite"),
+            std::string::npos);
+  EXPECT_NE(error_of({"x.vdb", "-o", "/tmp/x", "--max-size", "4294967312"}).find("--max-size: 4294967312 does not fit"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--origin", "nan,0,0"}).find("--origin: expected a finite number"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--origin", "1e30,0,0"}).find("--origin: 1e+30 is outside"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-range", "5,1"}).find("--sdf-range: expected MIN,MAX"),
             std::string::npos);
   EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-channel", "q"}).find("channel 'q'"), std::string::npos);
   EXPECT_NE(error_of({"--field", "/nonexistent/slices", "-o", "/tmp/x"}).find("/nonexistent/slices: not a folder"),

@@ -155,6 +155,44 @@ TEST_F(VdbImport, ErrorsNameTheFileAndGrid) {
   write_file_atomic(dir_ / "garbage.vdb", std::string("this is not a vdb file at all"));
   msg = error_of(dir_ / "garbage.vdb", "");
   EXPECT_NE(msg.find("garbage.vdb: cannot read VDB file"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("IoError"), std::string::npos) << msg;  // library prefixes are translated
+}
+
+// A cut VDB used to import with exit 0 and garbage past the cut (the active voxel count lives in the
+// intact part), and a 300-byte cut made OpenVDB allocate 18 GB. Every cut is refused, quickly.
+TEST_F(VdbImport, TruncatedFilesAreRefusedAtEveryCut) {
+  const std::vector<uint8_t> whole = read_file_bytes(fog_path());
+  ASSERT_GT(whole.size(), 1000u);
+  std::vector<size_t> cuts = {whole.size() / 2, 300, whole.size() - 1, 8, 60};
+  for (size_t c = 100; c < whole.size(); c += whole.size() / 17) cuts.push_back(c);
+  for (size_t cut : cuts) {
+    const fs::path p = dir_ / "cut.vdb";
+    write_file_atomic(p, std::span<const uint8_t>(whole.data(), cut));
+    try {
+      VdbImportOptions o;
+      o.voxel_size = 8.0f;
+      import_vdb(p, o);
+      ADD_FAILURE() << "a VDB cut at " << cut << " of " << whole.size() << " bytes was accepted";
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("cut.vdb: "), std::string::npos) << msg;
+      EXPECT_NE(msg.find("truncated"), std::string::npos) << "cut at " << cut << ": " << msg;
+    }
+  }
+}
+
+TEST_F(VdbImport, GridLargerThanTheMemoryBudgetIsRefused) {
+  VdbImportOptions o;
+  o.voxel_size = 0.05f;  // 4096 voxels per axis over the sphere's 82 m box
+  o.max_dimension = 4096;
+  try {
+    import_vdb(fog_path(), o);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("sphere_fog.vdb: importing as"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("memory budget"), std::string::npos) << msg;
+  }
 }
 
 }  // namespace

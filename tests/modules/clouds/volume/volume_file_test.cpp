@@ -1,6 +1,7 @@
 // .nvdf roundtrips for every encoding (raw and zstd) and every corruption the loader must refuse.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -133,6 +134,22 @@ TEST(VolumeFile, TruncatedPayloadMessageGivesSizes) {
   std::vector<uint8_t> bytes = serialize_volume(make_volume(VolumeEncoding::R8, 1), {.compress = false});
   bytes.resize(bytes.size() - 100);
   EXPECT_ERROR(bytes, "truncated: header says 702 payload bytes, file has 602");
+}
+
+TEST(VolumeFile, NonFiniteR32FTexelsAreRefused) {
+  // An all-NaN SDF used to bake an empty cloud with exit 0: stored floats follow the outside-number rule.
+  for (float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+    Volume v = make_volume(VolumeEncoding::R32F, 1);
+    v.set_texel(3, 2, 1, 0, bad);
+    const std::vector<uint8_t> bytes = serialize_volume(v);
+    try {
+      parse_volume(bytes, "nan.nvdf");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("nan.nvdf: mip level 0: texel"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("not a finite number"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(VolumeFile, TrailingGarbage) {
