@@ -2,6 +2,7 @@
 
 #include <unordered_map>
 
+#include "engine/core/message.h"
 namespace cumulo::ecs {
 
 void ComponentRegistry::check_new(const std::string& name, uint32_t type_id) const {
@@ -68,22 +69,22 @@ std::vector<Entity> load_entities(const JsonView& array, World& world, const Com
     if (!ev.is_object()) ev.fail("expected an entity object {\"name\": ..., \"components\": {...}}");
     for (const std::string& key : ev.keys())
       if (key != "name" && key != "components")
-        ev[key].fail("unknown entity key \"" + key + "\" (expected \"name\" or \"components\")");
+        ev[key].fail("unknown entity key " + quote(key, 64) + " (expected \"name\" or \"components\")");
     ParsedEntity p;
     if (ev.has("name")) {
       JsonView nv = ev["name"];
       p.name = nv.as<std::string>();
       if (p.name.empty()) nv.fail("entity name must not be empty");
       auto [it, inserted] = name_paths.emplace(p.name, nv.path());
-      if (!inserted) nv.fail("duplicate entity name \"" + p.name + "\" (first used at " + it->second + ")");
-      if (!world.find(p.name).is_null()) nv.fail("an entity named \"" + p.name + "\" already exists in the world");
+      if (!inserted) nv.fail("duplicate entity name " + quote(p.name, 64) + " (first used at " + it->second + ")");
+      if (!world.find(p.name).is_null()) nv.fail("an entity named " + quote(p.name, 64) + " already exists in the world");
     }
     if (ev.has("components")) {
       JsonView cv = ev["components"];
       if (!cv.is_object()) cv.fail("expected an object mapping component names to values");
       for (const std::string& key : cv.keys()) {
         const ComponentRegistry::Entry* entry = registry.find(key);
-        if (!entry) cv[key].fail("unknown component \"" + key + "\" (registered: " + registry.names() + ")");
+        if (!entry) cv[key].fail("unknown component " + quote(key, 64) + " (registered: " + registry.names() + ")");
         p.components.push_back(entry->parse(cv[key]));
       }
     }

@@ -118,12 +118,12 @@ std::string fs_expand(const std::string& path, void*) { return path; }
 bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   auto* ctx = static_cast<FsContext*>(user);
   if (!ctx->allow_external) {
-    if (err) *err += "external file \"" + path + "\" refused (no base directory)\n";
+    if (err) *err += "external file " + quote(path) + " refused (no base directory)\n";
     return false;
   }
   std::ifstream f(path, std::ios::binary);
   if (!f) {
-    if (err) *err += "cannot open external file \"" + path + "\"\n";
+    if (err) *err += "cannot open external file " + quote(path) + "\n";
     return false;
   }
   out->assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
@@ -144,7 +144,7 @@ bool decode_rgba8(tinygltf::Image* image, int index, const unsigned char* bytes,
   int w = 0, h = 0, comp = 0;
   stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
   if (!pixels) {
-    if (err) *err += strf("images[%d] (\"%s\"): cannot decode: %s\n", index, image->uri.c_str(), stbi_failure_reason());
+    if (err) *err += strf("images[%d] (%s): cannot decode: %s\n", index, quote(image->uri).c_str(), stbi_failure_reason());
     return false;
   }
   image->width = w;
@@ -401,8 +401,8 @@ Texture load_texture(const Reader& r, const tinygltf::Model& g, size_t index) {
   Texture tex;
   tex.name = !t.name.empty() ? t.name : !img.name.empty() ? img.name : img.uri;
   if (img.image.empty())  // tinygltf reports a missing external image only as a warning
-    r.fail(strf("images[%d]", t.source), strf("image \"%s\" could not be loaded (missing file or undecodable data)",
-                                              img.uri.empty() ? img.name.c_str() : img.uri.c_str()));
+    r.fail(strf("images[%d]", t.source), strf("image %s could not be loaded (missing file or undecodable data)",
+                                              quote(img.uri.empty() ? img.name : img.uri).c_str()));
   if (img.component != 4 || img.bits != 8 || img.width <= 0 || img.height <= 0 ||
       img.image.size() != size_t(img.width) * size_t(img.height) * 4)
     r.fail(strf("images[%d]", t.source), "image was not decoded to RGBA8");
@@ -492,6 +492,9 @@ constexpr size_t kMaxNodeVisits = size_t(1) << 20;
 
 template <typename Visit>
 void visit_nodes(const Reader& r, const tinygltf::Model& g, const std::vector<int>& roots, Visit&& visit) {
+  // Each node's own matrix once (its numbers checked once), not once per path.
+  std::vector<glm::mat4> local(g.nodes.size());
+  for (size_t i = 0; i < g.nodes.size(); ++i) local[i] = local_matrix(r, g.nodes[i], strf("nodes[%zu]", i));
   struct Item {
     int index;
     bool leave;  // pops the node off the current path
@@ -510,16 +513,16 @@ void visit_nodes(const Reader& r, const tinygltf::Model& g, const std::vector<in
     }
     if (item.index < 0 || size_t(item.index) >= g.nodes.size())
       r.fail("nodes", strf("node index %d out of range (%zu nodes)", item.index, g.nodes.size()));
-    const std::string where = strf("nodes[%d]", item.index);
-    if (on_path[size_t(item.index)]) r.fail(where, "node hierarchy has a cycle");
+    if (on_path[size_t(item.index)]) r.fail(strf("nodes[%d]", item.index), "node hierarchy has a cycle");
     if (++visits > kMaxNodeVisits)
-      r.fail(where, strf("more than %zu node visits (nodes shared by several parents multiply)", kMaxNodeVisits));
+      r.fail(strf("nodes[%d]", item.index),
+             strf("more than %zu node visits (nodes shared by several parents multiply)", kMaxNodeVisits));
     on_path[size_t(item.index)] = true;
-    const tinygltf::Node& n = g.nodes[size_t(item.index)];
-    const glm::mat4 world = item.parent * local_matrix(r, n, where);
+    const glm::mat4 world = item.parent * local[size_t(item.index)];
     visit(item.index, world);
     stack.push_back({item.index, true, glm::mat4(1.0f)});
-    for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, false, world});
+    const std::vector<int>& children = g.nodes[size_t(item.index)].children;
+    for (auto c = children.rbegin(); c != children.rend(); ++c) stack.push_back({*c, false, world});
   }
 }
 

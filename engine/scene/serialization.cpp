@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/core/message.h"
 #include "engine/scene/components.h"
 
 namespace cumulo::scene {
@@ -15,7 +16,7 @@ void check_keys(const JsonView& v, std::initializer_list<const char*> allowed) {
       ok = ok || key == a;
       list += (list.empty() ? "" : ", ") + std::string(a);
     }
-    if (!ok) v[key].fail("unknown key \"" + key + "\" (expected one of: " + list + ")");
+    if (!ok) v[key].fail("unknown key " + quote(key, 64) + " (expected one of: " + list + ")");
   }
 }
 

@@ -7,6 +7,7 @@
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/json.h"
+#include "engine/core/message.h"
 #include "modules/clouds/bake/compose.h"
 #include "modules/clouds/bake/grid_sdf.h"
 
@@ -32,7 +33,7 @@ struct Ctx {
 // Unknown members are errors: a misspelt "radus" would otherwise silently bake a default.
 void check_keys(const JsonView& v, const std::set<std::string>& allowed) {
   for (const std::string& k : v.keys())
-    if (!allowed.count(k)) v[k].fail("unknown member \"" + k + "\"");
+    if (!allowed.count(k)) v[k].fail("unknown member " + quote(k, 64));
 }
 
 float positive(const JsonView& v, float hi = kMaxCoord) {

@@ -28,6 +28,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/memory_budget.h"
+#include "engine/core/message.h"
 #include "engine/core/progress.h"
 #include "engine/core/time.h"
 #include "modules/clouds/noise/noise_preview.h"
@@ -194,7 +195,7 @@ void register_noise_command(CommandRegistry& registry) {
                     else if (format == "both")
                       o.format = NoiseFormat::Both;
                     else
-                      fail("cumulo noise: --format must be 4, 8 or both, got '%s'", format.c_str());
+                      fail("cumulo noise: --format must be 4, 8 or both, got %s", quote(format, 16).c_str());
                   }
                   if (o.size < 4 || o.size > 1024 || (o.size & (o.size - 1)) != 0)
                     fail("cumulo noise: --size must be a power of two in 4..1024, got %d", o.size);

@@ -90,7 +90,7 @@ int run_import(int argc, char** argv) {
               [&](const std::string& s) {
                 if (s == "y") so.axis = SliceAxis::Y;
                 else if (s == "z") so.axis = SliceAxis::Z;
-                else fail("--slice-axis: '%s' (expected y or z)", s.c_str());
+                else fail("--slice-axis: %s (expected y or z)", quote(s, 16).c_str());
               })
       .option("--origin", "X,Y,Z", "slices: world position of the min corner (default: centred on x/z, base at y 0)",
               [&](const std::string& s) {
@@ -126,7 +126,7 @@ int run_import(int argc, char** argv) {
     vo.voxel_size = voxel_size;
     if (filter == "box") vo.filter = VdbFilter::Box;
     else if (filter == "trilinear") vo.filter = VdbFilter::Trilinear;
-    else fail("--filter: '%s' (expected box or trilinear)", filter.c_str());
+    else fail("--filter: %s (expected box or trilinear)", quote(filter, 16).c_str());
     result = import_vdb(vdb, vo);
   }
   const ImportOutputReport report = write_imported_cloudscape(out, result, !no_compress);

@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "engine/core/error.h"
+#include "engine/core/message.h"
 #include "engine/core/log.h"
+#include "engine/core/memory_budget.h"
 #include "engine/core/parallel.h"
 #include "engine/core/time.h"
 #include "modules/clouds/volume/distance.h"
@@ -64,7 +66,7 @@ uint32_t parse_channel_letter(const std::string& s) {
   if (l == "g" || l == "1") return 1;
   if (l == "b" || l == "2") return 2;
   if (l == "a" || l == "3") return 3;
-  fail("channel '%s': expected r, g, b or a", s.c_str());
+  fail("channel %s: expected r, g, b or a", quote(s, 16).c_str());
 }
 
 std::vector<fs::path> numbered_slices(const fs::path& dir) {
@@ -116,6 +118,17 @@ SliceStack load_stack(const fs::path& dir) {
   SliceStack s;
   const std::vector<fs::path> files = numbered_slices(dir);
   if (files.size() > 4096) fail("%s: %zu slices (at most 4096)", dir.string().c_str(), files.size());
+  // Decoded RGBA (4 bytes a pixel) plus the volumes derived from it (about 56 bytes a voxel, as a
+  // VDB import): budgeted from the headers before anything is decoded.
+  uint64_t pixels = 0, largest = 0;
+  for (const fs::path& f : files) {
+    const auto [w, h] = peek_tga_size(f);
+    pixels += uint64_t(w) * h;
+    largest = std::max(largest, uint64_t(w) * h);
+  }
+  check_memory_budget(saturating_product({pixels, 4}) + saturating_product({largest, files.size(), 56}),
+                      strf("%s: %zu TGA slices of up to %llu pixels", dir.string().c_str(), files.size(),
+                           static_cast<unsigned long long>(largest)));
   s.slices.resize(files.size());
   // Decode in parallel (TGA decode dominates), then check sizes in order so the first mismatch is named.
   parallel_for(files.size(), [&](size_t b, size_t e) {

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstring>
+#include <fstream>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -97,6 +98,13 @@ Rgba8Image decode_tga(std::span<const uint8_t> bytes, const std::string& name, c
 
 Rgba8Image load_tga(const std::filesystem::path& path, const TgaLimits& limits) {
   return decode_tga(read_file_bytes(path), path.string(), limits);
+}
+
+std::pair<uint32_t, uint32_t> peek_tga_size(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint8_t h[18];
+  if (!in.read(reinterpret_cast<char*>(h), sizeof h)) return {0, 0};
+  return {uint32_t(h[12] | (h[13] << 8)), uint32_t(h[14] | (h[15] << 8))};  // TGA 2.0 spec: image specification
 }
 
 std::vector<uint8_t> encode_tga(const Rgba8Image& image, bool rle) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cumulo::clouds {
@@ -27,6 +28,9 @@ struct TgaLimits {
 // Throws cumulo::Error("<name>: <what>") for truncated data, unsupported types, bad RLE packets.
 Rgba8Image decode_tga(std::span<const uint8_t> bytes, const std::string& name, const TgaLimits& limits = {});
 Rgba8Image load_tga(const std::filesystem::path& path, const TgaLimits& limits = {});
+// Width and height from the 18-byte header alone (0 x 0 when the file is shorter), so a caller can
+// budget the memory a set of slices will take before decoding any of them.
+std::pair<uint32_t, uint32_t> peek_tga_size(const std::filesystem::path& path);
 std::vector<uint8_t> encode_tga(const Rgba8Image& image, bool rle = false);
 
 }  // namespace cumulo::clouds

@@ -156,3 +156,13 @@ TEST(Recipe, VolumeEditNamingADeviceIsRefused) {
   std::string e = error_of(R"({"edits": [{"type": "volume", "file": "/dev/zero"}]})");
   EXPECT_NE(e.find("test.json: $.edits[0].file: /dev/zero: not a regular file"), std::string::npos) << e;
 }
+
+TEST(Recipe, HugeValuesAreNotEchoedBack) {
+  const std::string big(2 << 20, 'k');
+  std::string e = error_of(R"({"edits": [{"type": "sphere", "radius": 3, ")" + big + R"(": 1}]})");
+  EXPECT_NE(e.find("unknown member"), std::string::npos) << e.substr(0, 300);
+  EXPECT_LT(e.size(), 400u);
+  e = error_of(R"({"edits": [{"type": ")" + big + R"("}]})");
+  EXPECT_NE(e.find("(2097152 bytes)"), std::string::npos) << e.substr(0, 300);
+  EXPECT_LT(e.size(), 400u);
+}

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -103,6 +104,28 @@ TEST(ImportCommand, FailedImportLeavesThePreviousSetUntouched) {
   fs::remove_all(root);
 }
 
+TEST(ImportCommand, SliceStackOverTheMemoryBudgetIsRefusedBeforeDecoding) {
+  // 4096 slices whose headers claim 4096 x 4096 pixels: 256 GiB of RGBA before any volume work.
+  const fs::path root = cumulo::test::unique_temp_path("cumulo_volume_import_budget");
+  fs::remove_all(root);
+  fs::create_directories(root / "field");
+  std::vector<uint8_t> header(18, 0);
+  header[2] = 2;  // truecolor
+  header[12] = 0x00, header[13] = 0x10, header[14] = 0x00, header[15] = 0x10, header[16] = 32;
+  for (int k = 0; k < 4096; ++k)  // plain writes: 4096 fsyncs would make the test slow
+    std::ofstream(root / "field" / ("sdf." + std::to_string(k) + ".tga"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+  try {
+    run_import({"--field", (root / "field").string(), "-o", (root / "out").string()});
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("field: 4096 TGA slices of up to 16777216 pixels"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("memory budget"), std::string::npos) << msg;
+  }
+  fs::remove_all(root);
+}
+
 TEST(ImportCommand, CommandLineErrors) {
   auto error_of = [](std::vector<std::string> args) {
     try {
@@ -135,7 +158,7 @@ TEST(ImportCommand, CommandLineErrors) {
             std::string::npos);
   EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-range", "5,1"}).find("--sdf-range: expected MIN,MAX"),
             std::string::npos);
-  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-channel", "q"}).find("channel 'q'"), std::string::npos);
+  EXPECT_NE(error_of({"--field", "d", "-o", "/tmp/x", "--sdf-channel", "q"}).find("channel \"q\": expected r, g, b or a"), std::string::npos);
   EXPECT_NE(error_of({"--field", "/nonexistent/slices", "-o", "/tmp/x"}).find("/nonexistent/slices: not a folder"),
             std::string::npos);
 }
