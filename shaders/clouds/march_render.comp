@@ -172,9 +172,13 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // Reprojection (pc.sub.x = B > 1): this invocation marches pixel block * B + offset of the full-resolution
+  // image and writes its result at `block` of the sub-sampled image (reconstruct.comp fills the rest).
+  ivec2 block = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(pc.target.xy);
-  if (any(greaterThanEqual(pixel, size))) return;
+  int B = max(int(pc.sub.x), 1);
+  if (any(greaterThanEqual(block * B, size))) return;
+  ivec2 pixel = min(block * B + ivec2(pc.sub.yz), size - 1);
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec2 ndc = uv * 2.0 - 1.0;
   vec4 far_h = P.inv_view_proj * vec4(ndc, 0.5, 1.0);  // any depth on the ray (reversed-Z)
@@ -244,6 +248,6 @@ void main() {
   float depth = px.depth50 < 1e5 ? px.depth50 : px.first_hit;
   vec4 color = vec4(px.radiance, px.transmittance);
   if (P.frame.w == CLOUD_DEBUG_PROFILE) color = vec4(vec3(px.profile_opacity), 0.0);
-  imageStore(out_color, pixel, color);
-  imageStore(out_depth, pixel, vec4(depth, px.steps, min(t_end, 1e6), 0.0));
+  imageStore(out_color, block, color);
+  imageStore(out_depth, block, vec4(depth, px.steps, min(t_end, 1e6), 0.0));
 }

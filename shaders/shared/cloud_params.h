@@ -103,9 +103,10 @@ CUMULO_SHARED_SIZE(CloudLightGridPush, 32)
 
 // Push constants of march_render.comp and split_merge.comp.
 struct CloudMarchPush {
-  vec4 target;  // x, y: size of the image written, z, w: 1/size
+  vec4 target;  // x, y: size of the image written (full resolution for the sub-sampled march), z, w: 1/size
+  vec4 sub;     // reprojection (march_render.comp, reconstruct.comp): x block size B (1: every pixel), y, z: marched pixel in its block; w: unused
 };
-CUMULO_SHARED_SIZE(CloudMarchPush, 16)
+CUMULO_SHARED_SIZE(CloudMarchPush, 32)
 
 CUMULO_SHARED_END
 

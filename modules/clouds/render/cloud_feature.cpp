@@ -35,6 +35,10 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-ablation", "A", "cloud march variant of the talk's cost table: base, voxel-lighting, full (default)",
               &ablation_text_)
       .option("--cloud-temporal", "on|off", "temporal accumulation of the jittered cloud march (default on)", &temporal_text_)
+      .option("--cloud-reprojection", "1|4|16",
+              "march 1 of N pixels per frame and reproject the rest (with temporal on): 1 every pixel, 4 (default), "
+              "16 as in the 2015 talk",
+              &reprojection_text_)
       .option("--cloud-light-grid", "talk|device",
               "light grid size: the talk's 256x256x32, or sized for the device (default: 128x128x16 on CPU devices)",
               &light_grid_text_);
@@ -43,6 +47,10 @@ void CloudFeature::add_run_options(ArgParser& p) {
 void CloudFeature::check_run_options() {
   options_.enabled = parse_on_off("--clouds", clouds_text_);
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
+  if (reprojection_text_ == "1") options_.reprojection_block = 1;
+  else if (reprojection_text_ == "4") options_.reprojection_block = 2;
+  else if (reprojection_text_ == "16") options_.reprojection_block = 4;
+  else fail("--cloud-reprojection: expected 1, 4 or 16, got \"%s\"", reprojection_text_.c_str());
   if (light_grid_text_ != "talk" && light_grid_text_ != "device")
     fail("--cloud-light-grid: expected talk or device, got \"%s\"", light_grid_text_.c_str());
   options_.talk_light_grid = light_grid_text_ == "talk";
@@ -125,6 +133,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   settings.ablation = options_.ablation;
   settings.debug = options_.debug;
   settings.temporal = options_.temporal;
+  settings.reprojection_block = options_.reprojection_block;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame->instances) {

@@ -9,6 +9,8 @@
 //   --cloud-formats SET        compressed | uncompressed (default: by device type)
 //   --cloud-ablation A         base | voxel-lighting | full (the talk's cost table; default full)
 //   --cloud-temporal on|off    temporal accumulation of the jittered march (default on)
+//   --cloud-reprojection N     pixels per frame of the full-resolution march with temporal on: 1 (every
+//                              pixel, the 2023 talk), 4 (1 of 4, default) or 16 (1 of 16, the 2015 talk)
 //   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
 //                              (default: 128x128x16 on CPU devices, the talk's elsewhere)
 #include <filesystem>
@@ -60,6 +62,7 @@ struct CloudRunOptions {
   std::optional<CloudFormatSet> formats;  // empty: default_format_set(device)
   CloudAblation ablation = CloudAblation::Full;
   bool temporal = true;
+  uint32_t reprojection_block = 2;  // CloudSettings::reprojection_block
   bool talk_light_grid = false;  // true: 256x256x32 on every device
   int noise_size = 128;
 };
@@ -93,7 +96,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
   CloudRunOptions options_;
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
-      light_grid_text_ = "device";
+      light_grid_text_ = "device", reprojection_text_ = "4";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;

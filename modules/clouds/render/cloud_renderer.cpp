@@ -64,6 +64,11 @@ struct CloudResources {
   cumulo::render::GpuHistory history{"clouds.history", kColorFormat, 1.0f,
                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
   bool history_on = false;  // the last frame accumulated (a frame without temporal breaks the history)
+  // Reprojection of the sub-sampled march: the last frame's reconstruction.
+  cumulo::render::GpuHistory recon_history{"clouds.reprojection", kColorFormat, 1.0f,
+                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  uint32_t recon_block = 0;  // block size of the last frame's reconstruction (0: none)
+  gpu::Pipeline* recon_pipe = nullptr;
   glm::mat4 prev_view_proj{1.0f};
   gpu::Pipeline* grid_pipe = nullptr;
   gpu::Pipeline* temporal_pipe = nullptr;
@@ -145,6 +150,7 @@ class Bindings {
 shared::CloudMarchPush target_push(VkExtent3D e) {
   shared::CloudMarchPush pc{};
   pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+  pc.sub = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
   return pc;
 }
 
@@ -277,6 +283,7 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
                                     i ? "clouds.params.1" : "clouds.params.0"});
   res->grid_pipe = &res->grid(false);
   res->temporal_pipe = &library.compute({.shader = "clouds/temporal_accumulate.comp", .name = "clouds.temporal"});
+  res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
   res->composite_pipe = &library.compute({.shader = "clouds/composite_apply.comp", .name = "clouds.composite"});
   res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true);  // the common variant, built up front
@@ -313,6 +320,8 @@ uint64_t persistent_gpu_bytes(const CloudResources& res) {
     total += uint64_t(res.grid_image.extent().width) * res.grid_image.extent().height * res.grid_image.extent().depth * 4;
   if (res.history.texture().has_images())
     total += 2ull * res.history.texture().desc().width * res.history.texture().desc().height * 8;
+  if (res.recon_history.texture().has_images())
+    total += 2ull * res.recon_history.texture().desc().width * res.recon_history.texture().desc().height * 8;
   return total;
 }
 
@@ -392,6 +401,30 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   if (s.temporal) history = import_history(res, graph, in.camera_cut);
   else res.history_on = false;
 
+  // Reprojection: the marched pixel of each BxB block this frame, in the order of a Bayer matrix (each
+  // pixel once every B*B frames, neighbours far apart in time).
+  const uint32_t block = s.temporal ? std::clamp(s.reprojection_block, 1u, 4u) : 1u;
+  HistoryImports recon;
+  glm::uvec2 sub_offset{0, 0};
+  if (block > 1) {
+    if (in.camera_cut || res.recon_block != block) res.recon_history.invalidate();
+    const cumulo::render::HistoryHandles h = res.recon_history.import(res.ctx, graph);
+    recon = {h.previous, h.current, h.valid};
+    static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+    const uint32_t k = uint32_t(in.frame_index % (block * block));
+    for (uint32_t y = 0; y < block; ++y)
+      for (uint32_t x = 0; x < block; ++x) {
+        // Bayer order of a BxB block: the 4x4 matrix's values at the block's cells, ranked.
+        const uint32_t step = 4 / block;
+        uint32_t rank = 0;
+        const uint32_t v = kBayer4[(y * step) * 4 + x * step];
+        for (uint32_t yy = 0; yy < block; ++yy)
+          for (uint32_t xx = 0; xx < block; ++xx) rank += kBayer4[(yy * step) * 4 + xx * step] < v ? 1u : 0u;
+        if (rank == k) sub_offset = {x, y};
+      }
+  }
+  res.recon_block = block > 1 ? block : 0;
+
   const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
   const shared::CloudParams params = make_params(res, in, size, history.valid);
   std::memcpy(ubo.mapped(), &params, sizeof params);
@@ -431,7 +464,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   // ---- 2. March (one pass, or near/far + merge) ----
   // `front` (far segment only): the near layer, read for its transmittance (early exit).
   auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
-                       TextureHandle front = {}) {
+                       TextureHandle front = {}, uint32_t sub_block = 1) {
     gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip);
     graph.add_pass(name, Queue::Compute,
         [&](PassBuilder& b) {
@@ -444,7 +477,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           color = b.write(color, Usage::StorageWrite);
           cdepth = b.write(cdepth, Usage::StorageWrite);
         },
-        [r, pipe, grid, modeling, field, noise, depth, color, cdepth, front, ubo_handle](PassContext& c) {
+        [r, pipe, grid, modeling, field, noise, depth, color, cdepth, front, ubo_handle, sub_block, sub_offset,
+         size](PassContext& c) {
           Bindings bind(*pipe);
           bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
               .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
@@ -457,22 +491,67 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
           bind.push(r->ctx, c.cmd());
           const VkExtent3D e = c.extent(color);
-          pipe->push_constants(c.cmd(), target_push(e));
+          if (sub_block > 1) {
+            // Full-resolution rays, one per block: the image written is the sub-sampled one.
+            shared::CloudMarchPush pc = target_push({size.width, size.height, 1});
+            pc.sub = glm::vec4(float(sub_block), float(sub_offset.x), float(sub_offset.y), 0.0f);
+            pipe->push_constants(c.cmd(), pc);
+          } else {
+            pipe->push_constants(c.cmd(), target_push(e));
+          }
           pipe->dispatch_threads(c.cmd(), e.width, e.height);
         });
+  };
+  // The full-resolution march, sub-sampled and reconstructed when reprojection is on.
+  auto add_full_res_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
+                                TextureHandle front = {}) {
+    if (block <= 1) return add_march(name, segment, color, cdepth, front);
+    const uint32_t sw = (size.width + block - 1) / block, sh = (size.height + block - 1) / block;
+    TextureHandle sub_c = graph.create_texture("clouds.sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
+    TextureHandle sub_d = graph.create_texture("clouds.sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
+    add_march(name, segment, sub_c, sub_d, front, block);
+    gpu::Pipeline* pipe = r->recon_pipe;
+    TextureHandle prev = recon.prev, next = recon.next;
+    const bool valid = recon.valid;
+    graph.add_pass("clouds.reconstruct", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(sub_c, Usage::Sampled);
+          b.read(sub_d, Usage::Sampled);
+          b.read(prev, Usage::Sampled);
+          b.read(depth, Usage::Sampled);
+          next = b.write(next, Usage::StorageWrite);
+          cdepth = b.write(cdepth, Usage::StorageWrite);
+        },
+        [r, pipe, sub_c, sub_d, prev, next, depth, cdepth, ubo_handle, block, sub_offset, valid](PassContext& c) {
+          Bindings(*pipe)
+              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+              .sampled(CLOUD_BINDING_CURRENT, c.view(sub_c), r->nearest_clamp, c.layout(sub_c))
+              .sampled(CLOUD_BINDING_CURRENT_DEPTH, c.view(sub_d), r->nearest_clamp, c.layout(sub_d))
+              .sampled(CLOUD_BINDING_HISTORY, c.view(prev), r->linear_clamp, c.layout(prev))
+              .sampled(CLOUD_BINDING_SCENE_DEPTH, c.view(depth), r->nearest_clamp, c.layout(depth))
+              .storage(CLOUD_BINDING_ACCUM_OUT, c.view(next))
+              .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
+              .push(r->ctx, c.cmd());
+          const VkExtent3D e = c.extent(next);
+          shared::CloudMarchPush pc = target_push(e);
+          pc.sub = glm::vec4(float(block), float(sub_offset.x), float(sub_offset.y), valid ? 1.0f : 0.0f);
+          pipe->push_constants(c.cmd(), pc);
+          pipe->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+    color = next;
   };
 
   TextureHandle color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat));
   TextureHandle cdepth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat));
   if (!s.split) {
-    add_march("clouds.march", CLOUD_SEGMENT_ALL, color, cdepth);
+    add_full_res_march("clouds.march", CLOUD_SEGMENT_ALL, color, cdepth);
   } else {
     TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f));
     TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f));
     TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat));
     TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat));
     add_march("clouds.march_near", CLOUD_SEGMENT_NEAR, near_c, near_d);
-    add_march("clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
+    add_full_res_march("clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
     gpu::Pipeline* merge = res.merge_pipe;
     graph.add_pass("clouds.split_merge", Queue::Compute,
         [&](PassBuilder& b) {

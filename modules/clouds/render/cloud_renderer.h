@@ -33,6 +33,9 @@
 //   clouds.march_near  compute  40/60 Hz: segment < split at half resolution -> clouds.near_color/depth
 //   clouds.march_far   compute  40/60 Hz: segment >= split at full resolution -> clouds.far_color/depth
 //                               (reads near_color: stops where the near layer is already opaque)
+//   clouds.reconstruct compute  reprojection (CloudSettings::reprojection_block > 1, temporal on): the
+//                               sub-sampled full-resolution march (30 Hz march or 40/60 Hz far) + its own
+//                               history (import_history "clouds.reprojection") -> full-resolution colour/depth
 //   clouds.split_merge compute  depth-aware upsample of near, merged over far -> clouds.color/depth
 //   clouds.temporal    compute  reads clouds.color/depth + last frame's history (sampled); writes this
 //                               frame's history (import_history: render::GpuHistory "clouds.history")
@@ -108,6 +111,11 @@ struct CloudSettings {
   float ambient_occlusion_scale = 0.1f;   // sky optical depth = summed sky density x extinction x this (not in the talk)
   float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
   float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
+  // Temporal reprojection of the full-resolution march (2015 talk: "1 of 16 pixels per frame"): with
+  // temporal on, the 30 Hz march and the 40/60 Hz far segment march one pixel of every BxB block per
+  // frame (B = reprojection_block) and clouds.reconstruct reprojects the rest from the last frame.
+  // 1: every pixel every frame (the 2023 talk's method); 2: 1 of 4 (default); 4: 1 of 16 (the 2015 talk).
+  uint32_t reprojection_block = 2;
   float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
   float sun_rebuild_degrees = 1.0f;   // the sun moving more than this since the last full rebuild -> rebuild
 };

@@ -1,0 +1,88 @@
+#version 450
+// Temporal reprojection of a sub-sampled march (2015 talk, seed 004: "we render 1 of 16 pixels per
+// frame" and reproject the rest from the last frame's cloud buffer). The full-resolution march (the
+// 30 Hz march, or the 40/60 Hz far segment) runs on one pixel of every BxB block per frame
+// (B = CloudMarchPush::sub.x, the marched pixel's offset in its block sub.yz, cycling over the block
+// in B*B frames); this pass rebuilds the full-resolution image:
+//   - the marched pixel of a block takes this frame's value as is (talk: the new pixel replaces);
+//   - every other pixel reprojects its own history (last frame's reconstruction) with this frame's cloud
+//     depth of its block (x: opacity-0.5 distance, else "at infinity"), clamped to the min/max of the
+//     3x3 marched blocks around it (no ghost where a cloud moved or was disoccluded);
+//   - off-screen, behind the camera or with no history: the bilinear upsample of this frame's samples.
+// Depth out: x, y of the block's marched pixel (y = steps: the cost of this frame), z recomputed per
+// pixel from the scene depth (the split merge's depth-aware upsample needs it per pixel).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/cloud_params.h"
+
+layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
+layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
+layout(set = 0, binding = CLOUD_BINDING_CURRENT) uniform sampler2D sub_color;
+layout(set = 0, binding = CLOUD_BINDING_CURRENT_DEPTH) uniform sampler2D sub_depth;
+layout(set = 0, binding = CLOUD_BINDING_HISTORY) uniform sampler2D history_tex;
+layout(set = 0, binding = CLOUD_BINDING_ACCUM_OUT, rgba16f) uniform writeonly image2D out_color;
+layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
+layout(set = 0, binding = CLOUD_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
+layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(pc.target.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  int B = int(pc.sub.x);
+  ivec2 offset = ivec2(pc.sub.yz);
+  ivec2 ss = textureSize(sub_color, 0);
+  ivec2 block = pixel / B;
+  vec4 own = texelFetch(sub_color, block, 0);
+  vec4 own_d = texelFetch(sub_depth, block, 0);
+
+  vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
+  vec2 ndc = uv * 2.0 - 1.0;
+  vec4 h = P.inv_view_proj * vec4(ndc, 0.5, 1.0);
+  vec3 ro = P.camera_pos.xyz;
+  vec3 rd = normalize(h.xyz / h.w - ro);
+  float d = textureLod(scene_depth, uv, 0.0).r;
+  float t_end = 1e30;
+  if (d > 0.0) {
+    vec4 w = P.inv_view_proj * vec4(ndc, d, 1.0);
+    t_end = distance(w.xyz / w.w, ro);
+  }
+
+  vec4 result = own;
+  if (pixel - block * B != offset) {
+    // Bilinear upsample of the marched samples (sample (i, j) sits at pixel (i, j) * B + offset).
+    vec2 sp = (vec2(pixel - offset)) / float(B);
+    ivec2 b0 = ivec2(floor(sp));
+    vec2 f = sp - vec2(b0);
+    vec4 s00 = texelFetch(sub_color, clamp(b0, ivec2(0), ss - 1), 0);
+    vec4 s10 = texelFetch(sub_color, clamp(b0 + ivec2(1, 0), ivec2(0), ss - 1), 0);
+    vec4 s01 = texelFetch(sub_color, clamp(b0 + ivec2(0, 1), ivec2(0), ss - 1), 0);
+    vec4 s11 = texelFetch(sub_color, clamp(b0 + ivec2(1, 1), ivec2(0), ss - 1), 0);
+    vec4 up = mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+    result = up;
+    if (pc.sub.w > 0.5) {  // history valid
+      vec4 lo = min(min(s00, s10), min(s01, s11)), hi = max(max(s00, s10), max(s01, s11));
+      for (int j = -1; j <= 1; ++j)
+        for (int i = -1; i <= 1; ++i) {
+          vec4 c = texelFetch(sub_color, clamp(block + ivec2(i, j), ivec2(0), ss - 1), 0);
+          lo = min(lo, c);
+          hi = max(hi, c);
+        }
+      float depth = own_d.x;
+      vec4 world = depth < 1e5 ? vec4(ro + rd * depth, 1.0) : vec4(rd, 0.0);
+      vec4 prev = P.prev_view_proj * world;
+      if (prev.w > 0.0) {
+        vec2 prev_uv = prev.xy / prev.w * 0.5 + 0.5;
+        if (all(greaterThanEqual(prev_uv, vec2(0.0))) && all(lessThanEqual(prev_uv, vec2(1.0)))) {
+          vec2 prev_px = prev_uv * pc.target.xy - 0.5;
+          vec2 snapped = round(prev_px);
+          vec4 hist = all(lessThan(abs(prev_px - snapped), vec2(0.01)))
+                          ? texelFetch(history_tex, clamp(ivec2(snapped), ivec2(0), size - 1), 0)
+                          : textureLod(history_tex, prev_uv, 0.0);
+          result = clamp(hist, lo, hi);
+        }
+      }
+    }
+  }
+  imageStore(out_color, pixel, result);
+  imageStore(out_depth, pixel, vec4(own_d.x, own_d.y, min(t_end, 1e6), 0.0));
+}
