@@ -9,8 +9,9 @@
 //   --cloud-formats SET        compressed | uncompressed (default: by device type)
 //   --cloud-ablation A         base | voxel-lighting | full (the talk's cost table; default full)
 //   --cloud-temporal on|off    temporal accumulation of the jittered march (default on)
-//   --cloud-reprojection N     pixels per frame of the full-resolution march with temporal on: 1 (every
-//                              pixel, the 2023 talk), 4 (1 of 4, default) or 16 (1 of 16, the 2015 talk)
+//   --cloud-reprojection N     1 of N pixels per frame of the full-resolution march with temporal on: 1 (every
+//                              pixel, the 2023 talk), 4, 16 (the 2015 talk), auto (default: 4 at 30 Hz, 16 for
+//                              the 40/60 Hz far segment)
 //   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
 //                              (default: 128x128x16 on CPU devices, the talk's elsewhere)
 #include <filesystem>
@@ -62,7 +63,7 @@ struct CloudRunOptions {
   std::optional<CloudFormatSet> formats;  // empty: default_format_set(device)
   CloudAblation ablation = CloudAblation::Full;
   bool temporal = true;
-  uint32_t reprojection_block = 2;  // CloudSettings::reprojection_block
+  uint32_t reprojection_block = 0;  // CloudSettings::reprojection_block (0: by budget mode)
   bool talk_light_grid = false;  // true: 256x256x32 on every device
   int noise_size = 128;
 };
@@ -96,7 +97,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
   CloudRunOptions options_;
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
-      light_grid_text_ = "device", reprojection_text_ = "4";
+      light_grid_text_ = "device", reprojection_text_ = "auto";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;

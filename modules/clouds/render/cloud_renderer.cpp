@@ -403,7 +403,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
 
   // Reprojection: the marched pixel of each BxB block this frame, in the order of a Bayer matrix (each
   // pixel once every B*B frames, neighbours far apart in time).
-  const uint32_t block = s.temporal ? std::clamp(s.reprojection_block, 1u, 4u) : 1u;
+  const uint32_t block = reprojection_block(s);
   HistoryImports recon;
   glm::uvec2 sub_offset{0, 0};
   if (block > 1) {
@@ -412,6 +412,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     recon = {h.previous, h.current, h.valid};
     static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
     const uint32_t k = uint32_t(in.frame_index % (block * block));
+    // (B = 3 ranks the top-left 3x3 cells of the 4x4 matrix: still each pixel once per 9 frames.)
     for (uint32_t y = 0; y < block; ++y)
       for (uint32_t x = 0; x < block; ++x) {
         // Bayer order of a BxB block: the 4x4 matrix's values at the block's cells, ranked.

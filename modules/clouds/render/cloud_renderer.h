@@ -114,8 +114,10 @@ struct CloudSettings {
   // Temporal reprojection of the full-resolution march (2015 talk: "1 of 16 pixels per frame"): with
   // temporal on, the 30 Hz march and the 40/60 Hz far segment march one pixel of every BxB block per
   // frame (B = reprojection_block) and clouds.reconstruct reprojects the rest from the last frame.
-  // 1: every pixel every frame (the 2023 talk's method); 2: 1 of 4 (default); 4: 1 of 16 (the 2015 talk).
-  uint32_t reprojection_block = 2;
+  // 1: every pixel every frame (the 2023 talk's method); 2: 1 of 4; 4: 1 of 16 (the 2015 talk);
+  // 0: by budget mode (apply_budget_mode's default: 1 of 4 at 30 Hz, 1 of 16 for the 40/60 Hz far segment,
+  // whose near layer is marched every frame at half resolution).
+  uint32_t reprojection_block = 0;
   float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
   float sun_rebuild_degrees = 1.0f;   // the sun moving more than this since the last full rebuild -> rebuild
 };
@@ -123,6 +125,12 @@ struct CloudSettings {
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
 // the near segment (< split_distance_m) at half resolution and the far one at full resolution.
 inline void apply_budget_mode(CloudSettings& s, int hz) { s.split = hz >= 40; }
+// The reprojection block in effect (CloudSettings::reprojection_block; 0 = by mode).
+inline uint32_t reprojection_block(const CloudSettings& s) {
+  if (!s.temporal) return 1;
+  if (s.reprojection_block == 0) return s.split ? 4 : 2;
+  return s.reprojection_block > 4 ? 4 : s.reprojection_block;
+}
 
 // One placed cloudscape. A Cloudscape ECS component (+ its entity's Transform) maps onto this 1:1;
 // several instances may share one asset (one GPU copy; each gets its own light grid).
