@@ -60,6 +60,7 @@ function(cumulo_add_fuzzer)
   set(flags -std=c++20 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
             -DCUMULO_FUZZ=1 -I${PROJECT_SOURCE_DIR})
   set(objects)
+  # Through the main build's launcher (ccache when scripts/build.sh found it), like every other object.
   foreach(src ${F_SOURCES})
     if(NOT IS_ABSOLUTE ${src})
       set(src ${PROJECT_SOURCE_DIR}/${src})
@@ -68,7 +69,7 @@ function(cumulo_add_fuzzer)
     string(REPLACE "/" "_" obj_name ${rel})
     set(obj ${dir}/${obj_name}.o)
     add_custom_command(OUTPUT ${obj}
-      COMMAND ${CUMULO_FUZZ_CXX} ${flags} -fsanitize=fuzzer-no-link -MD -MF ${obj}.d -c ${src} -o ${obj}
+      COMMAND ${CMAKE_CXX_COMPILER_LAUNCHER} ${CUMULO_FUZZ_CXX} ${flags} -fsanitize=fuzzer-no-link -MD -MF ${obj}.d -c ${src} -o ${obj}
       DEPENDS ${src} DEPFILE ${obj}.d
       COMMENT "clang fuzz: ${rel}" VERBATIM)
     list(APPEND objects ${obj})

@@ -1,6 +1,7 @@
 // OpenVDB import. The only file of the module that includes OpenVDB (its headers compile slowly
 // and pull in Boost and TBB), so nothing else depends on them.
 #include <openvdb/openvdb.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/tools/Interpolation.h>
 
 #include <algorithm>
@@ -124,25 +125,34 @@ class VdbScan {
 openvdb::FloatGrid::Ptr read_float_grid(const std::string& file_name, const std::string& wanted) {
   const char* n = file_name.c_str();
   VdbScan(file_name, n).grids();  // throws for a truncated or inconsistent container
-  openvdb::io::File file(file_name);
-  file.open(false);  // no delayed loading: we read the whole grid now
-  openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
+  // Past the container, counts inside a grid (tiles, children, metadata sizes) still come from the
+  // file, and io::File's own stream fails silently at its end: a count of 4e9 children then loops
+  // (and allocates a 270 KB node) 4e9 times on failed reads. So OpenVDB reads the file through our
+  // stream, which throws at the first short read: its work is bounded by the bytes the file holds.
+  std::ifstream in(file_name, std::ios::binary);
+  if (!in) fail("%s: cannot read VDB file: cannot open: %s", n, std::strerror(errno));
+  in.exceptions(std::ios::failbit | std::ios::badbit);
+  openvdb::io::Stream stream(in, /*delayLoad=*/false);
+  openvdb::GridPtrVecPtr grids = stream.getGrids();
+  if (!grids) fail("%s: cannot read VDB file: no grids", n);
   std::string listing, chosen;
+  openvdb::GridBase::Ptr found;
   for (const auto& g : *grids) {
     listing += strf("%s'%s' (%s)", listing.empty() ? "" : ", ", g->getName().c_str(), g->valueType().c_str());
     const bool is_float = g->valueType() == openvdb::typeNameAsString<float>();
     if (!wanted.empty() && g->getName() == wanted) {
       if (!is_float) fail("%s: grid '%s' holds %s values, not float", n, wanted.c_str(), g->valueType().c_str());
       chosen = wanted;
+      found = g;
     } else if (wanted.empty() && chosen.empty() && is_float) {
       chosen = g->getName();
+      found = g;
     }
   }
   if (chosen.empty() && !wanted.empty())
     fail("%s: no grid named '%s' (grids: %s)", n, wanted.c_str(), listing.empty() ? "none" : listing.c_str());
   if (chosen.empty()) fail("%s: no float grid (grids: %s)", n, listing.empty() ? "none" : listing.c_str());
-  openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(chosen));
-  file.close();
+  openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(found);
   if (!grid) fail("%s: grid '%s' could not be read as a float grid", n, chosen.c_str());
   return grid;
 }
@@ -207,6 +217,8 @@ CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportO
     grid = read_float_grid(file_name, o.grid);
   } catch (const Error&) {
     throw;
+  } catch (const std::ios_base::failure&) {
+    fail("%s: truncated or corrupt: a grid's data ends before what it describes", n);
   } catch (const std::bad_alloc&) {
     // The scan bounds every length by the file size; what remains is a grid larger than memory.
     fail("%s: out of memory reading the VDB grid (%llu-byte file)", n,
@@ -284,6 +296,15 @@ CloudscapeVolumes import_vdb(const std::filesystem::path& path, const VdbImportO
         }
   });
 
+  // Voxel values are outside numbers like the header's: a NaN or infinite density or distance (a
+  // corrupt uncompressed leaf reads as NaN) would otherwise import as silent garbage.
+  for (size_t i = 0; i < count; ++i)
+    if (!std::isfinite(samples[i])) {
+      const size_t x = i % size.x, y = (i / size.x) % size.y, z = i / (size_t(size.x) * size.y);
+      const glm::vec3 p = bmin + (glm::vec3(x, y, z) + 0.5f) * voxel;
+      fail("%s: grid '%s' holds a value that is not a finite number (%g) near world (%g, %g, %g)", n,
+           grid->getName().c_str(), double(samples[i]), p.x, p.y, p.z);
+    }
   std::vector<uint8_t> inside(count);
   for (size_t i = 0; i < count; ++i) inside[i] = level_set ? samples[i] < 0.0f : samples[i] >= o.iso;
   std::vector<float> sdf = signed_distance_from_mask(inside, size, voxel);

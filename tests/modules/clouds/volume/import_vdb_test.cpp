@@ -181,6 +181,34 @@ TEST_F(VdbImport, TruncatedFilesAreRefusedAtEveryCut) {
   }
 }
 
+// The grid's data overwritten with 0xFF, container intact: uncompressed leaves then hold NaN
+// floats, which imported with exit 0 as garbage; voxel values follow the outside-number rule.
+TEST_F(VdbImport, CorruptGridDataIsRefused) {
+  auto fog = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(kRadius, openvdb::Vec3f(kCentre.x, kCentre.y, kCentre.z),
+                                                                       1.0f, kHalfWidth);
+  openvdb::tools::sdfToFogVolume(*fog);
+  fog->setName("density");
+  const fs::path raw = dir_ / "raw.vdb";
+  openvdb::io::File out(raw.string());
+  out.setCompression(openvdb::io::COMPRESS_NONE);
+  out.write({fog});
+  out.close();
+  std::vector<uint8_t> bytes = read_file_bytes(raw);
+  for (size_t i = bytes.size() / 3; i < bytes.size(); ++i) bytes[i] = 0xFF;
+  const fs::path p = dir_ / "corrupt.vdb";
+  write_file_atomic(p, bytes);
+  try {
+    VdbImportOptions o;
+    o.voxel_size = 8.0f;
+    import_vdb(p, o);
+    ADD_FAILURE() << "a corrupt VDB was accepted";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("corrupt.vdb: "), std::string::npos) << msg;
+    EXPECT_TRUE(msg.find("not a finite number") != std::string::npos || msg.find("corrupt") != std::string::npos) << msg;
+  }
+}
+
 TEST_F(VdbImport, GridLargerThanTheMemoryBudgetIsRefused) {
   VdbImportOptions o;
   o.voxel_size = 0.05f;  // 4096 voxels per axis over the sphere's 82 m box
