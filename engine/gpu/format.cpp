@@ -9,6 +9,7 @@ FormatInfo format_info(VkFormat f) {
     case VK_FORMAT_R8_UNORM:
     case VK_FORMAT_R8_SNORM:
     case VK_FORMAT_R8_UINT:
+    case VK_FORMAT_R8_SINT:
     case VK_FORMAT_R8_SRGB:
       return {1, 1, 1, 1};
     case VK_FORMAT_R8G8_UNORM:

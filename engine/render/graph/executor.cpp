@@ -8,6 +8,7 @@
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/format.h"
 #include "engine/gpu/image.h"
 #include "engine/render/graph/detail/graph_data.h"
 
@@ -31,11 +32,6 @@ struct Executor::Physical {
 };
 
 namespace {
-
-VkImageAspectFlags aspect_of(VkFormat format) {
-  if (!detail::is_depth_format(format)) return VK_IMAGE_ASPECT_COLOR_BIT;
-  return VK_IMAGE_ASPECT_DEPTH_BIT | (detail::has_stencil(format) ? VK_IMAGE_ASPECT_STENCIL_BIT : 0);
-}
 
 gpu::ImageDesc image_desc(const CompiledResource& r) {
   gpu::ImageDesc d;
@@ -172,10 +168,10 @@ void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& 
   for (const Barrier& b : barriers) {
     if (b.image) {
       const PhysicalTexture& t = textures_[b.resource];
-      images.push_back(gpu::image_barrier(t.image,
-                                          {aspect_of(t.format), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS},
-                                          b.old_layout, b.new_layout, b.src_stages, b.src_access, b.dst_stages,
-                                          b.dst_access));
+      const VkImageSubresourceRange all{gpu::format_aspect(t.format), 0, VK_REMAINING_MIP_LEVELS, 0,
+                                        VK_REMAINING_ARRAY_LAYERS};
+      images.push_back(gpu::image_barrier(t.image, all, b.old_layout, b.new_layout, b.src_stages, b.src_access,
+                                          b.dst_stages, b.dst_access));
     } else {
       buffers.push_back(
           gpu::buffer_barrier(buffers_[b.resource].buffer, b.src_stages, b.src_access, b.dst_stages, b.dst_access));

@@ -3,6 +3,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
+#include "engine/gpu/format.h"
 #include "engine/render/graph/detail/compiler.h"
 #include "engine/render/graph/detail/graph_data.h"
 
@@ -288,16 +289,12 @@ bool CompiledGraph::shares_memory(uint32_t a, uint32_t b) const {
 }
 
 MemoryQuery estimate_memory(const CompiledResource& r) {
-  // Device-free estimate: texels * bytes, mip chain included, 64 KiB alignment (a common GPU
+  // Device-free estimate: the tightly packed mip chain (gpu/format), 64 KiB alignment (a common GPU
   // page). The executor replaces this with vkGetDeviceImageMemoryRequirements.
-  uint32_t bytes = detail::format_bytes(r.format);
-  if (bytes == 0) bytes = 16;  // unknown format: assume the widest common texel
+  // Unknown format: assume the widest common texel, 16 bytes.
+  const VkFormat format = gpu::format_info(r.format).block_bytes ? r.format : VK_FORMAT_R32G32B32A32_SFLOAT;
   VkDeviceSize total = 0;
-  VkExtent3D e = r.extent;
-  for (uint32_t m = 0; m < r.mips; ++m) {
-    total += VkDeviceSize(e.width) * e.height * e.depth * bytes;
-    e = {std::max(1u, e.width / 2), std::max(1u, e.height / 2), std::max(1u, e.depth / 2)};
-  }
+  for (uint32_t m = 0; m < r.mips; ++m) total += gpu::mip_size_bytes(format, r.extent, m);
   return {total, 65536, ~0u};
 }
 

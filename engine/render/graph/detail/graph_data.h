@@ -56,8 +56,4 @@ constexpr VkAccessFlags2 kWriteAccessMask =
     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT |
     VK_ACCESS_2_MEMORY_WRITE_BIT;
 
-bool is_depth_format(VkFormat format);
-bool has_stencil(VkFormat format);
-uint32_t format_bytes(VkFormat format);  // bytes per texel (block formats: per 4x4 block / 16); 0 if unknown
-
 }  // namespace cumulo::render::detail

@@ -396,6 +396,22 @@ TEST(RenderGraphCompile, AliasesTransientsWithDisjointLifetimes) {
   EXPECT_FALSE(incompatible.shares_memory(a, cc));
 }
 
+TEST(RenderGraphCompile, MemoryEstimateUsesTheFormatFactsOfGpuFormat) {
+  CompiledResource r;
+  r.extent = {64, 32, 1};
+  r.format = VK_FORMAT_R16G16B16A16_SFLOAT;  // 8 bytes a texel, mips 64x32 + 32x16 + 16x8
+  r.mips = 3;
+  EXPECT_EQ(estimate_memory(r).size, 8u * (64 * 32 + 32 * 16 + 16 * 8));
+  r.mips = 1;
+  r.format = VK_FORMAT_D32_SFLOAT_S8_UINT;  // 8 bytes a texel, as gpu::format_info says
+  EXPECT_EQ(estimate_memory(r).size, 8u * 64 * 32);
+  r.format = VK_FORMAT_BC1_RGBA_UNORM_BLOCK;  // 8 bytes per 4x4 block
+  EXPECT_EQ(estimate_memory(r).size, 8u * 16 * 8);
+  r.format = VK_FORMAT_R64_SFLOAT;  // unknown to gpu/format: the widest common texel, 16 bytes
+  EXPECT_EQ(estimate_memory(r).size, 16u * 64 * 32);
+  EXPECT_EQ(estimate_memory(r).alignment, 65536u);
+}
+
 TEST(RenderGraphCompile, AliasedBlockTakesTheLargestSize) {
   RenderGraph g(kSize);
   TextureHandle out = import_swapchain(g);
