@@ -25,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "modules/clouds/bake/bc1.h"
 #include "modules/clouds/bake/compose.h"
 #include "modules/clouds/bake/field.h"
 #include "modules/clouds/bake/recipe.h"
+#include "modules/clouds/volume/bc1.h"
 
 namespace cumulo::clouds::bake {
 

@@ -4,7 +4,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/core/time.h"
-#include "modules/clouds/bake/bc1.h"
+#include "modules/clouds/volume/bc1.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/volume_file.h"
 
@@ -22,7 +22,7 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
   Stopwatch clock;
   const size_t n = size_t(dims.x) * dims.y * dims.z;
 
-  // Modeling BC1: the baker's RGB encoder with its weights (profile counts double: it gates density).
+  // Modeling BC1: the RGB encoder with the baker's weights (profile counts double: it gates density).
   const uint32_t cp = v.modeling.channel(kDimensionalProfile, ""), cd = v.modeling.channel(kDetailType, ""),
                  cs = v.modeling.channel(kDensityScale, "");
   std::vector<float> rgb(n * 3);
@@ -38,7 +38,7 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
                                         {"b", std::string(kDensityScale)}});
   modeling_bc1.bounds_min = v.modeling.bounds_min;
   modeling_bc1.bounds_max = v.modeling.bounds_max;
-  modeling_bc1.levels[0] = bake::encode_rgb_bc1(rgb, dims, glm::vec3(2.0f, 1.0f, 1.0f));
+  modeling_bc1.levels[0] = encode_rgb_bc1(rgb, dims, glm::vec3(2.0f, 1.0f, 1.0f));
   LOG_DEBUG("import: modeling BC1 %.2f s", clock.seconds());
 
   // Field BC1: Hugh Malan's conservative 5:6:5 split of the (already rounded-down) 16-bit values.
@@ -49,9 +49,9 @@ ImportOutputReport write_imported_cloudscape(const fs::path& dir, const Cloudsca
                                     {{"sdf_hi5", std::string(kSignedDistance), kSdfRangeMin, kSdfRangeMax}});
   field_bc1.bounds_min = v.field.bounds_min;
   field_bc1.bounds_max = v.field.bounds_max;
-  field_bc1.levels[0] = bake::encode_sdf_bc1(values, dims);
+  field_bc1.levels[0] = encode_sdf_bc1(values, dims);
   LOG_DEBUG("import: field BC1 %.2f s", clock.seconds());
-  const bake::Bc1SdfReport check = bake::verify_sdf_bc1(field_bc1.levels[0], values, dims);
+  const Bc1SdfReport check = verify_sdf_bc1(field_bc1.levels[0], values, dims);
   LOG_DEBUG("import: BC1 verify %.2f s", clock.seconds());
 
   std::error_code ec;

@@ -1,7 +1,6 @@
 #pragma once
 // The files of an imported cloudscape: the same four the baker writes (bake/bake.h), so a level
-// can point at either. Lives in cumulo_clouds_import (not cumulo_clouds_volume) because the BC1
-// forms use the baker's encoders, and the baker itself reads volumes.
+// can point at either; the BC1 forms come from the same encoders (bc1.h).
 #include <filesystem>
 #include <string>
 

@@ -6,7 +6,7 @@
 //   modeling.nvdf      RGBA8: dimensional_profile, detail_type, density_scale (0..1 each), a unused
 //   modeling_bc1.nvdf  the same three channels in BC1 (GPUs)
 //   field.nvdf         R16, channel sdf: signed distance stored 0..1 (rounded down), decoded -256..4096 m
-//   field_bc1.nvdf     the same SDF in the conservative BC1 form (bake/bc1.h: unpack weights)
+//   field_bc1.nvdf     the same SDF in the conservative BC1 form (bc1.h: unpack weights)
 // Axes (bake/recipe.h): texel (i, j, k) is world (x, y up, z); bounds are the world box.
 // The header of each file carries size, voxel size, world bounds and channel decode ranges; a reader
 // finds channels by semantic, never by position.

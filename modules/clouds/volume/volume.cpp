@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "engine/core/error.h"
+#include "modules/clouds/volume/bc1.h"
 
 namespace cumulo::clouds {
 
@@ -42,14 +43,6 @@ uint32_t unorm(float v, uint32_t max) {
   if (!(v > 0.0f)) return 0;  // also catches NaN
   if (v >= 1.0f) return max;
   return static_cast<uint32_t>(std::lround(v * static_cast<float>(max)));
-}
-
-// Bit replication 5/6 -> 8 bits, as the BC1 specification expands endpoints.
-glm::vec3 expand565(uint16_t c) {
-  uint32_t r = (c >> 11) & 31, g = (c >> 5) & 63, b = c & 31;
-  return glm::vec3(static_cast<float>((r << 3) | (r >> 2)), static_cast<float>((g << 2) | (g >> 4)),
-                   static_cast<float>((b << 3) | (b >> 2))) /
-         255.0f;
 }
 
 }  // namespace
@@ -307,28 +300,6 @@ void generate_mips(Volume& v, uint32_t mip_count, bool wrap) {
                 }
             v.set_texel(x, y, z, c, sum / static_cast<float>(n), l);
           }
-  }
-}
-
-glm::vec4 bc1_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty) {
-  const uint16_t c0 = load16(block), c1 = load16(block + 2);
-  const uint32_t bits = uint32_t(block[4]) | (uint32_t(block[5]) << 8) | (uint32_t(block[6]) << 16) |
-                        (uint32_t(block[7]) << 24);
-  const uint32_t idx = (bits >> (2 * (ty * 4 + tx))) & 3u;
-  const glm::vec3 e0 = expand565(c0), e1 = expand565(c1);
-  if (c0 > c1) {
-    switch (idx) {
-      case 0: return glm::vec4(e0, 1.0f);
-      case 1: return glm::vec4(e1, 1.0f);
-      case 2: return glm::vec4((2.0f * e0 + e1) / 3.0f, 1.0f);
-      default: return glm::vec4((e0 + 2.0f * e1) / 3.0f, 1.0f);
-    }
-  }
-  switch (idx) {
-    case 0: return glm::vec4(e0, 1.0f);
-    case 1: return glm::vec4(e1, 1.0f);
-    case 2: return glm::vec4((e0 + e1) * 0.5f, 1.0f);
-    default: return glm::vec4(0.0f);
   }
 }
 

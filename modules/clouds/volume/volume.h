@@ -8,7 +8,7 @@
 //   VolumeChannel       a channel's name, semantic and decode range (e.g. SDF 0..1 <-> -256..4096 m)
 //   Volume              the volume itself, with texel accessors and validation
 //   generate_mips()     box-filtered 3D mip chain for the non-block encodings
-//   bc1_* helpers       block layout and the reference BC1 texel decode
+//   bc1_blocks()        block layout (the BC1 codec itself: bc1.h)
 //
 // Layout of a level's payload: x fastest, then y, then z ("slice"). BC1: per z slice, 4x4 texel
 // blocks of 8 bytes each in row-major block order (the layout a 3D BC1 texture has in Vulkan).
@@ -101,7 +101,7 @@ struct Volume {
   uint32_t channel(std::string_view semantic, std::string_view what) const;
 
   // Stored component value as float: unorm -> 0..1, R32F -> as stored, BC1/BC4 -> reference
-  // decode (see bc1_decode_texel); BC7 throws. `c` indexes components, not only declared channels.
+  // decode (bc1.h: bc1_decode_texel); BC7 throws. `c` indexes components, not only declared channels.
   float texel(uint32_t x, uint32_t y, uint32_t z, uint32_t c, uint32_t level = 0) const;
   // texel() mapped through the channel's decode range (R32F: returned as stored).
   float decoded(uint32_t x, uint32_t y, uint32_t z, uint32_t c, uint32_t level = 0) const;
@@ -125,11 +125,6 @@ void generate_mips(Volume& v, uint32_t mip_count = 0, bool wrap = false);
 // Block helpers. Block (bx, by) of slice z in a level of size s starts at
 // ((z * bc1_blocks(s.y) + by) * bc1_blocks(s.x) + bx) * encoding_block_bytes(e).
 inline uint32_t bc1_blocks(uint32_t texels) { return (texels + 3) / 4; }
-// Reference decode of one texel of an 8-byte block into RGBA 0..1: 565 endpoints expanded by bit
-// replication, palette (c0 > c1) {c0, c1, (2c0+c1)/3, (c0+2c1)/3} else {c0, c1, (c0+c1)/2, 0}.
-// GPUs differ slightly in the interpolated entries (fgiesen 2021, "GPU BCn decoding"); the baker's
-// conservative encoder accounts for that itself.
-glm::vec4 bc1_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty);
 // BC4 unorm: 8-bit endpoints r0, r1; 8-entry palette if r0 > r1, else 6 entries + 0 and 1.
 float bc4_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty);
 

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <random>
 
-#include "modules/clouds/bake/bc1.h"
+#include "modules/clouds/volume/bc1.h"
 #include "modules/clouds/volume/volume.h"
 
-using namespace cumulo::clouds::bake;
+using namespace cumulo::clouds;
 
 TEST(Bc1Sdf, UnpackConstantsAreTheTalksFromTheExactExpansion) {
   // 2023 talk: dot(rgb, float3(1.0, 0.03529415, 0.00069204)).
@@ -45,20 +45,29 @@ TEST(Bc1Sdf, EndpointRoundDownIsBelowAndClose) {
   EXPECT_LT(worst * 4352.0, 0.11);  // metres
 }
 
-TEST(Bc1Decode, ExactModelMatchesTheVolumeReferenceDecoder) {
+TEST(Bc1Decode, VolumeTexelIsTheExactModelWithAlpha) {
+  // Volume::texel() decodes BC1 through the one decoder: RGB from the Exact model, alpha 0 only for
+  // the black entry of the three-colour mode.
   std::mt19937 rng(9);
-  for (int i = 0; i < 20000; ++i) {
-    uint8_t block[8];
-    for (auto& b : block) b = uint8_t(rng());
+  Volume v = Volume::create({4, 4, 1}, 1.0f, VolumeEncoding::BC1, {{"a", "x"}});
+  for (int i = 0; i < 2000; ++i) {
+    for (auto& b : v.levels[0]) b = uint8_t(rng());
+    const uint8_t* block = v.levels[0].data();
+    const bool three_colour = (block[0] | (block[1] << 8)) <= (block[2] | (block[3] << 8));
     for (uint32_t t = 0; t < 16; ++t) {
-      glm::dvec3 a = bc1_decode_texel_model(block, t % 4, t / 4, Bc1Model::Exact);
-      glm::vec4 b = cumulo::clouds::bc1_decode_texel(block, t % 4, t / 4);
-      for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-6);
+      const glm::dvec3 a = bc1_decode_texel_model(block, t % 4, t / 4, Bc1Model::Exact);
+      for (uint32_t c = 0; c < 3; ++c) ASSERT_EQ(v.texel(t % 4, t / 4, 0, c), float(a[c]));
+      const uint32_t index = (v.levels[0][4 + t / 4] >> (2 * (t % 4))) & 3u;
+      ASSERT_EQ(v.texel(t % 4, t / 4, 0, 3), three_colour && index == 3 ? 0.0f : 1.0f);
     }
   }
   // Models differ only in the interpolated entries, and by at most about one 8-bit step.
   uint8_t block[8] = {0x00, 0xF8, 0x00, 0x00, 0xAA, 0xAA, 0xAA, 0xAA};  // c0 = red, c1 = black, all index 2
   for (Bc1Model m : kBc1Models) EXPECT_NEAR(bc1_decode_texel_model(block, 0, 0, m).x, 170.0 / 255.0, 1.01 / 255.0);
+  // The three-colour mode (c0 <= c1): index 2 is the midpoint, index 3 transparent black.
+  uint8_t three[8] = {0x00, 0x00, 0x00, 0xF8, 0x0E, 0, 0, 0};  // c0 = black, c1 = red; texels 0..1: index 2, 3
+  EXPECT_EQ(bc1_decode_texel(three, 0, 0), glm::vec4(0.5f, 0.0f, 0.0f, 1.0f));
+  EXPECT_EQ(bc1_decode_texel(three, 1, 0), glm::vec4(0.0f));
 }
 
 namespace {

@@ -1,4 +1,4 @@
-#include "modules/clouds/bake/bc1.h"
+#include "modules/clouds/volume/bc1.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "engine/core/parallel.h"
 #include "engine/core/progress.h"
 
-namespace cumulo::clouds::bake {
+namespace cumulo::clouds {
 
 namespace {
 
@@ -158,6 +158,12 @@ glm::dvec3 bc1_decode_texel_model(const uint8_t* block, uint32_t tx, uint32_t ty
   glm::dvec3 pal[4];
   bc1_palette(c0, c1, model, pal);
   return pal[(index_bits(block) >> (2 * (ty * 4 + tx))) & 3u];
+}
+
+glm::vec4 bc1_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty) {
+  const bool three_colour = (block[0] | (block[1] << 8)) <= (block[2] | (block[3] << 8));
+  const bool transparent = three_colour && ((index_bits(block) >> (2 * (ty * 4 + tx))) & 3u) == 3u;
+  return glm::vec4(glm::vec3(bc1_decode_texel_model(block, tx, ty, Bc1Model::Exact)), transparent ? 0.0f : 1.0f);
 }
 
 uint16_t sdf_endpoint_round_down(double v) {
@@ -338,4 +344,4 @@ Bc1RgbReport measure_rgb_bc1(const std::vector<uint8_t>& blocks, const std::vect
   return r;
 }
 
-}  // namespace cumulo::clouds::bake
+}  // namespace cumulo::clouds

@@ -1,9 +1,9 @@
 #pragma once
-// BC1 for cloudscape NVDFs: the exact decode (and the ways GPUs differ), Hugh Malan's conservative
-// scalar encoding of the field NVDF's signed distance, its verifier, and a plain RGB encoder for the
-// modeling NVDF.
+// BC1, the one codec for every volume that stores it: the exact decode (and the ways GPUs differ),
+// Hugh Malan's conservative scalar encoding of the field NVDF's signed distance, its verifier, and a
+// plain RGB encoder for the modeling NVDF. Volume::texel(), the baker and `cumulo import` all use it.
 //
-// Index:  Bc1Model  bc1_expand  bc1_palette  bc1_decode_texel_model
+// Index:  Bc1Model  bc1_expand  bc1_palette  bc1_decode_texel_model  bc1_decode_texel  (decode)
 //         kSdfUnpackDot  sdf_endpoint_round_down  encode_sdf_bc1  verify_sdf_bc1  (conservative scalar)
 //         encode_rgb_bc1  (modeling)
 //
@@ -46,7 +46,7 @@ namespace cumulo {
 class Progress;
 }
 
-namespace cumulo::clouds::bake {
+namespace cumulo::clouds {
 
 // How a decoder computes BC1's interpolated palette entries from the 8-bit endpoints a, b.
 enum class Bc1Model {
@@ -63,6 +63,9 @@ glm::ivec3 bc1_expand(uint16_t c);
 void bc1_palette(uint16_t c0, uint16_t c1, Bc1Model model, glm::dvec3 out[4]);
 // Decodes texel (tx, ty) of an 8-byte block to RGB 0..1.
 glm::dvec3 bc1_decode_texel_model(const uint8_t* block, uint32_t tx, uint32_t ty, Bc1Model model);
+// The reference decode (Bc1Model::Exact) as RGBA 0..1: alpha is 0 for the black entry of the
+// three-colour mode (c0 <= c1, index 3), else 1. What Volume::texel() returns for BC1.
+glm::vec4 bc1_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty);
 
 // ---- Conservative scalar (field NVDF) -----------------------------------------------------------
 // decoded = dot(rgb, kSdfUnpackDot) in 0 .. 1.0360; the field's 0..1 maps to -256..4096 m.
@@ -107,4 +110,4 @@ struct Bc1RgbReport {
 };
 Bc1RgbReport measure_rgb_bc1(const std::vector<uint8_t>& blocks, const std::vector<float>& rgb, glm::uvec3 dims);
 
-}  // namespace cumulo::clouds::bake
+}  // namespace cumulo::clouds
