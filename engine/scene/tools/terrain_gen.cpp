@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "engine/core/error.h"
+#include "engine/core/fbm.h"
 #include "engine/core/png.h"
 #include "engine/scene/tools/glb_writer.h"
 
@@ -61,28 +62,20 @@ float gradient_noise(float x, float y, uint32_t seed) {
   return 1.4142f * (a + (b - a) * uy);
 }
 
+// Lacunarity 2.03, not exactly 2, so octaves do not line up on the integer lattice.
+constexpr float kLacunarity = 2.03f;
+
 float fbm(float x, float y, int octaves, uint32_t seed) {
-  float sum = 0, amp = 0.5f, freq = 1, norm = 0;
-  for (int o = 0; o < octaves; ++o) {
-    sum += amp * gradient_noise(x * freq, y * freq, seed + uint32_t(o) * 1013u);
-    norm += amp;
-    amp *= 0.5f;
-    freq *= 2.03f;  // not exactly 2, so octaves do not line up on the integer lattice
-  }
-  return sum / norm;
+  return cumulo::fbm(octaves, 0.5f, kLacunarity,
+                     [&](int o, float freq) { return gradient_noise(x * freq, y * freq, seed + uint32_t(o) * 1013u); });
 }
 
 // Ridged multifractal: sharp crests for the volcanic rock.
 float ridged(float x, float y, int octaves, uint32_t seed) {
-  float sum = 0, amp = 0.5f, freq = 1, norm = 0;
-  for (int o = 0; o < octaves; ++o) {
+  return cumulo::fbm(octaves, 0.5f, kLacunarity, [&](int o, float freq) {
     float n = 1.0f - std::abs(gradient_noise(x * freq, y * freq, seed + 7919u + uint32_t(o) * 1013u));
-    sum += amp * n * n;
-    norm += amp;
-    amp *= 0.5f;
-    freq *= 2.03f;
-  }
-  return sum / norm;
+    return n * n;
+  });
 }
 
 float smoothstep(float e0, float e1, float x) {

@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "engine/core/fbm.h"
+
 namespace cumulo::clouds {
 
 namespace {
@@ -80,27 +82,15 @@ glm::vec4 perlin_grad(glm::vec3 p, int period, uint32_t seed) {
 float perlin(glm::vec3 p, int period, uint32_t seed) { return perlin_grad(p, period, seed).w; }
 
 glm::vec4 perlin_fbm_grad(glm::vec3 p, int period, int octaves, uint32_t seed, float gain) {
-  glm::vec4 sum(0.0f);
-  float amp = 1.0f, freq = 1.0f, total = 0.0f;
-  for (int o = 0; o < octaves; ++o) {
+  return fbm(octaves, gain, 2.0f, [&](int o, float freq) {
     glm::vec4 n = perlin_grad(p * freq, period << o, octave_seed(seed, o));
-    sum += amp * glm::vec4(glm::vec3(n) * freq, n.w);  // chain rule: d/dp n(p * freq) = freq * n'
-    total += amp;
-    amp *= gain;
-    freq *= 2.0f;
-  }
-  return sum / total;
+    return glm::vec4(glm::vec3(n) * freq, n.w);  // chain rule: d/dp n(p * freq) = freq * n'
+  });
 }
 
 float perlin_fbm(glm::vec3 p, int period, int octaves, uint32_t seed, float gain) {
-  float sum = 0.0f, amp = 1.0f, freq = 1.0f, total = 0.0f;
-  for (int o = 0; o < octaves; ++o) {
-    sum += amp * perlin(p * freq, period << o, octave_seed(seed, o));
-    total += amp;
-    amp *= gain;
-    freq *= 2.0f;
-  }
-  return sum / total;
+  return fbm(octaves, gain, 2.0f,
+             [&](int o, float freq) { return perlin(p * freq, period << o, octave_seed(seed, o)); });
 }
 
 // ---- Feature-point lattices (Worley, Alligator) ------------------------------------------------------
@@ -231,28 +221,15 @@ float perlin_worley_combine(float perlin_fbm_value, float worley_fbm_value) {
 }
 
 float alligator_fbm(glm::vec3 p, int period, int octaves, uint32_t seed, float gain) {
-  float sum = 0.0f, amp = 1.0f, freq = 1.0f, total = 0.0f;
-  for (int o = 0; o < octaves; ++o) {
-    sum += amp * alligator(p * freq, period << o, octave_seed(seed, o));
-    total += amp;
-    amp *= gain;
-    freq *= 2.0f;
-  }
-  return sum / total;
+  return fbm(octaves, gain, 2.0f,
+             [&](int o, float freq) { return alligator(p * freq, period << o, octave_seed(seed, o)); });
 }
 
 AlligatorFbm::AlligatorFbm(int period, int octaves, uint32_t seed, float gain) : gain_(gain) {
   for (int o = 0; o < octaves; ++o) octaves_.emplace_back(period << o, octave_seed(seed, o));
 }
 float AlligatorFbm::operator()(glm::vec3 p) const {
-  float sum = 0.0f, amp = 1.0f, freq = 1.0f, total = 0.0f;
-  for (const FeatureLattice& lattice : octaves_) {
-    sum += amp * alligator(p * freq, lattice);
-    total += amp;
-    amp *= gain_;
-    freq *= 2.0f;
-  }
-  return sum / total;
+  return fbm(int(octaves_.size()), gain_, 2.0f, [&](int o, float freq) { return alligator(p * freq, octaves_[o]); });
 }
 
 // ---- Curl -----------------------------------------------------------------------------------------
