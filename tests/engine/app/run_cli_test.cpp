@@ -14,6 +14,7 @@
 #include <stb/stb_image.h>
 
 #include "tests/engine/app/cli_test_util.h"
+#include "tests/support/temp_dir.h"
 
 namespace fs = std::filesystem;
 using cumulo::test::run_cumulo;
@@ -22,11 +23,7 @@ namespace {
 
 const std::string kLevel = "content/levels/sample/level.json";
 
-fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() / ("cumulo_run_cli_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_run_cli")); }
 
 struct Image {
   int w = 0, h = 0;

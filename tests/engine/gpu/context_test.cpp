@@ -42,7 +42,7 @@ TEST_F(GpuTest, SubmitAndWaitRunsCommandsWithLabels) {
 // The counting must actually work, or every "zero errors" assertion is vacuous: provoke one error
 // on purpose (a fence created with an invalid flag) and check it is counted, in a separate Context.
 TEST(GpuValidation, MessagesAreCounted) {
-  cumulo::gpu::test::TempDir tmp("validation_counting");
+  cumulo::test::TempDir tmp("cumulo_gpu_validation_counting");
   ContextDesc desc;
   desc.validation = true;
   desc.cache_dir = tmp.path;
@@ -60,7 +60,7 @@ TEST(GpuValidation, MessagesAreCounted) {
 }
 
 TEST(GpuContext, UnknownDeviceOverrideIsAClearError) {
-  cumulo::gpu::test::TempDir tmp("bad_device");
+  cumulo::test::TempDir tmp("cumulo_gpu_bad_device");
   ContextDesc desc;
   desc.device = "no-such-gpu-xyz";
   desc.cache_dir = tmp.path;
@@ -77,7 +77,7 @@ TEST(GpuContext, UnknownDeviceOverrideIsAClearError) {
 // Synchronization validation must be on: two transfer writes to one buffer with no barrier between
 // them are a WRITE_AFTER_WRITE hazard.
 TEST(GpuValidation, SynchronizationValidationCatchesMissingBarrier) {
-  cumulo::gpu::test::TempDir tmp("sync_validation");
+  cumulo::test::TempDir tmp("cumulo_gpu_sync_validation");
   ContextDesc desc;
   desc.validation = true;
   desc.cache_dir = tmp.path;

@@ -47,7 +47,7 @@ TEST(ShaderCompiler, ReflectsSamplersAndBuffers) {
 }
 
 TEST(ShaderCompiler, ErrorNamesFileAndLine) {
-  fs::path root = test::temp_dir("shader_error");
+  fs::path root = cumulo::test::fresh_temp_dir("cumulo_gpu_shader_error");
   write(root / "bad" / "broken.comp",
         "#version 460\nlayout(local_size_x = 1) in;\nvoid main() {\n  float x = undefined_thing;\n}\n");
   ShaderCompiler c(root, fs::path());
@@ -64,7 +64,7 @@ TEST(ShaderCompiler, ErrorNamesFileAndLine) {
 }
 
 TEST(ShaderCompiler, ErrorInsideIncludeNamesTheInclude) {
-  fs::path root = test::temp_dir("shader_include_error");
+  fs::path root = cumulo::test::fresh_temp_dir("cumulo_gpu_shader_include_error");
   write(root / "lib" / "helpers.glsl", "float helper() {\n  return 1.0\n}\n");  // missing ';' on line 2
   write(root / "main.comp",
         "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"lib/helpers.glsl\"\n"
@@ -94,7 +94,8 @@ TEST(ShaderCompiler, ErrorInsideIncludeNamesTheInclude) {
 }
 
 TEST(ShaderCompiler, DiskCacheKeyedBySourcesAndDefines) {
-  fs::path root = test::temp_dir("shader_cache_src"), cache = test::temp_dir("shader_cache");
+  fs::path root = cumulo::test::fresh_temp_dir("cumulo_gpu_shader_cache_src"),
+           cache = cumulo::test::fresh_temp_dir("cumulo_gpu_shader_cache");
   write(root / "inc.glsl", "const float K = 1.0;\n");
   write(root / "a.comp",
         "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"inc.glsl\"\nlayout(local_size_x = "
@@ -119,7 +120,7 @@ TEST(ShaderCompiler, DiskCacheKeyedBySourcesAndDefines) {
 }
 
 TEST(ShaderCompiler, DefaultDiskCacheFollowsCumuloCacheDir) {
-  test::TempDir tmp("default_cache");
+  cumulo::test::TempDir tmp("cumulo_gpu_default_cache");
   ::setenv("CUMULO_CACHE_DIR", tmp.path.c_str(), 1);
   ShaderCompiler c;
   ::unsetenv("CUMULO_CACHE_DIR");

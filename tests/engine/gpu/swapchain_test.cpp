@@ -51,7 +51,7 @@ TEST(Swapchain, PresentsAndRecreatesOnResize) {
   GLFWwindow* win = glfwCreateWindow(64, 48, "cumulo gpu swapchain test", nullptr, nullptr);
   ASSERT_NE(win, nullptr);
   uint32_t before = total_validation_errors();
-  test::TempDir tmp("swapchain");
+  cumulo::test::TempDir tmp("cumulo_gpu_swapchain");
   {
     uint32_t n = 0;
     const char** exts = glfwGetRequiredInstanceExtensions(&n);

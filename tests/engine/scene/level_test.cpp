@@ -30,7 +30,7 @@ fs::path write_level(const fs::path& dir, const std::string& entities_json) {
 TEST(Level, SampleLevelLoadsWithCamerasSunAndTerrain) {
   ecs::World world;
   auto& reg = world.set_resource<ecs::ComponentRegistry>();
-  test::register_sample_level_components(reg);
+  scene::test::register_sample_level_components(reg);
   LevelInfo level = load_level(sample_level(), world);
 
   EXPECT_EQ(level.name, "sample");
@@ -68,7 +68,7 @@ TEST(Level, LoadsWithADefaultRegistryWhenTheWorldHasNone) {
   EXPECT_EQ(level.cameras.size(), 1u);
   // The default registry knows the scene components only: a module's component is refused, by name.
   ecs::World other;
-  test::expect_error([&] { load_level(sample_level(), other); }, {"Cloudscape"});
+  expect_error([&] { load_level(sample_level(), other); }, {"Cloudscape"});
   EXPECT_EQ(other.alive_count(), 0u);
 }
 

@@ -6,24 +6,18 @@
 #include <functional>
 #include <initializer_list>
 #include <string>
-#include <unistd.h>
 
 #include "engine/core/error.h"
 #include "engine/core/json.h"
 #include "engine/ecs/serialize.h"
 #include "engine/scene/serialization.h"
+#include "tests/support/temp_dir.h"
 
 namespace cumulo::scene::test {
 
 // A fresh folder named after the running test (CTest runs tests in parallel processes).
 inline std::filesystem::path temp_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("cumulo_scene_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-                               std::to_string(getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_scene"));
 }
 
 // Runs `fn`, expects a cumulo::Error whose message contains every one of `parts`; returns the message.

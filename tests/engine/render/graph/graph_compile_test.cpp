@@ -1,6 +1,5 @@
 // The compiled render graph, with no device: culling, order, exact barriers, aliasing, dumps.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -9,6 +8,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/render/graph/render_graph.h"
+#include "tests/support/temp_dir.h"
 
 using namespace cumulo;
 using namespace cumulo::render;
@@ -508,8 +508,8 @@ TEST(RenderGraphCompile, DumpsTextAndGraphviz) {
     EXPECT_NE(dot.find(s), std::string::npos) << s;
 
   // --dump-graph FILE: the extension picks the format; a bad path names the file.
-  const auto dir = std::filesystem::temp_directory_path() / ("cumulo_graph_dump_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const cumulo::test::TempDir tmp("cumulo_graph_dump");
+  const std::filesystem::path& dir = tmp.path;
   c.write_dump((dir / "frame.dot").string());
   c.write_dump((dir / "frame.txt").string());
   EXPECT_EQ(read_file_text(dir / "frame.dot"), dot);
@@ -520,7 +520,6 @@ TEST(RenderGraphCompile, DumpsTextAndGraphviz) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("below_a_file.txt"), std::string::npos) << e.what();
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST(RenderGraphCompile, HashIgnoresCallbacksAndImportedHandles) {

@@ -6,24 +6,18 @@
 #include <filesystem>
 #include <random>
 
-#include <unistd.h>
 
 #include "engine/core/command.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "modules/clouds/noise/noise_command.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "tests/support/temp_dir.h"
 
 namespace cumulo::clouds {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path temp_dir(const char* name) {
-  fs::path p = fs::temp_directory_path() / (std::string("cumulo_noise_test_") + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
 
 TEST(NoiseEncode, R4G4B4A4PackingRoundtripAndBitOrder) {
   EXPECT_EQ(pack_r4g4b4a4(1, 0, 0, 0), 0xF000);
@@ -112,7 +106,7 @@ TEST(NoiseEncode, UprezDensityFollowsTheTalk) {
 }
 
 TEST(NoiseCommand, WritesLoadableVolumesAndPreviews) {
-  fs::path dir = temp_dir("cmd");
+  fs::path dir = cumulo::test::fresh_temp_dir("cumulo_noise_test_cmd");
   NoiseSetOptions o;
   o.out_dir = dir;
   o.size = 16;
@@ -144,7 +138,7 @@ TEST(NoiseCommand, WritesLoadableVolumesAndPreviews) {
   EXPECT_NE(format_noise_report(r).find("voxel_noise.nvdf"), std::string::npos);
 
   // Same seed, same bytes.
-  fs::path dir2 = temp_dir("cmd2");
+  fs::path dir2 = cumulo::test::fresh_temp_dir("cumulo_noise_test_cmd2");
   o.out_dir = dir2;
   o.measure = false;
   o.previews = false;

@@ -56,9 +56,7 @@ struct TestData {
 inline const TestData& test_data() {
   static TestData d = [] {
     TestData t;
-    t.root = cumulo::test::unique_temp_path("cumulo_cloud_render");
-    fs::remove_all(t.root);
-    fs::create_directories(t.root);
+    t.root = cumulo::test::fresh_temp_dir("cumulo_cloud_render");
     t.cloudscape = t.root / "cloudscape";
     bake::Recipe recipe = bake::parse_recipe_text(kTestRecipe, "render_test.json", t.root);
     bake::BakeSettings settings;

@@ -17,16 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  explicit TempDir(const std::string& name) : path(cumulo::test::unique_temp_path("cumulo_volume_" + name)) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  fs::path path;
-};
-
 std::string error_of(const std::function<void()>& f) {
   try {
     f();
@@ -100,7 +90,7 @@ TEST(Tga, ErrorsNameTheFile) {
 }
 
 TEST(NumberedSlices, NaturalOrderAndErrors) {
-  TempDir dir("slices_order");
+  cumulo::test::TempDir dir("cumulo_volume_slices_order");
   for (const char* n : {"cloud_slice_10.tga", "cloud_slice_2.TGA", "cloud_slice_1.tga", "readme.txt"})
     write_file_atomic(dir.path / n, encode_tga(gradient(2, 2, 0)));
   std::vector<fs::path> files = numbered_slices(dir.path);
@@ -118,7 +108,7 @@ TEST(NumberedSlices, NaturalOrderAndErrors) {
   msg = error_of([&] { numbered_slices(dir.path); });
   EXPECT_NE(msg.find("cover.tga: slice file name has no number"), std::string::npos) << msg;
 
-  TempDir empty("slices_empty");
+  cumulo::test::TempDir empty("cumulo_volume_slices_empty");
   msg = error_of([&] { numbered_slices(empty.path); });
   EXPECT_NE(msg.find("no .tga slices"), std::string::npos) << msg;
   msg = error_of([&] { numbered_slices(empty.path / "missing"); });
@@ -128,7 +118,7 @@ TEST(NumberedSlices, NaturalOrderAndErrors) {
 // A 16x12x6 cloudscape as slices: modeling (profile in R, detail in G, density in B) and field
 // (SDF in R, -256..4096 -> 0..255).
 struct SliceSet {
-  TempDir modeling{"slices_modeling"}, field{"slices_field"};
+  cumulo::test::TempDir modeling{"cumulo_volume_slices_modeling"}, field{"cumulo_volume_slices_field"};
   static uint8_t profile(uint32_t x, uint32_t y, uint32_t z) { return (x >= 4 && x < 12 && y >= 3 && y < 9 && z >= 1 && z < 5) ? uint8_t(40 * z + x) : 0; }
   static uint8_t sdf(uint32_t x, uint32_t y, uint32_t z) { return uint8_t(x * 10 + y + z); }
   SliceSet() {
@@ -242,7 +232,7 @@ TEST(ImportSlices, ErrorsNameFiles) {
 
 TEST(ImportSlices, SavedPairLoadsBack) {
   SliceSet s;
-  TempDir out("slices_out");
+  cumulo::test::TempDir out("cumulo_volume_slices_out");
   CloudscapeVolumes v = import_tga_slices(s.modeling.path, s.field.path, {});
   save_cloudscape(out.path, v);
   Volume m = load_volume(out.path / kModelingFileName);
