@@ -270,9 +270,14 @@ std::vector<PassTiming> Executor::timings() const {
     const uint64_t begin = data[4 * i], begin_ok = data[4 * i + 1];
     const uint64_t end = data[4 * i + 2], end_ok = data[4 * i + 3];
     if (!begin_ok || !end_ok) return {};
-    out.push_back({last_passes_[i], end >= begin ? double(end - begin) * period_ms : 0.0});
+    if (std::optional<double> ms = timestamp_interval_ms(begin, end, period_ms)) out.push_back({last_passes_[i], *ms});
   }
   return out;
+}
+
+std::optional<double> timestamp_interval_ms(uint64_t begin, uint64_t end, double period_ms) {
+  if (end < begin) return std::nullopt;
+  return double(end - begin) * period_ms;
 }
 
 double Executor::pass_ms(const std::string& pass) const {

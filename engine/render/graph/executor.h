@@ -27,6 +27,7 @@
 // waits on the previous frame's last use of its memory (see barriers.cpp), and the timestamp pools
 // rotate over kTimestampSlots frames.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,11 @@ struct PassTiming {
   std::string name;
   double ms = 0.0;
 };
+
+// Milliseconds between a pass's begin and end timestamps (ticks of `period_ms`); nullopt when the end
+// precedes the begin (a driver fault, or a counter with fewer than 64 valid bits wrapping): such a
+// timing is left out, never clamped to 0, so it cannot pass for a fast pass.
+std::optional<double> timestamp_interval_ms(uint64_t begin, uint64_t end, double period_ms);
 
 class Executor {
  public:
@@ -59,7 +65,8 @@ class Executor {
 
   const CompiledGraph& compiled() const;  // of the last execute(); throws before the first
   // Per-pass GPU milliseconds of the last executed frame, in execution order; empty while its
-  // command buffer has not completed, or when the queue has no timestamps.
+  // command buffer has not completed, or when the queue has no timestamps. A pass whose timestamps
+  // are out of order is left out (see timestamp_interval_ms).
   std::vector<PassTiming> timings() const;
   double pass_ms(const std::string& pass) const;  // -1 when unknown or not available
 

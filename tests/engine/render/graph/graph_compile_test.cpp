@@ -7,6 +7,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/render/graph/executor.h"
 #include "engine/render/graph/render_graph.h"
 #include "tests/support/temp_dir.h"
 
@@ -410,6 +411,12 @@ TEST(RenderGraphCompile, MemoryEstimateUsesTheFormatFactsOfGpuFormat) {
   r.format = VK_FORMAT_R64_SFLOAT;  // unknown to gpu/format: the widest common texel, 16 bytes
   EXPECT_EQ(estimate_memory(r).size, 16u * 64 * 32);
   EXPECT_EQ(estimate_memory(r).alignment, 65536u);
+}
+
+TEST(ExecutorTimings, OutOfOrderTimestampsAreNoTimingNotZero) {
+  EXPECT_DOUBLE_EQ(*timestamp_interval_ms(1000, 3500, 1e-6), 2500e-6);  // 2500 ticks of 1 ns
+  EXPECT_DOUBLE_EQ(*timestamp_interval_ms(7, 7, 1e-6), 0.0);            // equal: a real (if empty) range
+  EXPECT_FALSE(timestamp_interval_ms(3500, 1000, 1e-6).has_value());    // the end before the begin
 }
 
 TEST(RenderGraphCompile, AliasedBlockTakesTheLargestSize) {
