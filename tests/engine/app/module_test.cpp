@@ -8,11 +8,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-// Our own static copy of the PNG decoder (the scene library's copy is private to it).
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#include <stb/stb_image.h>
 
 #include "engine/app/application.h"
 #include "engine/app/module.h"
@@ -32,6 +27,7 @@
 #include "engine/render/sky_model.h"
 #include "engine/scene/sun.h"
 #include "tests/support/render_offscreen.h"
+#include "tests/support/png_read.h"
 #include "tests/support/temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -168,23 +164,8 @@ class TestModule : public app::Module {
   render::TextureHandle tint_tex_;
 };
 
-struct Png {
-  int w = 0, h = 0;
-  std::vector<uint8_t> rgba;
-  const uint8_t* px(int x, int y) const { return &rgba[(size_t(y) * w + x) * 4]; }
-};
-
-Png load_png(const fs::path& p) {
-  std::string bytes = read_file_text(p);
-  Png img;
-  int n = 0;
-  uint8_t* data = stbi_load_from_memory(reinterpret_cast<const uint8_t*>(bytes.data()), int(bytes.size()), &img.w, &img.h,
-                                        &n, 4);
-  if (!data) return img;
-  img.rgba.assign(data, data + size_t(img.w) * img.h * 4);
-  stbi_image_free(data);
-  return img;
-}
+using test::Png;
+using test::load_png;
 
 std::vector<char*> argv_of(std::vector<std::string>& args) {
   std::vector<char*> v;

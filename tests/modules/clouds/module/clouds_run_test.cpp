@@ -8,11 +8,6 @@
 #include <string>
 #include <vector>
 
-// Our own static copy of the PNG decoder (the scene library's copy is private to it).
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#include <stb/stb_image.h>
 
 #include "engine/app/application.h"
 #include "engine/core/error.h"
@@ -20,6 +15,7 @@
 #include "modules/clouds/clouds_module.h"
 #include "modules/clouds/volume/import.h"
 #include "modules/clouds/volume/import_outputs.h"
+#include "tests/support/png_read.h"
 #include "tests/support/temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -27,23 +23,8 @@ using namespace cumulo;
 
 namespace {
 
-struct Png {
-  int w = 0, h = 0;
-  std::vector<uint8_t> rgba;
-  int at(int x, int y, int c) const { return rgba[(size_t(y) * w + x) * 4 + c]; }
-};
-
-Png load_png(const fs::path& p) {
-  std::string bytes = read_file_text(p);
-  Png img;
-  int n = 0;
-  uint8_t* d = stbi_load_from_memory(reinterpret_cast<const uint8_t*>(bytes.data()), int(bytes.size()), &img.w, &img.h, &n, 4);
-  if (d) {
-    img.rgba.assign(d, d + size_t(img.w) * img.h * 4);
-    stbi_image_free(d);
-  }
-  return img;
-}
+using test::Png;
+using test::load_png;
 
 class CloudsRun : public ::testing::Test {
  protected:
