@@ -1,6 +1,7 @@
 #pragma once
 // Reads a PNG a test wrote (a `cumulo run --screenshot`) into RGBA8. Carries its own static copy of the
-// stb decoder: the scene library's copy is private to it. Include from one source file per test binary.
+// stb decoder (static, like load_png, so every source file that includes it has its own): the scene
+// library's copy is private to it.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -23,7 +24,7 @@ struct Png {
 };
 
 // Empty (w = 0) when the file is not a PNG.
-inline Png load_png(const std::filesystem::path& path) {
+static Png load_png(const std::filesystem::path& path) {
   std::string bytes = read_file_text(path);
   Png img;
   int n = 0;
