@@ -156,7 +156,11 @@ std::shared_ptr<CloudNoise> load_cloud_noise(gpu::Context& ctx, const fs::path& 
 }
 
 std::shared_ptr<const CloudAsset> CloudAssetCache::cloudscape(const fs::path& folder, const CloudFormats& formats) {
-  const std::string key = canonical_or_fail(folder, "cloudscape folder").string();
+  // Asked every frame: resolve each spelling of a folder once, not with realpath calls per frame.
+  auto alias = aliases_.find(folder.string());
+  if (alias == aliases_.end())
+    alias = aliases_.emplace(folder.string(), canonical_or_fail(folder, "cloudscape folder").string()).first;
+  const std::string& key = alias->second;
   auto it = assets_.find({key, formats});
   if (it != assets_.end()) return it->second;
   std::shared_ptr<const CloudAsset> a = load_cloud_asset(ctx_, key, formats);

@@ -92,6 +92,7 @@ class CloudAssetCache {
   gpu::Context& ctx_;
   std::map<std::pair<std::string, CloudFormats>, std::shared_ptr<const CloudAsset>> assets_;
   std::map<std::string, std::shared_ptr<const CloudNoise>> noises_;
+  std::map<std::string, std::string> aliases_;  // folder as given -> canonical
 };
 
 }  // namespace cumulo::clouds::render
