@@ -129,8 +129,8 @@ float noise_mip(float dist) {
 //  - "lower density close to camera" for wispy types (type < 0.5): pow(d, lerp(0.5, 1, f)) *
 //    lerp(0.666, 1, f), f = fraction over the same 50..150 m.
 // `details`: the near-camera twice-folded noise (off in the light grid and light samples).
-float uprez_density(ModelingData m, vec3 asset_pos, vec3 wind_offset, float dist, float mip, bool details) {
-  vec4 noise = textureLod(noise_tex, (asset_pos - wind_offset) * kNoiseScale, mip);
+// `noise`: the voxel noise at the sample (uprez_density fetches it; the light-grid sweep passes its mean).
+float uprez_density_from(ModelingData m, vec4 noise, float dist, bool details) {
   float wispy_noise = mix(noise.r, noise.g, m.profile);
   float billowy_type_gradient = pow(m.profile, 0.25);
   float billowy_noise = mix(noise.b * 0.3, noise.a * 0.3, billowy_type_gradient);
@@ -150,6 +150,9 @@ float uprez_density(ModelingData m, vec3 asset_pos, vec3 wind_offset, float dist
   }
   return d;
 }
+float uprez_density(ModelingData m, vec3 asset_pos, vec3 wind_offset, float dist, float mip, bool details) {
+  return uprez_density_from(m, textureLod(noise_tex, (asset_pos - wind_offset) * kNoiseScale, mip), dist, details);
+}
 
 // Density at an asset-space point (0 where the profile is 0: "we are not sampling a cloud and we can
 // prevent any further work for this sample"), times the instance's density multiplier.
@@ -165,6 +168,17 @@ DensitySample sample_density(CloudInstanceParams inst, vec3 asset_pos, float dis
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;
   s.full = 0.0;
   CLOUD_WHERE(m.profile > 0.0) s.full = uprez_density(m, asset_pos, inst.wind_offset.xyz, dist, mip, details) * inst.sun_dir.w;
+  return s;
+}
+
+// The same with a given noise value (no noise fetch): where the caller's resolution is far coarser than
+// the noise, which then contributes only its mean (the light-grid sweep).
+DensitySample sample_density_with_noise(CloudInstanceParams inst, vec3 asset_pos, vec4 noise) {
+  ModelingData m = modeling_data(asset_uvw(inst, asset_pos), inst.sky_dir.w);
+  DensitySample s;
+  s.raw_profile = m.profile;
+  s.profile = m.profile * m.density_scale * inst.sun_dir.w;
+  s.full = m.profile > 0.0 ? uprez_density_from(m, noise, 1e4, false) * inst.sun_dir.w : 0.0;
   return s;
 }
 

@@ -84,6 +84,7 @@ class Executor {
   struct Physical;
   void rebuild(const RenderGraph& graph);
   void record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const;
+  void write_timestamp(VkCommandBuffer cmd, VkQueryPool pool, uint32_t query) const;
 
   gpu::Context& ctx_;
   std::vector<std::unique_ptr<Physical>> shapes_;

@@ -41,7 +41,11 @@ void CloudFeature::add_run_options(ArgParser& p) {
               &reprojection_text_)
       .option("--cloud-light-grid", "talk|device",
               "light grid size: the talk's 256x256x32, or sized for the device (default: 128x128x16 on CPU devices)",
-              &light_grid_text_);
+              &light_grid_text_)
+      .option("--cloud-light-grid-method", "rays|sweep",
+              "light grid computation: the talk's ray from every voxel, or a sweep level by level from the light "
+              "(default; the same sums at a fraction of the cost)",
+              &light_grid_method_text_);
 }
 
 void CloudFeature::check_run_options() {
@@ -55,6 +59,8 @@ void CloudFeature::check_run_options() {
   if (light_grid_text_ != "talk" && light_grid_text_ != "device")
     fail("--cloud-light-grid: expected talk or device, got \"%s\"", light_grid_text_.c_str());
   options_.talk_light_grid = light_grid_text_ == "talk";
+  if (!parse_light_grid_method(light_grid_method_text_, &options_.light_grid_method))
+    fail("--cloud-light-grid-method: expected rays or sweep, got \"%s\"", light_grid_method_text_.c_str());
   if (!debug_text_.empty() && !parse_debug_view(debug_text_, &options_.debug))
     fail("--cloud-debug: unknown view \"%s\" (expected none, profile, steps, light-grid or split)", debug_text_.c_str());
   if (!formats_text_.empty()) {
@@ -134,6 +140,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   settings.ablation = options_.ablation;
   settings.debug = options_.debug;
   settings.temporal = options_.temporal;
+  settings.light_grid_method = options_.light_grid_method;
   settings.reprojection_block = options_.reprojection_block;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);

@@ -10,6 +10,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
+#include "engine/gpu/barrier.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/descriptors.h"
 #include "engine/gpu/pipeline.h"
@@ -94,6 +95,16 @@ struct CloudResources {
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
              (distance_mip ? "" : ", mip 0") + ")";
     gpu::Pipeline& p = library.compute(d);
+    march_pipes[key] = &p;
+    return p;
+  }
+  gpu::Pipeline& sweep(bool bc1) {
+    MarchKey key{-2, 0, bc1, true};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}},
+                                        .name = bc1 ? "clouds.light_grid (sweep, bc1 sdf)" : "clouds.light_grid (sweep)"});
     march_pipes[key] = &p;
     return p;
   }
@@ -257,6 +268,14 @@ const char* debug_view_name(CloudDebugView v) {
   }
   return "?";
 }
+const char* light_grid_method_name(CloudLightGridMethod m) {
+  return m == CloudLightGridMethod::Rays ? "rays" : "sweep";
+}
+bool parse_light_grid_method(std::string_view n, CloudLightGridMethod* out) {
+  for (CloudLightGridMethod m : {CloudLightGridMethod::Rays, CloudLightGridMethod::Sweep})
+    if (n == light_grid_method_name(m)) return *out = m, true;
+  return false;
+}
 bool parse_debug_view(std::string_view n, CloudDebugView* out) {
   for (CloudDebugView v : {CloudDebugView::None, CloudDebugView::Profile, CloudDebugView::Steps, CloudDebugView::LightGrid,
                            CloudDebugView::Split})
@@ -310,7 +329,12 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
 
 CloudResourcesDesc CloudResourcesDesc::for_device(const gpu::DeviceInfo& device) {
   CloudResourcesDesc d;
-  if (device.is_cpu()) d.light_grid_size = {128, 16, 128};
+  if (device.is_cpu()) {
+    d.light_grid_size = {128, 16, 128};
+    // One level of the sweep per frame: on lavapipe each dispatch has a fixed cost (~0.2 ms), and at
+    // 20 fps 16 frames are 0.8 s, in which the wind moves the noise a tenth of a 32 m voxel.
+    d.light_grid_divisions = 16;
+  }
   return d;
 }
 
@@ -362,7 +386,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   const uint32_t n = uint32_t(in.instances.size());
   const glm::uvec3 gs = res.desc.light_grid_size;
   struct GridWork {
-    uint32_t first = 0, layers = 0;  // z layers of the instance's slab updated this frame
+    uint32_t first = 0, layers = 0;  // rays: z layers of the instance's slab updated this frame
+    uint32_t level_first = 0, level_count = 0;  // sweep: levels updated this frame, in sweep order (0: nearest the light)
   };
   std::vector<GridWork> grids(n);
   if (!res.grid_image || res.grid_instances != n || res.grid_image.extent().width != gs.x ||
@@ -385,16 +410,23 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     const uint64_t key = instance_key(inst, res.desc);
     const bool rebuild = !g.valid || in.rebuild_light_grid || key != g.key || glm::dot(sun_asset, g.sun) < cos_threshold;
     const uint32_t slab = gs.z / res.desc.light_grid_divisions;
+    // The sweep amortizes by levels over the whole grid (light_grid_sweep.comp says why).
+    const uint32_t levels_per_frame = (gs.y + res.desc.light_grid_divisions - 1) / res.desc.light_grid_divisions;
     if (rebuild) {
       grids[i].first = 0, grids[i].layers = gs.z;
+      grids[i].level_first = 0, grids[i].level_count = gs.y;
       g.sun = sun_asset, g.key = key, g.valid = true;
       ++res.rebuilds;
+    } else if (s.light_grid_method == CloudLightGridMethod::Sweep) {
+      grids[i].first = 0, grids[i].layers = gs.z;
+      grids[i].level_first = std::min(gs.y, uint32_t(in.frame_index % res.desc.light_grid_divisions) * levels_per_frame);
+      grids[i].level_count = std::min(levels_per_frame, gs.y - grids[i].level_first);
     } else {
       grids[i].first = uint32_t(in.frame_index % res.desc.light_grid_divisions) * slab;
       grids[i].layers = slab;
     }
   }
-  // Partial updates keep the other slabs: the graph carries the grid's content and state across frames.
+  // Partial updates keep the other slabs / levels: the graph carries the grid's content and state across frames.
   TextureHandle grid = graph.import_persistent(res.grid_texture);
 
   HistoryImports history;
@@ -434,8 +466,22 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
 
   // ---- 1. Light grid ----
-  gpu::Pipeline* grid_pipe = &res.grid(bc1);
+  const bool sweep = s.light_grid_method == CloudLightGridMethod::Sweep;
+  gpu::Pipeline* grid_pipe = sweep ? &res.sweep(bc1) : &res.grid(bc1);
   const CloudResourcesDesc rdesc = res.desc;
+  // Sweep order per instance: levels from the light's side; the sun and the sky share one sweep when
+  // both point up (or both down), else each channel gets its own.
+  struct SweepPlan {
+    uint32_t channels[2] = {3, 0};
+    bool down[2] = {true, true};  // true: from the top level down
+  };
+  std::vector<SweepPlan> plans(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const glm::mat3 to_asset = glm::mat3(glm::inverse(glm::normalize(in.instances[i].rotation)));
+    const bool sun_up = (to_asset * sun_world).y >= 0.0f, sky_up = (to_asset * glm::vec3(0, 1, 0)).y >= 0.0f;
+    if (sun_up == sky_up) plans[i] = {{3, 0}, {sun_up, sun_up}};
+    else plans[i] = {{1, 2}, {sun_up, sky_up}};
+  }
   graph.add_pass("clouds.light_grid", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(modeling, Usage::Sampled);
@@ -443,8 +489,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
         b.read(noise, Usage::Sampled);
         grid = b.read_write(grid, Usage::StorageWrite);
       },
-      [r, grid_pipe, grids, grid, modeling, field, noise, ubo_handle, rdesc](PassContext& c) {
-        for (uint32_t i = 0; i < grids.size(); ++i) {
+      [r, grid_pipe, grids, plans, sweep, grid, modeling, field, noise, ubo_handle, rdesc](PassContext& c) {
+        const VkExtent3D e = c.extent(grid);
+        auto bind = [&] {
           Bindings(*grid_pipe)
               .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
               .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
@@ -452,13 +499,33 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
               .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
               .storage(CLOUD_BINDING_GRID_OUT, c.view(grid))
               .push(r->ctx, c.cmd());
+        };
+        bind();
+        for (uint32_t i = 0; i < grids.size(); ++i) {
           shared::CloudLightGridPush pc{};
-          pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, 0);
-          pc.grid = glm::vec4(float(rdesc.light_grid_sun_steps), float(rdesc.light_grid_sky_steps),
-                              float(rdesc.light_grid_size.z), 0.0f);
-          grid_pipe->push_constants(c.cmd(), pc);
-          const VkExtent3D e = c.extent(grid);
-          grid_pipe->dispatch_threads(c.cmd(), e.width, e.height, grids[i].layers);
+          if (!sweep) {
+            pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, 0);
+            pc.grid = glm::vec4(float(rdesc.light_grid_sun_steps), float(rdesc.light_grid_sky_steps),
+                                float(rdesc.light_grid_size.z), 0.0f);
+            grid_pipe->push_constants(c.cmd(), pc);
+            grid_pipe->dispatch_threads(c.cmd(), e.width, e.height, grids[i].layers);
+            continue;
+          }
+          // One dispatch per level; each level reads the one before it (written by the previous
+          // dispatch of this pass): the only barriers recorded inside a cloud pass.
+          for (uint32_t sweep_index = 0; sweep_index < 2 && plans[i].channels[sweep_index]; ++sweep_index)
+            for (uint32_t k = grids[i].level_first; k < grids[i].level_first + grids[i].level_count; ++k) {
+              const uint32_t level = plans[i].down[sweep_index] ? e.height - 1 - k : k;
+              if (k > grids[i].level_first || sweep_index > 0 || i > 0)
+                gpu::cmd_memory_barrier(c.cmd(), VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+              pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, level);
+              pc.grid = glm::vec4(float(rdesc.light_grid_sweep_samples), float(plans[i].channels[sweep_index]),
+                                  float(rdesc.light_grid_size.z), 0.0f);
+              grid_pipe->push_constants(c.cmd(), pc);
+              grid_pipe->dispatch_threads(c.cmd(), e.width, 1, grids[i].layers);
+            }
         }
       });
 

@@ -84,6 +84,15 @@ enum class CloudAblation : uint8_t {
 const char* ablation_name(CloudAblation a);                      // "base" | "voxel-lighting" | "full"
 bool parse_ablation(std::string_view name, CloudAblation* out);  // false if unknown
 
+// How the light grid is computed (both give the same sums; the sweep is O(voxels) instead of
+// O(voxels x ray length)).
+enum class CloudLightGridMethod : uint8_t {
+  Rays,   // the talk: a ray from every voxel to the grid boundary (light_grid_update.comp)
+  Sweep,  // level by level from the light: each voxel adds its stretch to the next level's sum (light_grid_sweep.comp)
+};
+const char* light_grid_method_name(CloudLightGridMethod m);                     // "rays" | "sweep"
+bool parse_light_grid_method(std::string_view name, CloudLightGridMethod* out);  // false if unknown
+
 enum class CloudDebugView : uint8_t { None, Profile, Steps, LightGrid, Split };
 const char* debug_view_name(CloudDebugView v);                     // "none" | "profile" | "steps" | "light-grid" | "split"
 bool parse_debug_view(std::string_view name, CloudDebugView* out);  // false if unknown
@@ -120,6 +129,7 @@ struct CloudSettings {
   uint32_t reprojection_block = 0;
   float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
   float sun_rebuild_degrees = 1.0f;   // the sun moving more than this since the last full rebuild -> rebuild
+  CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
 };
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
@@ -180,7 +190,7 @@ inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS
 
 struct CloudResourcesDesc {
   // The talk's grid on GPUs; on CPU devices (lavapipe) 128x16x128 (32 m voxels over the sample's 4 km
-  // box): the full grid's eighth costs about as much as the whole march there. The two marched light
+  // box) updated over 16 frames: the talk's grid, even swept, costs about as much as the march there. The two marched light
   // samples before the grid keep the detail near cloud surfaces either way.
   static CloudResourcesDesc for_device(const gpu::DeviceInfo& device);
   glm::uvec3 light_grid_size{256, 32, 256};  // the talk's 256x256x32 with its Z-up as our Y-up
@@ -189,6 +199,9 @@ struct CloudResourcesDesc {
   // sample), so 64 steps cover 1 km of cloud toward the sun and 32 the 512 m layer above a voxel.
   uint32_t light_grid_sun_steps = 64;
   uint32_t light_grid_sky_steps = 32;
+  // Sweep: at most this many density samples along one voxel's stretch to the next level (a low sun's
+  // stretch is up to 20 levels long; samples are spaced at least a voxel apart below this bound).
+  uint32_t light_grid_sweep_samples = 8;
 };
 
 struct CloudResources;  // defined in cloud_renderer.cpp

@@ -1,0 +1,99 @@
+#version 450
+// The light grid by a sweep (an improvement on the talk's per-voxel rays, light_grid_update.comp; the
+// faithful form stays reachable with CloudSettings::light_grid_method = Rays, --cloud-light-grid-method rays).
+//
+// The talk marches a ray from every voxel to the grid boundary: O(voxels x ray length). Rays toward a
+// directional light are parallel, so the sum from a voxel is the sum over its own stretch up to the next
+// level of the grid plus the sum already computed at the point where the ray crosses that level:
+//   S(v) = integral of density over [v, v + d * delta] + S(level above, bilinear at v + d * delta)
+// with delta = level height / |d.y|. One dispatch per level, from the level nearest the light down
+// (a barrier between levels), each voxel samples density a few times (delta / voxel, at most
+// pc.grid.x) instead of marching the whole ray: O(voxels). The light direction's slope is clamped
+// to kMinSlope so a sun on the horizon still reaches the next level (delta <= level / kMinSlope).
+// Where the ray leaves the box before the next level, the sum ends there (nothing outside shadows it),
+// as in the talk. A stretch with no cloud near it (the field NVDF says so) costs one fetch.
+// Amortized by levels rather than slabs: each frame continues the sweep by 1/8 of the levels over the
+// whole grid (a level reads the one nearer the light, updated this frame or in an earlier one), so a
+// frame has few dispatches (on lavapipe each dispatch + barrier costs about 0.2 ms even when empty).
+// Values and units as light_grid_update.comp: x = summed density toward the sun, y = toward the sky,
+// density x world metres, from the voxel centre.
+// pc.region: x instance, y first z layer, z layer count (the instance's whole grid), w the level (y) written;
+// pc.grid: x most density samples per stretch, y channels updated (1 sun, 2 sky, 3 both; a channel not
+// updated keeps its value), z z layers per instance.
+#extension GL_GOOGLE_include_directive : require
+#include "clouds/cloud_common.glsl"
+
+layout(local_size_x = 8, local_size_y = 1, local_size_z = 8) in;
+layout(set = 0, binding = CLOUD_BINDING_GRID_OUT, rg16f) uniform image3D grid;
+layout(push_constant) uniform Push { CloudLightGridPush pc; };
+
+const float kMinSlope = 0.05;  // about 3 degrees above the horizon
+
+// Level `y` of the slab stack at continuous texel coordinates `xz` (texel centres at +0.5), bilinear.
+vec2 level_value(int y, vec2 xz, ivec2 size_xz, int zbase) {
+  vec2 f = xz - 0.5;
+  ivec2 b = ivec2(floor(f));
+  vec2 w = f - vec2(b);
+  ivec2 lo = clamp(b, ivec2(0), size_xz - 1), hi = clamp(b + 1, ivec2(0), size_xz - 1);
+  vec2 v00 = imageLoad(grid, ivec3(lo.x, y, zbase + lo.y)).xy;
+  vec2 v10 = imageLoad(grid, ivec3(hi.x, y, zbase + lo.y)).xy;
+  vec2 v01 = imageLoad(grid, ivec3(lo.x, y, zbase + hi.y)).xy;
+  vec2 v11 = imageLoad(grid, ivec3(hi.x, y, zbase + hi.y)).xy;
+  return mix(mix(v00, v10, w.x), mix(v01, v11, w.x), w.y);
+}
+
+// Summed density (asset metres) from `origin` toward `dir`, given the level above/below it is done.
+// `channel` 0 reads the sun sums of the next level, 1 the sky sums.
+float sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y, vec3 cell, ivec2 size_xz, int zbase,
+            float voxel, vec4 noise, int channel) {
+  float slope = max(abs(dir.y), kMinSlope);
+  float up = dir.y >= 0.0 ? 1.0 : -1.0;
+  vec3 d = normalize(vec3(dir.x, up * slope, dir.z));
+  float delta = cell.y / abs(d.y);
+  vec2 seg = ray_box(origin, d, inst.bounds_min.xyz, inst.bounds_max.xyz);
+  float t_exit = max(seg.y, 0.0);
+  float len = min(delta, t_exit);
+  // Empty air costs one fetch: the signed distance at the stretch's middle, less one field texel for the
+  // filtering between texels, says whether any cloud is within half the stretch (then no samples at all).
+  float margin = (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field_tex, 0).x);
+  float sdf = cloud_distance(asset_uvw(inst, origin + d * (0.5 * len)));
+  int k = sdf - margin > 0.5 * len ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
+  float sum = 0.0;
+  for (int j = 0; j < k; ++j) sum += sample_density_with_noise(inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise).full;
+  sum *= len / float(max(k, 1));
+  int next = y + int(up);
+  if (delta < t_exit && next >= 0 && next < layers_y) {
+    vec3 pn = origin + d * delta;
+    vec2 xz = (pn.xz - inst.bounds_min.xz) / cell.xz;
+    sum += level_value(next, xz, size_xz, zbase)[channel] / inst.bounds_min.w;  // stored in world metres
+  }
+  return sum;
+}
+
+void main() {
+  int layers = int(pc.grid.z);
+  ivec3 size = ivec3(imageSize(grid).xy, layers);
+  if (gl_GlobalInvocationID.x >= uint(size.x) || gl_GlobalInvocationID.z >= pc.region.z) return;
+  int y = int(pc.region.w);
+  ivec3 id = ivec3(gl_GlobalInvocationID.x, y, int(gl_GlobalInvocationID.z + pc.region.y));
+  if (id.z >= layers) return;
+  int zbase = int(pc.region.x) * layers;
+  CloudInstanceParams inst = P.instances[pc.region.x];
+  vec3 extent = inst.bounds_max.xyz - inst.bounds_min.xyz;
+  vec3 cell = extent / vec3(size);
+  vec3 origin = inst.bounds_min.xyz + (vec3(id) + 0.5) * cell;
+  float voxel = min(cell.x, min(cell.y, cell.z));
+  // The noise at this voxel's scale: the grid cannot hold detail finer than its voxel (16-32 m, several
+  // times the 100 m tile's mip whose texel is a voxel would alias at this spacing), so the noise enters
+  // by its mean, the last mip's single texel: one fetch per voxel instead of a trilinear fetch per sample.
+  // (light_grid_update.comp, the talk's rays, samples the noise at the voxel's mip.)
+  vec4 noise = textureLod(noise_tex, vec3(0.5), float(textureQueryLevels(noise_tex) - 1));
+  ivec3 texel = id + ivec3(0, 0, zbase);
+  uint channels = uint(pc.grid.y);
+  vec2 value = channels == 3u ? vec2(0.0) : imageLoad(grid, texel).xy;
+  if ((channels & 1u) != 0u)
+    value.x = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, 0) * inst.bounds_min.w;
+  if ((channels & 2u) != 0u)
+    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, 1) * inst.bounds_min.w;
+  imageStore(grid, texel, vec4(value, 0.0, 0.0));
+}
