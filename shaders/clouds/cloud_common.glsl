@@ -182,6 +182,9 @@ DensitySample sample_density_with_noise(CloudInstanceParams inst, vec3 asset_pos
   return s;
 }
 
+// The voxel noise's mean: its last mip's single texel.
+vec4 noise_mean() { return textureLod(noise_tex, vec3(0.5), float(textureQueryLevels(noise_tex) - 1)); }
+
 // Henyey-Greenstein phase function (1/sr).
 float henyey_greenstein(float cos_theta, float g) {
   float g2 = g * g;

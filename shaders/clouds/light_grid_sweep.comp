@@ -87,7 +87,7 @@ void main() {
   // times the 100 m tile's mip whose texel is a voxel would alias at this spacing), so the noise enters
   // by its mean, the last mip's single texel: one fetch per voxel instead of a trilinear fetch per sample.
   // (light_grid_update.comp, the talk's rays, samples the noise at the voxel's mip.)
-  vec4 noise = textureLod(noise_tex, vec3(0.5), float(textureQueryLevels(noise_tex) - 1));
+  vec4 noise = noise_mean();
   ivec3 texel = id + ivec3(0, 0, zbase);
   uint channels = uint(pc.grid.y);
   vec2 value = channels == 3u ? vec2(0.0) : imageLoad(grid, texel).xy;

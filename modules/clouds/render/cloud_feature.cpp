@@ -45,7 +45,9 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-light-grid-method", "rays|sweep",
               "light grid computation: the talk's ray from every voxel, or a sweep level by level from the light "
               "(default; the same sums at a fraction of the cost)",
-              &light_grid_method_text_);
+              &light_grid_method_text_)
+      .option("--cloud-light-sample-noise", "mean|sampled",
+              "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_);
 }
 
 void CloudFeature::check_run_options() {
@@ -59,6 +61,9 @@ void CloudFeature::check_run_options() {
   if (light_grid_text_ != "talk" && light_grid_text_ != "device")
     fail("--cloud-light-grid: expected talk or device, got \"%s\"", light_grid_text_.c_str());
   options_.talk_light_grid = light_grid_text_ == "talk";
+  if (light_noise_text_ != "mean" && light_noise_text_ != "sampled")
+    fail("--cloud-light-sample-noise: expected mean or sampled, got \"%s\"", light_noise_text_.c_str());
+  options_.light_sample_noise_mean = light_noise_text_ == "mean";
   if (!parse_light_grid_method(light_grid_method_text_, &options_.light_grid_method))
     fail("--cloud-light-grid-method: expected rays or sweep, got \"%s\"", light_grid_method_text_.c_str());
   if (!debug_text_.empty() && !parse_debug_view(debug_text_, &options_.debug))
@@ -141,6 +146,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   settings.debug = options_.debug;
   settings.temporal = options_.temporal;
   settings.light_grid_method = options_.light_grid_method;
+  settings.light_sample_noise_mean = options_.light_sample_noise_mean;
   settings.reprojection_block = options_.reprojection_block;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);

@@ -66,6 +66,7 @@ struct CloudRunOptions {
   uint32_t reprojection_block = 0;  // CloudSettings::reprojection_block (0: by budget mode)
   bool talk_light_grid = false;  // true: 256x256x32 on every device
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
+  bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
   int noise_size = 128;
 };
 
@@ -98,7 +99,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
   CloudRunOptions options_;
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
-      light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep";
+      light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep", light_noise_text_ = "mean";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;

@@ -48,7 +48,7 @@ struct CloudResources {
     glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
     uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
   };
-  using MarchKey = std::tuple<int, int, bool, bool>;  // ablation, segment, bc1 SDF, distance noise mip
+  using MarchKey = std::tuple<int, int, bool, bool, bool>;  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples
 
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
@@ -81,8 +81,8 @@ struct CloudResources {
 
   CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
 
-  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip) {
-    MarchKey key{int(a), segment, bc1, distance_mip};
+  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise) {
+    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     static const char* kSegments[] = {"all", "near", "far"};
@@ -91,15 +91,16 @@ struct CloudResources {
     d.defines = {{"ABLATION", std::to_string(int(a))},
                  {"SEGMENT", std::to_string(segment)},
                  {"SDF_BC1", bc1 ? "1" : "0"},
-                 {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"}};
+                 {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"},
+                 {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"}};
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
-             (distance_mip ? "" : ", mip 0") + ")";
+             (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") + ")";
     gpu::Pipeline& p = library.compute(d);
     march_pipes[key] = &p;
     return p;
   }
   gpu::Pipeline& sweep(bool bc1) {
-    MarchKey key{-2, 0, bc1, true};
+    MarchKey key{-2, 0, bc1, true, true};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
@@ -110,7 +111,7 @@ struct CloudResources {
   }
   gpu::Pipeline& grid(bool bc1) {
     // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true};
+    MarchKey key{-1, 0, bc1, true, true};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
@@ -305,7 +306,7 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
   res->composite_pipe = &library.compute({.shader = "clouds/composite_apply.comp", .name = "clouds.composite"});
-  res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true);  // the common variant, built up front
+  res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true, true);  // the common variant, built up front
   res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
   res->linear_repeat = ctx.samplers().get(gpu::SamplerDesc::linear_repeat());
   res->nearest_clamp = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
@@ -533,7 +534,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   // `front` (far segment only): the near layer, read for its transmittance (early exit).
   auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
                        TextureHandle front = {}, uint32_t sub_block = 1) {
-    gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip);
+    gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean);
     graph.add_pass(name, Queue::Compute,
         [&](PassBuilder& b) {
           b.read(modeling, Usage::Sampled);

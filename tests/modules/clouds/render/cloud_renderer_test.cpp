@@ -5,7 +5,8 @@
 //   - an empty cloudscape, a zero density and full dissipation leave the scene bit-exact;
 //   - terrain in front hides the cloud (bit-exact), terrain inside it cuts it short;
 //   - the conservative BC1 SDF never loses cloud the 16-bit SDF finds;
-//   - base / voxel-lighting / fixed noise mip / the 40/60 Hz split agree with full within a PSNR;
+//   - base / voxel-lighting / fixed noise mip / the 40/60 Hz split / light samples with sampled noise agree
+//     with full within a PSNR;
 //   - temporal accumulation converges on a still camera; a moved instance renders moved.
 #include <gtest/gtest.h>
 
@@ -189,17 +190,20 @@ TEST_F(CloudRender, AblationsAndTheSplitAgreeWithFull) {
     CloudAblation ablation;
     bool split, distance_mip;
     double min_psnr;
+    bool mean_light_noise = true;
   };
   // Stated tolerances (PSNR of Reinhard-mapped colour over the whole 160x90 image): base marches the
   // sun 256 m in 10 samples where full reads the light grid, so its shadows differ most.
   const Variant variants[] = {{"base", CloudAblation::Base, false, true, 30.0},
                               {"voxel-lighting", CloudAblation::VoxelLighting, false, true, 33.0},
                               {"fixed-mip", CloudAblation::Full, false, false, 33.0},
-                              {"split", CloudAblation::Full, true, true, 33.0}};
+                              {"split", CloudAblation::Full, true, true, 33.0},
+                              {"sampled-light", CloudAblation::Full, false, true, 33.0, false}};
   for (const Variant& v : variants) {
     in.settings.ablation = v.ablation;
     in.settings.split = v.split;
     in.settings.distance_noise_mip = v.distance_mip;
+    in.settings.light_sample_noise_mean = v.mean_light_noise;
     render(in);
     const Frame f = render(in);
     maybe_write_png(std::string("ablation_") + v.name, width_, height_, f.hdr);
