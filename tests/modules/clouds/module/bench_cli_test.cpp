@@ -14,16 +14,20 @@ namespace fs = std::filesystem;
 
 TEST(BenchCli, WritesTheTableAndTheJson) {
   fs::path out = cumulo::test::unique_temp_path("cumulo_bench") += ".json";
-  auto r = cumulo::test::run_cumulo("bench --size 64x36 --frames 1 --warmup 1 --views ground --ablations base,full --out " +
+  auto r = cumulo::test::run_cumulo("bench --size 64x36 --frames 1 --warmup 1 --rounds 2 --views ground --ablations base,full --out " +
                                     out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| view | ablation | mode |"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("[4/4] ground full 60 Hz"), std::string::npos) << r.output;  // a progress line per run
+  // A progress line per run and round (the matrix is run twice in turn).
+  EXPECT_NE(r.output.find("[4/8] ground full 60 Hz"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[8/8] ground full 60 Hz"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| view | full vs base 30 Hz |"), std::string::npos) << r.output;  // the targets table
   std::ifstream f(out);
   auto j = nlohmann::json::parse(f);
   EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
   EXPECT_EQ(j["size"][0], 64);
   EXPECT_EQ(j["frames"], 1);
+  EXPECT_EQ(j["rounds"], 2);
   EXPECT_GT(j["memory"]["cloudscape_compressed"].get<uint64_t>(), 0u);
   EXPECT_LE(j["memory"]["cloudscape_compressed"].get<uint64_t>(), 25200000u);  // the talk's budget per cloudscape
   ASSERT_EQ(j["runs"].size(), 4u);
@@ -32,7 +36,19 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
       EXPECT_TRUE(run.contains(key)) << key;
     EXPECT_GT(run["cloud_ms"].get<double>(), 0.0);
     EXPECT_TRUE(run["passes"].contains(run["mode"] == 30 ? "clouds.march" : "clouds.march_far")) << run.dump();
+    // 60 Hz runs carry the PSNR of their final image against the 30 Hz run's: close, not identical.
+    if (run["mode"] == 60) {
+      EXPECT_GT(run["psnr_vs_30hz_db"].get<double>(), 20.0) << run.dump();
+      EXPECT_LT(run["psnr_vs_30hz_db"].get<double>(), 99.0) << run.dump();
+    }
   }
+  ASSERT_EQ(j["summary"].size(), 1u);
+  const auto& sum = j["summary"][0];
+  EXPECT_EQ(sum["view"], "ground");
+  EXPECT_GT(sum["full_vs_base_30"].get<double>(), 0.0);
+  EXPECT_GT(sum["light_grid_share_60"].get<double>(), 0.0);
+  EXPECT_LT(sum["light_grid_share_60"].get<double>(), 1.0);
+  EXPECT_EQ(sum["split_psnr_db"], j["runs"][3]["psnr_vs_30hz_db"]);
   // The full method takes fewer steps than the uniform base march (the SDF skips empty space).
   EXPECT_LT(j["runs"][1]["steps_per_pixel"].get<double>(), j["runs"][0]["steps_per_pixel"].get<double>());
   fs::remove(out);
