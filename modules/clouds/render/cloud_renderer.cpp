@@ -352,6 +352,23 @@ uint64_t persistent_gpu_bytes(const CloudResources& res) {
 
 uint32_t light_grid_rebuilds(const CloudResources& res) { return res.rebuilds; }
 
+float nearest_instance_distance(const CloudFrameInputs& in) {
+  float nearest = INFINITY;
+  for (const CloudInstance& inst : in.instances) {
+    // World AABB of the transformed asset box (conservative for a rotated box).
+    const glm::vec3 lo = inst.asset->bounds_min, hi = inst.asset->bounds_max;
+    glm::vec3 wmin(INFINITY), wmax(-INFINITY);
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+      const glm::vec3 w = inst.position + glm::normalize(inst.rotation) * (inst.scale * corner);
+      wmin = glm::min(wmin, w), wmax = glm::max(wmax, w);
+    }
+    const glm::vec3 p = in.camera.position;
+    nearest = std::min(nearest, glm::distance(p, glm::clamp(p, wmin, wmax)));
+  }
+  return nearest;
+}
+
 TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
                                TextureHandle depth, CloudPassOutputs* outputs) {
   if (in.instances.empty()) return hdr;
@@ -612,8 +629,16 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
 
   TextureHandle color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat));
   TextureHandle cdepth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat));
+  // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
+  // the near segment is empty, so its half-resolution march and the merge are skipped and the far
+  // march runs over the whole ray (the same samples: none lie nearer than the split). The split
+  // debug view keeps both, to show them.
+  const bool near_empty = s.split && s.skip_empty_near && s.debug != CloudDebugView::Split &&
+                          nearest_instance_distance(in) >= s.split_distance_m;
   if (!s.split) {
     add_full_res_march("clouds.march", CLOUD_SEGMENT_ALL, color, cdepth);
+  } else if (near_empty) {
+    add_full_res_march("clouds.march_far", CLOUD_SEGMENT_ALL, color, cdepth);
   } else {
     TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f));
     TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f));

@@ -31,6 +31,8 @@
 //                               radiance, transmittance) and clouds.depth (RGBA32F: opacity-0.5 distance,
 //                               steps, segment end), transient.
 //   clouds.march_near  compute  40/60 Hz: segment < split at half resolution -> clouds.near_color/depth
+//                               (left out with split_merge when no box is within the split distance:
+//                               clouds.march_far then marches the whole ray)
 //   clouds.march_far   compute  40/60 Hz: segment >= split at full resolution -> clouds.far_color/depth
 //                               (reads near_color: stops where the near layer is already opaque)
 //   clouds.reconstruct compute  reprojection (CloudSettings::reprojection_block > 1, temporal on): the
@@ -107,6 +109,9 @@ struct CloudSettings {
   // light sample integrates far more than the 0.8 m noise texel; about 20 % of the march on lavapipe);
   // false: the full up-rez sampler, the talk's "taken as we did before".
   bool light_sample_noise_mean = true;
+  // 40/60 Hz: skip the near march and the merge when no cloudscape box comes within split_distance_m of
+  // the camera (false: always run both, to measure them).
+  bool skip_empty_near = true;
   float split_distance_m = 200.0f;          // talk: "< 200 Meters"
   float animated_jitter_distance_m = 250.0f;  // talk: "distance_from_camera < 250.0 ? animated_hash : static_hash"
   float jitter_scale = 1.0f;                // sample offset = hash * step * jitter_scale
@@ -186,6 +191,9 @@ struct CloudFrameInputs {
 // march multiplies the sun by a phase function in 1/sr, so its sun colour is pi x that radiance. The
 // ambient is the stand-in sky's hemispheric term as geometry_lit.frag uses it (mean of zenith and
 // horizon x ambient scale): a thick cloud under a uniform sky scatters about the sky's radiance.
+// Distance from the camera to the nearest instance's world box (0 inside one; infinity with none).
+float nearest_instance_distance(const CloudFrameInputs& in);
+
 CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snapshot, uint32_t slot,
                                             const CloudSettings& settings = {});
 

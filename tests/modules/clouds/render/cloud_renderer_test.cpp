@@ -425,6 +425,34 @@ TEST_F(CloudRender, LightGridSweepAgreesWithTheTalksRays) {
   EXPECT_FALSE(parse_light_grid_method("ray", &parsed));
 }
 
+// 40/60 Hz with the cloud box beyond the split distance: the near march and the merge are left out and
+// the picture is the one both passes draw.
+TEST_F(CloudRender, SplitSkipsAnEmptyNearSegment) {
+  const scene::CameraView cam = camera({0.0f, 128.0f, 600.0f});  // the box ends at z = 256: 344 m away
+  CloudFrameInputs in = inputs(asset(), cam);
+  EXPECT_NEAR(nearest_instance_distance(in), 344.0f, 0.01f);
+  in.settings.split = true;
+  in.settings.skip_empty_near = false;
+  render(in);
+  const Frame both = render(in);
+  EXPECT_GT(pass_ms("clouds.march_near"), 0.0);
+  in.settings.skip_empty_near = true;
+  render(in);
+  const Frame skipped = render(in);
+  EXPECT_LT(pass_ms("clouds.march_near"), 0.0);  // not in the graph
+  EXPECT_LT(pass_ms("clouds.split_merge"), 0.0);
+  EXPECT_GT(pass_ms("clouds.march_far"), 0.0);
+  const double p = psnr(both.hdr, skipped.hdr);
+  std::printf("  near segment skipped: PSNR vs near + far %.1f dB\n", p);
+  EXPECT_GT(p, 40.0);
+  // Nearer than the split: both passes run.
+  in = inputs(asset(), camera());
+  in.settings.split = true;
+  EXPECT_LT(nearest_instance_distance(in), in.settings.split_distance_m);
+  render(in);
+  EXPECT_GT(pass_ms("clouds.march_near"), 0.0);
+}
+
 TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   cumulo::render::FrameSnapshot snap;
   snap.frame_index = 42;
