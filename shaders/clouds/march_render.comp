@@ -133,10 +133,22 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
   for (uint s = 0u; s < max_steps; ++s) {
     if (t >= t1 || px.transmittance * t_front < P.march.z) break;
     px.steps += 1.0;
-    vec3 p = ao + ad * t;
 #if ABLATION == CLOUD_ABLATION_FULL
-    float sdf = cloud_distance(asset_uvw(inst, p)) * scale;  // world metres
+    float sdf = cloud_distance(asset_uvw(inst, ao + ad * t)) * scale;  // world metres
     float adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
+    // Steps in air, where no sample is taken, in a loop of their own: lavapipe runs the sample block
+    // below for a group of 8 pixels whenever one of them is in cloud, and a lane in air would pay for
+    // it at each of its SDF steps; this loop ends for a lane when it reaches cloud (or the segment's
+    // end), so air steps cost one fetch. The same steps and samples as one loop (bit-exact).
+    while (sdf >= 0.0 && s + 1u < max_steps) {
+      t += max(sdf, adaptive);
+      if (t >= t1) break;
+      ++s;
+      px.steps += 1.0;
+      sdf = cloud_distance(asset_uvw(inst, ao + ad * t)) * scale;
+      adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
+    }
+    if (t >= t1) break;
     float step_len = max(sdf, adaptive);
     bool inside = sdf < 0.0;
 #else
