@@ -7,7 +7,7 @@
 //   - the marched pixel of a block takes this frame's value as is (talk: the new pixel replaces);
 //   - every other pixel reprojects its own history (last frame's reconstruction) with this frame's cloud
 //     depth of its block (x: opacity-0.5 distance, else "at infinity"), clamped to the min/max of the
-//     3x3 marched blocks around it (no ghost where a cloud moved or was disoccluded);
+//     marched blocks around it (its bilinear 2x2 and the own block's plus) (no ghost where a cloud moved or was disoccluded);
 //   - off-screen, behind the camera or with no history: the bilinear upsample of this frame's samples.
 // Depth out: x, y of the block's marched pixel (y = steps: the cost of this frame), z recomputed per
 // pixel from the scene depth (the split merge's depth-aware upsample needs it per pixel).
@@ -60,13 +60,15 @@ void main() {
     vec4 up = mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
     result = up;
     if (pc.sub.w > 0.5) {  // history valid
+      // Clamp box: the 4 bilinear samples (they include this pixel's own block) and the own block's 4
+      // edge neighbours (a plus rather than the 3x3: fetches are this pass's cost on a CPU device).
       vec4 lo = min(min(s00, s10), min(s01, s11)), hi = max(max(s00, s10), max(s01, s11));
-      for (int j = -1; j <= 1; ++j)
-        for (int i = -1; i <= 1; ++i) {
-          vec4 c = texelFetch(sub_color, clamp(block + ivec2(i, j), ivec2(0), ss - 1), 0);
-          lo = min(lo, c);
-          hi = max(hi, c);
-        }
+      const ivec2 kPlus[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+      for (int k = 0; k < 4; ++k) {
+        vec4 c = texelFetch(sub_color, clamp(block + kPlus[k], ivec2(0), ss - 1), 0);
+        lo = min(lo, c);
+        hi = max(hi, c);
+      }
       float depth = own_d.x;
       vec4 world = depth < 1e5 ? vec4(ro + rd * depth, 1.0) : vec4(rd, 0.0);
       vec4 prev = P.prev_view_proj * world;
@@ -75,9 +77,8 @@ void main() {
         if (all(greaterThanEqual(prev_uv, vec2(0.0))) && all(lessThanEqual(prev_uv, vec2(1.0)))) {
           vec2 prev_px = prev_uv * pc.target.xy - 0.5;
           vec2 snapped = round(prev_px);
-          vec4 hist = all(lessThan(abs(prev_px - snapped), vec2(0.01)))
-                          ? texelFetch(history_tex, clamp(ivec2(snapped), ivec2(0), size - 1), 0)
-                          : textureLod(history_tex, prev_uv, 0.0);
+          vec2 fetch_uv = all(lessThan(abs(prev_px - snapped), vec2(0.01))) ? (snapped + 0.5) * pc.target.zw : prev_uv;
+          vec4 hist = textureLod(history_tex, fetch_uv, 0.0);
           result = clamp(hist, lo, hi);
         }
       }

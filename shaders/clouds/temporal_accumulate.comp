@@ -2,7 +2,7 @@
 // Temporal accumulation of the jittered cloud march (2015 talk, seed 004: temporal reprojection of the
 // cloud buffer; Karis 2014 "High Quality Temporal Supersampling": neighbourhood clamp).
 // Each pixel is reprojected with the cloud depth (distance where opacity reached 0.5, else the first
-// cloud sample, else "at infinity": the rotation alone), the history is clamped to the 3x3
+// cloud sample, else "at infinity": the rotation alone), the history is clamped to the plus-shaped (5-texel)
 // min/max of this frame's march around the pixel (so a disocclusion or a moving cloud cannot ghost),
 // and blended with weight P.misc.y for the new frame. Off-screen, behind the camera or with history
 // invalid (P.misc.w == 0: first frame, resize, camera cut) the current frame is taken as is.
@@ -22,13 +22,15 @@ void main() {
   ivec2 size = ivec2(pc.target.xy);
   if (any(greaterThanEqual(pixel, size))) return;
   vec4 cur = texelFetch(current_tex, pixel, 0);
+  // The clamp box of the pixel and its 4 edge neighbours (a plus, not the 3x3: on a CPU device fetches
+  // are the cost of this pass, and the plus bounds the same edges).
   vec4 lo = cur, hi = cur;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      vec4 c = texelFetch(current_tex, clamp(pixel + ivec2(dx, dy), ivec2(0), size - 1), 0);
-      lo = min(lo, c);
-      hi = max(hi, c);
-    }
+  const ivec2 kPlus[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+  for (int k = 0; k < 4; ++k) {
+    vec4 c = texelFetch(current_tex, clamp(pixel + kPlus[k], ivec2(0), size - 1), 0);
+    lo = min(lo, c);
+    hi = max(hi, c);
+  }
   vec4 result = cur;
   if (P.misc.w > 0.5) {
     vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
@@ -44,11 +46,11 @@ void main() {
       if (all(greaterThanEqual(prev_uv, vec2(0.0))) && all(lessThanEqual(prev_uv, vec2(1.0)))) {
         // A still camera reprojects onto texel centres up to float error: fetch that texel, since
         // bilinear weights of 0.999/0.001 would blur the history a little more every frame.
+        // (One bilinear fetch at the snapped texel centre: its weights are exactly one texel's.)
         vec2 prev_px = prev_uv * pc.target.xy - 0.5;
         vec2 snapped = round(prev_px);
-        vec4 hist = all(lessThan(abs(prev_px - snapped), vec2(0.01)))
-                        ? texelFetch(history_tex, clamp(ivec2(snapped), ivec2(0), size - 1), 0)
-                        : textureLod(history_tex, prev_uv, 0.0);
+        vec2 fetch_uv = all(lessThan(abs(prev_px - snapped), vec2(0.01))) ? (snapped + 0.5) * pc.target.zw : prev_uv;
+        vec4 hist = textureLod(history_tex, fetch_uv, 0.0);
         hist = clamp(hist, lo, hi);
         result = mix(hist, cur, P.misc.y);
       }

@@ -147,6 +147,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   settings.temporal = options_.temporal;
   settings.light_grid_method = options_.light_grid_method;
   settings.light_sample_noise_mean = options_.light_sample_noise_mean;
+  settings.light_grid_always_update = options_.light_grid_always_update;
   settings.reprojection_block = options_.reprojection_block;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);

@@ -67,6 +67,7 @@ struct CloudRunOptions {
   bool talk_light_grid = false;  // true: 256x256x32 on every device
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
+  bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
   int noise_size = 128;
 };
 

@@ -47,6 +47,8 @@ struct CloudResources {
     bool valid = false;   // has been fully built
     glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
     uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
+    glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
+    uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
   };
   using MarchKey = std::tuple<int, int, bool, bool, bool>;  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples
 
@@ -430,11 +432,22 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     const uint32_t slab = gs.z / res.desc.light_grid_divisions;
     // The sweep amortizes by levels over the whole grid (light_grid_sweep.comp says why).
     const uint32_t levels_per_frame = (gs.y + res.desc.light_grid_divisions - 1) / res.desc.light_grid_divisions;
+    // The sweep reads the noise by its mean, so the wind does not move it: with the sun still for a
+    // whole cycle of levels the grid is current and the frame's update would rewrite the same values.
+    // (The rays method samples the scrolling noise and keeps updating.)
+    g.frames_same_sun = sun_asset == g.last_sun ? g.frames_same_sun + 1 : 0;
+    g.last_sun = sun_asset;
+    const bool current = s.light_grid_method == CloudLightGridMethod::Sweep && !s.light_grid_always_update &&
+                         g.frames_same_sun >= res.desc.light_grid_divisions;
     if (rebuild) {
       grids[i].first = 0, grids[i].layers = gs.z;
       grids[i].level_first = 0, grids[i].level_count = gs.y;
       g.sun = sun_asset, g.key = key, g.valid = true;
+      g.frames_same_sun = res.desc.light_grid_divisions;  // every level computed with this sun
       ++res.rebuilds;
+    } else if (current) {
+      grids[i].first = 0, grids[i].layers = 0;
+      grids[i].level_first = 0, grids[i].level_count = 0;
     } else if (s.light_grid_method == CloudLightGridMethod::Sweep) {
       grids[i].first = 0, grids[i].layers = gs.z;
       grids[i].level_first = std::min(gs.y, uint32_t(in.frame_index % res.desc.light_grid_divisions) * levels_per_frame);
@@ -500,7 +513,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     if (sun_up == sky_up) plans[i] = {{3, 0}, {sun_up, sun_up}};
     else plans[i] = {{1, 2}, {sun_up, sky_up}};
   }
-  graph.add_pass("clouds.light_grid", Queue::Compute,
+  bool grid_work = false;
+  for (const GridWork& w : grids) grid_work |= w.layers > 0 && (!sweep || w.level_count > 0);
+  if (grid_work) graph.add_pass("clouds.light_grid", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(modeling, Usage::Sampled);
         b.read(field, Usage::Sampled);

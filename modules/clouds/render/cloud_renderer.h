@@ -139,6 +139,8 @@ struct CloudSettings {
   float light_grid_debug_height = 0.5f;  // light-grid debug view: slice height in the box, 0..1
   float sun_rebuild_degrees = 1.0f;   // the sun moving more than this since the last full rebuild -> rebuild
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
+  // Sweep: keep the level-by-level updates going while the sun is still (as when it moves; for measuring).
+  bool light_grid_always_update = false;
 };
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =

@@ -383,6 +383,33 @@ TEST_F(CloudRender, LightGridIsAmortizedAndRebuiltWhenTheSunMoves) {
   std::printf("  persistent cloud memory %.2f MB\n", double(persistent_gpu_bytes(*res_)) / 1e6);
 }
 
+// The sweep does not depend on the wind (it reads the noise by its mean): once every level has been
+// computed with the current sun, the light-grid pass leaves the frame; a sun that moves (below the
+// rebuild threshold) brings the level-by-level updates back for one cycle. The rays method, which
+// samples the scrolling noise, updates every frame.
+TEST_F(CloudRender, LightGridSweepRestsWhileTheSunIsStill) {
+  const scene::CameraView cam = camera();
+  CloudFrameInputs in = inputs(asset(), cam);
+  in.instances[0].wind_speed = 10.0f;
+  const uint32_t cycle = grid_desc_.light_grid_divisions;
+  uint64_t frame = 0;
+  auto frame_has_grid_pass = [&] {
+    in.frame_index = ++frame;
+    in.time += 0.1;  // the wind moves every frame
+    render(in);
+    return pass_ms("clouds.light_grid") >= 0.0;
+  };
+  EXPECT_TRUE(frame_has_grid_pass());  // the first frame builds the whole grid
+  for (uint32_t k = 0; k < 3; ++k) EXPECT_FALSE(frame_has_grid_pass()) << k;
+  const uint32_t rebuilds = light_grid_rebuilds(*res_);
+  in.sun_direction = glm::normalize(in.sun_direction + glm::vec3(0.004f, 0.0f, 0.0f));  // ~0.3 degrees
+  for (uint32_t k = 0; k < cycle; ++k) EXPECT_TRUE(frame_has_grid_pass()) << k;
+  EXPECT_FALSE(frame_has_grid_pass());
+  EXPECT_EQ(light_grid_rebuilds(*res_), rebuilds);  // below the threshold: levels, not a rebuild
+  in.settings.light_grid_method = CloudLightGridMethod::Rays;
+  for (uint32_t k = 0; k < 3; ++k) EXPECT_TRUE(frame_has_grid_pass()) << k;
+}
+
 // The sweep (light_grid_sweep.comp) computes the sums the talk's per-voxel rays compute: the image and
 // the light-grid slice agree, for a sun above, a low sun, a sun below the horizon (the sun and sky
 // channels then sweep in opposite directions) and a rotated instance; nothing is NaN.
