@@ -32,7 +32,7 @@ struct BenchOptions {
   uint32_t warmup = 3;  // lavapipe JITs on first use; the light grid is rebuilt whole on the first frame
   // The whole matrix is run this many times in turn and each run's samples pooled: a CPU device's speed
   // drifts over a minute (other work, clocks), and interleaving keeps the ratios within one run fair.
-  uint32_t rounds = 2;
+  uint32_t rounds = 3;
   std::string out;
   std::vector<std::string> views{"ground", "mixed", "immersed"};
   std::vector<CloudAblation> ablations{CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full};
@@ -334,7 +334,7 @@ void register_bench_command(CommandRegistry& registry) {
                       .option("--size", "WxH", "render size (default 320x180; 960x540 on a GPU)", &size)
                       .option("--frames", "N", "measured frames per run (default 6)", &o.frames)
                       .option("--warmup", "N", "frames rendered before measuring (default 3)", &o.warmup)
-                      .option("--rounds", "N", "times the whole matrix is run in turn, samples pooled (default 2)", &o.rounds)
+                      .option("--rounds", "N", "times the whole matrix is run in turn, samples pooled (default 3)", &o.rounds)
                       .option("--out", "FILE.json", "write the results as JSON", &o.out)
                       .option("--views", "A,B", "cameras (default ground,mixed,immersed)", &views)
                       .option("--ablations", "A,B", "ablation steps (default base,voxel-lighting,full)", &ablations)

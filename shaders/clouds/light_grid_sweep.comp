@@ -11,7 +11,7 @@
 // pc.grid.x) instead of marching the whole ray: O(voxels). The light direction's slope is clamped
 // to kMinSlope so a sun on the horizon still reaches the next level (delta <= level / kMinSlope).
 // Where the ray leaves the box before the next level, the sum ends there (nothing outside shadows it),
-// as in the talk. A stretch with no cloud near it (the field NVDF says so) costs one fetch.
+// as in the talk. A voxel with no cloud near it (the field NVDF says so) costs one fetch.
 // Amortized by levels rather than slabs: each frame continues the sweep by 1/8 of the levels over the
 // whole grid (a level reads the one nearer the light, updated this frame or in an earlier one), so a
 // frame has few dispatches (on lavapipe each dispatch + barrier costs about 0.2 ms even when empty).
@@ -45,7 +45,7 @@ vec2 level_value(int y, vec2 xz, ivec2 size_xz, int zbase) {
 // Summed density (asset metres) from `origin` toward `dir`, given the level above/below it is done.
 // `channel` 0 reads the sun sums of the next level, 1 the sky sums.
 float sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y, vec3 cell, ivec2 size_xz, int zbase,
-            float voxel, vec4 noise, int channel) {
+            float voxel, vec4 noise, float clear, int channel) {
   float slope = max(abs(dir.y), kMinSlope);
   float up = dir.y >= 0.0 ? 1.0 : -1.0;
   vec3 d = normalize(vec3(dir.x, up * slope, dir.z));
@@ -53,11 +53,8 @@ float sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y
   vec2 seg = ray_box(origin, d, inst.bounds_min.xyz, inst.bounds_max.xyz);
   float t_exit = max(seg.y, 0.0);
   float len = min(delta, t_exit);
-  // Empty air costs one fetch: the signed distance at the stretch's middle, less one field texel for the
-  // filtering between texels, says whether any cloud is within half the stretch (then no samples at all).
-  float margin = (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field_tex, 0).x);
-  float sdf = cloud_distance(asset_uvw(inst, origin + d * (0.5 * len)));
-  int k = sdf - margin > 0.5 * len ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
+  // `clear`: no cloud within this distance of the voxel centre, so a shorter stretch needs no samples.
+  int k = clear > len ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
   float sum = 0.0;
   for (int j = 0; j < k; ++j) sum += sample_density_with_noise(inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise).full;
   sum *= len / float(max(k, 1));
@@ -89,11 +86,15 @@ void main() {
   // (light_grid_update.comp, the talk's rays, samples the noise at the voxel's mip.)
   vec4 noise = noise_mean();
   ivec3 texel = id + ivec3(0, 0, zbase);
+  // Empty air costs one fetch for both channels: the signed distance at the voxel centre, less one field
+  // texel for the filtering between texels, is a radius free of cloud.
+  float margin = (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field_tex, 0).x);
+  float clear = cloud_distance(asset_uvw(inst, origin)) - margin;
   uint channels = uint(pc.grid.y);
   vec2 value = channels == 3u ? vec2(0.0) : imageLoad(grid, texel).xy;
   if ((channels & 1u) != 0u)
-    value.x = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, 0) * inst.bounds_min.w;
+    value.x = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 0) * inst.bounds_min.w;
   if ((channels & 2u) != 0u)
-    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, 1) * inst.bounds_min.w;
+    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 1) * inst.bounds_min.w;
   imageStore(grid, texel, vec4(value, 0.0, 0.0));
 }

@@ -40,7 +40,7 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the 2015 talk, auto (default: 4 at 30 Hz, 16 for the 40/60 Hz far segment)",
               &reprojection_text_)
       .option("--cloud-light-grid", "talk|device",
-              "light grid size: the talk's 256x256x32, or sized for the device (default: 128x128x16 on CPU devices)",
+              "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",
               &light_grid_text_)
       .option("--cloud-light-grid-method", "rays|sweep",
               "light grid computation: the talk's ray from every voxel, or a sweep level by level from the light "

@@ -13,7 +13,7 @@
 //                              pixel, the 2023 talk), 4, 16 (the 2015 talk), auto (default: 4 at 30 Hz, 16 for
 //                              the 40/60 Hz far segment)
 //   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
-//                              (default: 128x128x16 on CPU devices, the talk's elsewhere)
+//                              (default: 96x96x16 on CPU devices, the talk's elsewhere)
 #include <filesystem>
 #include <map>
 #include <memory>

@@ -333,9 +333,9 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
 CloudResourcesDesc CloudResourcesDesc::for_device(const gpu::DeviceInfo& device) {
   CloudResourcesDesc d;
   if (device.is_cpu()) {
-    d.light_grid_size = {128, 16, 128};
+    d.light_grid_size = {96, 16, 96};
     // One level of the sweep per frame: on lavapipe each dispatch has a fixed cost (~0.2 ms), and at
-    // 20 fps 16 frames are 0.8 s, in which the wind moves the noise a tenth of a 32 m voxel.
+    // 20 fps 16 frames are 0.8 s (the sweep does not follow the wind; a moving sun lags that much).
     d.light_grid_divisions = 16;
   }
   return d;
