@@ -7,7 +7,8 @@
 #   DIR/lib/                every shared library it needs except glibc's and the Vulkan driver
 #                           (the Vulkan loader, GLFW and X11 client libraries, libstdc++, zstd, ...)
 #   DIR/shaders/            GLSL sources (compiled at run time by the built-in glslang)
-#   DIR/content/            the sample level (terrain, cloudscape recipe; baked on first use into the cache)
+#   DIR/content/            the sample level (terrain, cloudscape recipe; baked on first use into the cache),
+#                           the weather states and the schemas
 #   DIR/README.txt          how to run it, and how to point the loader at a driver
 #
 # Usage: scripts/bundle.sh [DIR]   (default out/bundle; the build goes to build-bundle/)
@@ -43,6 +44,7 @@ done
 cp -r shaders "$DIR/shaders"
 cp -r content/levels/sample "$DIR/content/levels/sample"
 cp -r content/schemas "$DIR/content/schemas"
+cp -r content/weather "$DIR/content/weather"
 cp content/README.md "$DIR/content/README.md"
 
 cat > "$DIR/cumulo" <<'LAUNCH'

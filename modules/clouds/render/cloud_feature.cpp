@@ -11,6 +11,8 @@
 #include "engine/scene/level.h"
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/scene/cloudscape_assets.h"
+#include "modules/clouds/render/weather_lighting.h"
+#include "modules/clouds/weather/weather_library.h"
 
 namespace cumulo::clouds::render {
 namespace fs = std::filesystem;
@@ -47,7 +49,9 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "(default; the same sums at a fraction of the cost)",
               &light_grid_method_text_)
       .option("--cloud-light-sample-noise", "mean|sampled",
-              "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_);
+              "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_)
+      .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
+              &weather_text_);
 }
 
 void CloudFeature::check_run_options() {
@@ -64,6 +68,9 @@ void CloudFeature::check_run_options() {
   if (light_noise_text_ != "mean" && light_noise_text_ != "sampled")
     fail("--cloud-light-sample-noise: expected mean or sampled, got \"%s\"", light_noise_text_.c_str());
   options_.light_sample_noise_mean = light_noise_text_ == "mean";
+  options_.weather.reset();
+  if (!weather_text_.empty())
+    options_.weather = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder()).get(weather_text_);
   if (!parse_light_grid_method(light_grid_method_text_, &options_.light_grid_method))
     fail("--cloud-light-grid-method: expected rays or sweep, got \"%s\"", light_grid_method_text_.c_str());
   if (!debug_text_.empty() && !parse_debug_view(debug_text_, &options_.debug))
@@ -164,6 +171,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     in.instances.push_back(std::move(ci));
   }
   in.lights = frame->lights;
+  if (options_.weather) apply_weather(*options_.weather, in);
   const bool cut = have_last_camera_ && (s.camera_name != last_camera_name_ ||
                                          glm::length(s.camera.position - last_camera_) > kCameraCutMetres);
   in.camera_cut = cut;

@@ -29,6 +29,7 @@
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/render_feature.h"
 #include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/weather/weather_state.h"
 
 namespace cumulo {
 class ArgParser;
@@ -68,6 +69,7 @@ struct CloudRunOptions {
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
+  std::optional<weather::WeatherState> weather;  // --weather ID: applied every frame (weather_lighting.h)
   int noise_size = 128;
 };
 
@@ -100,7 +102,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
   CloudRunOptions options_;
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
-      light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep", light_noise_text_ = "mean";
+      light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
+      light_noise_text_ = "mean", weather_text_;
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;

@@ -184,3 +184,29 @@ TEST_F(CloudsRun, BadFlagsAndLevelsAreRefusedClearly) {
   EXPECT_NE(m.find("missing.json"), std::string::npos) << m;
   EXPECT_NE(m.find("absent.json"), std::string::npos) << m;
 }
+
+namespace {
+
+// `--weather ID` starts the run in a shipped weather state (content/weather/): its voxel density,
+// lighting and wind reach the cloud passes; an unknown id is refused with the known ones.
+TEST_F(CloudsRun, WeatherStateReachesTheCloudsAndUnknownIdsAreRefused) {
+  fs::path with = level("with");
+  ASSERT_EQ(run(with, "clear.png", {"--weather", "clear"}), 0);
+  ASSERT_EQ(run(with, "storm.png", {"--weather", "storm"}), 0);
+  ASSERT_EQ(run(with, "none.png"), 0);
+  const Png clear = load_png(dir_ / "clear.png"), storm = load_png(dir_ / "storm.png"), none = load_png(dir_ / "none.png");
+  const double d = mean_diff(clear, storm);
+  std::printf("  mean |clear - storm| %.2f per channel, |none - storm| %.2f\n", d, mean_diff(none, storm));
+  EXPECT_GT(d, 0.5);
+  EXPECT_GT(mean_diff(none, storm), 0.2);
+  try {
+    run(with, "x.png", {"--weather", "drizzle"});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("drizzle"), std::string::npos) << m;
+    EXPECT_NE(m.find("fair_cumulus"), std::string::npos) << m;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,19 @@
+#pragma once
+// What a weather state (modules/clouds/weather) changes in the voxel-cloud renderer's frame: the
+// lighting constants, the sky ambient, every instance's density multiplier and its wind.
+//   lighting.absorption       -> CloudSettings::extinction (1/m per unit density)
+//   lighting.phase.forward    -> hg_forward x (1 - lighting.silver.spread)   (spread widens the forward lobe)
+//   lighting.phase.backward   -> hg_backward
+//   lighting.silver.intensity -> hg_forward_weight (the silver lining's share of the dual-lobe phase)
+//   lighting.ambient          -> ambient colour multiplier
+//   voxel_density             -> each instance's density x this
+//   wind                      -> each instance's wind (the weather's wind replaces the Cloudscape's)
+// The other keys (coverage, cloud map, lightning, rain, haze) are the 2.5D sky's and gameplay's.
+#include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/weather/weather_state.h"
+
+namespace cumulo::clouds::render {
+
+void apply_weather(const weather::WeatherState& w, CloudFrameInputs& in);
+
+}  // namespace cumulo::clouds::render

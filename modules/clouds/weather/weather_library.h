@@ -1,0 +1,31 @@
+#pragma once
+// The shipped weather states: every `*.json` of a folder (default content/weather/), by id (file stem).
+//
+//   WeatherLibrary lib = WeatherLibrary::load(WeatherLibrary::default_folder());
+//   const WeatherState& storm = lib.get("storm");   // unknown id: an error listing the known ids
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "modules/clouds/weather/weather_state.h"
+
+namespace cumulo::clouds::weather {
+
+class WeatherLibrary {
+ public:
+  static std::filesystem::path default_folder();  // <repo or bundle>/content/weather
+  // All states of `folder`; a malformed one fails the load (naming its file and JSON path).
+  static WeatherLibrary load(const std::filesystem::path& folder);
+
+  std::vector<std::string> ids() const;  // sorted
+  const WeatherState* find(const std::string& id) const;
+  const WeatherState& get(const std::string& id) const;  // throws "unknown weather state ... (known: ...)"
+  const std::filesystem::path& folder() const { return folder_; }
+
+ private:
+  std::filesystem::path folder_;
+  std::map<std::string, WeatherState> states_;
+};
+
+}  // namespace cumulo::clouds::weather
