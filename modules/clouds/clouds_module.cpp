@@ -5,6 +5,9 @@
 #include "modules/clouds/noise/noise_command.h"
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/volume/import_command.h"
+#include "modules/clouds/weather/weather_scheduler.h"
+#include "engine/app/simulation.h"
+#include "engine/scene/sun.h"
 
 namespace cumulo::clouds {
 
@@ -15,7 +18,25 @@ void CloudsModule::register_commands(CommandRegistry& registry) {
   register_bench_command(registry);
 }
 
-void CloudsModule::register_components(ecs::ComponentRegistry& registry) { register_cloudscape_component(registry); }
+void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
+  register_cloudscape_component(registry);
+  registry.register_component<weather::WeatherScheduler>(
+      "WeatherScheduler", [](const weather::WeatherScheduler& s) { return weather::weather_scheduler_to_json(s); },
+      [](const JsonView& v) { return weather::weather_scheduler_from_json(v); });
+}
+
+void CloudsModule::register_systems(ecs::Scheduler& s) {
+  // The weather scheduler: the hour from the time of day that counts (scene::find_sun), the stream
+  // from the run's seed.
+  s.add_system(ecs::Phase::Update, "weather scheduler", [](ecs::World& w, const ecs::FrameContext& f) {
+    const scene::ConstSunSource sun = scene::find_sun(static_cast<const ecs::World&>(w));
+    const float hours = sun.time ? sun.time->hours : 12.0f;
+    const auto* seed = w.try_resource<app::SimulationSeed>();
+    w.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& ws) {
+      weather::advance(ws, float(f.dt), hours, seed ? seed->value : 1);
+    });
+  });
+}
 
 std::shared_ptr<app::Module> make_clouds_module() { return std::make_shared<CloudsModule>(); }
 

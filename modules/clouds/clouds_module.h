@@ -15,6 +15,7 @@ class CloudsModule final : public app::Module {
   void add_run_options(ArgParser& p) override { feature_.add_run_options(p); }
   void check_run_options() override { feature_.check_run_options(); }
   void register_components(ecs::ComponentRegistry& registry) override;
+  void register_systems(ecs::Scheduler& s) override;
   void on_level_loaded(ecs::World& world, const scene::LevelInfo& level) override { feature_.on_level_loaded(world, level); }
   void extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) override { feature_.extract(world, snapshot); }
   void create_gpu(cumulo::render::GpuServices& g) override { feature_.create_gpu(g); }

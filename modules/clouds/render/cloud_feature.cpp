@@ -13,6 +13,7 @@
 #include "modules/clouds/scene/cloudscape_assets.h"
 #include "modules/clouds/render/weather_lighting.h"
 #include "modules/clouds/weather/weather_library.h"
+#include "modules/clouds/weather/weather_scheduler.h"
 
 namespace cumulo::clouds::render {
 namespace fs = std::filesystem;
@@ -99,6 +100,18 @@ void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
     any = true;
   });
   if (any && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
+  // Weather schedulers: every state they name must exist; `--weather ID` is the state they start in.
+  bool schedulers = false;
+  world.view<weather::WeatherScheduler>().each([&](ecs::Entity e, weather::WeatherScheduler& w) {
+    if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
+    if (options_.weather) w.start = options_.weather->id;
+    const std::string* name = nullptr;
+    if (const auto* n = world.try_get<ecs::Name>(e)) name = &n->value;
+    check_scheduler_states(w, *weather_lib_, level.file.string() + ": entity \"" + (name ? *name : "?") +
+                                                 "\": WeatherScheduler");
+    schedulers = true;
+  });
+  (void)schedulers;
 }
 
 void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) const {
@@ -118,6 +131,10 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
     i.dissipation = c.dissipation;
     frame.instances.push_back(std::move(i));
   });
+  if (weather_lib_)
+    world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) {
+      if (!frame.weather) frame.weather = weather::weather_now(w, *weather_lib_).state;  // the first one counts
+    });
   snapshot.extensions.set(std::move(frame));
 }
 
@@ -171,7 +188,9 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     in.instances.push_back(std::move(ci));
   }
   in.lights = frame->lights;
-  if (options_.weather) apply_weather(*options_.weather, in);
+  // The scheduler's weather of this frame, else the state --weather names.
+  if (frame->weather) apply_weather(*frame->weather, in);
+  else if (options_.weather) apply_weather(*options_.weather, in);
   const bool cut = have_last_camera_ && (s.camera_name != last_camera_name_ ||
                                          glm::length(s.camera.position - last_camera_) > kCameraCutMetres);
   in.camera_cut = cut;

@@ -29,6 +29,7 @@
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/render_feature.h"
 #include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_state.h"
 
 namespace cumulo {
@@ -56,6 +57,7 @@ struct CloudInstanceFrame {
 struct CloudFrame {
   std::vector<CloudInstanceFrame> instances;
   std::vector<CloudPointLight> lights;
+  std::optional<weather::WeatherState> weather;  // the WeatherScheduler's blend this frame (none: no scheduler)
 };
 
 struct CloudRunOptions {
@@ -101,6 +103,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
  private:
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
   CloudRunOptions options_;
+  std::optional<weather::WeatherLibrary> weather_lib_;  // loaded when the level has a WeatherScheduler
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_;

@@ -33,16 +33,22 @@ inline std::string expect_error(const std::function<void()>& fn, std::initialize
   return {};
 }
 
-// The sample level also names module components (the clouds module's Cloudscape). The engine's tests
-// must not link modules, so they accept those as opaque JSON; the module's own tests check them.
+// The sample level also names module components (the clouds module's Cloudscape and WeatherScheduler).
+// The engine's tests must not link modules, so they accept those as opaque JSON (one stand-in type per
+// component name); the module's own tests check them.
+template <int Tag>
 struct ModuleComponentStandIn {
   Json value;
 };
+template <int Tag>
+inline void register_stand_in(ecs::ComponentRegistry& reg, const char* name) {
+  using T = ModuleComponentStandIn<Tag>;
+  reg.register_component<T>(name, [](const T& c) { return c.value; }, [](const JsonView& v) { return T{v.raw()}; });
+}
 inline void register_sample_level_components(ecs::ComponentRegistry& reg) {
   register_components(reg);
-  reg.register_component<ModuleComponentStandIn>(
-      "Cloudscape", [](const ModuleComponentStandIn& c) { return c.value; },
-      [](const JsonView& v) { return ModuleComponentStandIn{v.raw()}; });
+  register_stand_in<0>(reg, "Cloudscape");
+  register_stand_in<1>(reg, "WeatherScheduler");
 }
 
 }  // namespace cumulo::scene::test

@@ -1,0 +1,181 @@
+#include "modules/clouds/weather/weather_scheduler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/core/error.h"
+#include "engine/core/hash.h"
+
+namespace cumulo::clouds::weather {
+namespace {
+
+// splitmix64: a small, well-mixed stream (the seed alone decides every pick).
+uint64_t next_u64(uint64_t& state) {
+  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+float next_unit(uint64_t& state) { return float(next_u64(state) >> 40) / float(1ull << 24); }  // [0, 1)
+float in_range(glm::vec2 r, uint64_t& rng) { return r.x + (r.y - r.x) * next_unit(rng); }
+
+glm::vec2 seconds_range(const JsonView& v, const std::string& key, glm::vec2 fallback) {
+  if (!v.has(key)) return fallback;
+  const glm::vec2 r = v[key].as_vec2();
+  if (!(r.x > 0.0f) || !(r.y >= r.x) || r.y > 86400.0f) v[key].fail("expected [min, max] seconds with 0 < min <= max <= 86400");
+  return r;
+}
+
+std::vector<ScheduleEntry> entries_from_json(const JsonView& list) {
+  std::vector<ScheduleEntry> out;
+  double total = 0;
+  for (const JsonView& e : list.elements()) {
+    for (const std::string& k : e.keys())
+      if (k != "state" && k != "weight" && k != "hours") e.fail("unknown key \"" + k + "\" (expected state, weight, hours)");
+    ScheduleEntry s;
+    s.state = e.get<std::string>("state");
+    s.weight = e.has("weight") ? e["weight"].as_float_in(0.0f, 1e6f) : 1.0f;
+    if (e.has("hours")) {
+      const glm::vec2 h = e["hours"].as_vec2();
+      if (!(h.x >= 0.0f && h.x <= 24.0f && h.y >= 0.0f && h.y <= 24.0f))
+        e["hours"].fail("expected [from, to] hours in 0..24");
+      s.from_hours = h.x, s.to_hours = h.y;
+    }
+    total += s.weight;
+    out.push_back(std::move(s));
+  }
+  if (out.empty()) list.fail("expected at least one entry");
+  if (!(total > 0.0)) list.fail("expected a positive total weight");
+  return out;
+}
+
+Json entries_to_json(const std::vector<ScheduleEntry>& list) {
+  Json out = Json::array();
+  for (const ScheduleEntry& e : list) {
+    Json j = {{"state", e.state}, {"weight", e.weight}};
+    if (e.from_hours != 0.0f || e.to_hours != 24.0f) j["hours"] = {e.from_hours, e.to_hours};
+    out.push_back(j);
+  }
+  return out;
+}
+
+const std::vector<ScheduleEntry>& active_cycle(const WeatherScheduler& s) {
+  return s.encounter_active && !s.encounter.empty() ? s.encounter : s.schedule;
+}
+
+void begin_transition(WeatherScheduler& s, const std::string& to, uint64_t& rng) {
+  s.next = to;
+  s.t = 0.0f;
+  s.transition_duration = in_range(s.transition_s, rng);
+}
+
+}  // namespace
+
+bool ScheduleEntry::eligible_at(float hours) const {
+  if (from_hours <= to_hours) return hours >= from_hours && hours < to_hours;
+  return hours >= from_hours || hours < to_hours;  // wraps midnight
+}
+
+WeatherScheduler weather_scheduler_from_json(const JsonView& v) {
+  for (const std::string& k : v.keys())
+    if (k != "start" && k != "hold_s" && k != "transition_s" && k != "schedule" && k != "encounter" &&
+        k != "encounter_active")
+      v.fail("unknown key \"" + k + "\" (expected start, hold_s, transition_s, schedule, encounter, encounter_active)");
+  WeatherScheduler s;
+  s.schedule = entries_from_json(v["schedule"]);
+  s.start = v.get<std::string>("start", s.schedule.front().state);
+  s.hold_s = seconds_range(v, "hold_s", s.hold_s);
+  s.transition_s = seconds_range(v, "transition_s", s.transition_s);
+  if (v.has("encounter")) s.encounter = entries_from_json(v["encounter"]);
+  s.encounter_active = v.get<bool>("encounter_active", false);
+  if (s.encounter_active && s.encounter.empty()) v["encounter_active"].fail("true, but there is no encounter schedule");
+  return s;
+}
+
+Json weather_scheduler_to_json(const WeatherScheduler& s) {
+  Json j = {{"start", s.start},
+            {"hold_s", {s.hold_s.x, s.hold_s.y}},
+            {"transition_s", {s.transition_s.x, s.transition_s.y}},
+            {"schedule", entries_to_json(s.schedule)}};
+  if (!s.encounter.empty()) j["encounter"] = entries_to_json(s.encounter);
+  if (s.encounter_active) j["encounter_active"] = true;
+  return j;
+}
+
+void check_scheduler_states(const WeatherScheduler& s, const WeatherLibrary& lib, const std::string& where) {
+  auto check = [&](const std::string& id, const char* what) {
+    if (lib.find(id)) return;
+    try {
+      lib.get(id);
+    } catch (const Error& e) {
+      fail("%s: %s: %s", where.c_str(), what, e.what());
+    }
+  };
+  check(s.start, "start");
+  for (const ScheduleEntry& e : s.schedule) check(e.state, "schedule");
+  for (const ScheduleEntry& e : s.encounter) check(e.state, "encounter");
+}
+
+const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, uint64_t& rng) {
+  double total = 0;
+  for (const ScheduleEntry& e : entries)
+    if (e.eligible_at(hours)) total += e.weight;
+  const bool any = total > 0.0;
+  if (!any)
+    for (const ScheduleEntry& e : entries) total += e.weight;
+  double x = double(next_unit(rng)) * total;
+  for (const ScheduleEntry& e : entries) {
+    if (any && !e.eligible_at(hours)) continue;
+    if (e.weight <= 0.0f) continue;
+    if (x < e.weight) return e;
+    x -= e.weight;
+  }
+  for (auto it = entries.rbegin(); it != entries.rend(); ++it)  // rounding: the last positive entry
+    if (it->weight > 0.0f && (!any || it->eligible_at(hours))) return *it;
+  return entries.back();
+}
+
+void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed) {
+  if (!s.started) {
+    s.rng = hash64("weather scheduler", seed);
+    s.current = s.start;
+    s.next.clear();
+    s.hold_left = in_range(s.hold_s, s.rng);
+    s.started = true;
+    s.encounter_was_active = s.encounter_active;
+  }
+  if (s.encounter_active != s.encounter_was_active) {  // the encounter starts or ends: transition at once
+    s.encounter_was_active = s.encounter_active;
+    if (!s.next.empty()) s.current = s.next;  // a transition under way lands where it was going
+    begin_transition(s, pick_entry(active_cycle(s), hours, s.rng).state, s.rng);
+  }
+  if (!s.next.empty()) {
+    s.t += dt / std::max(s.transition_duration, 1e-3f);
+    if (s.t >= 1.0f) {
+      s.current = s.next;
+      s.next.clear();
+      s.t = 0.0f;
+      s.hold_left = in_range(s.hold_s, s.rng);
+      ++s.transitions;
+    }
+    return;
+  }
+  s.hold_left -= dt;
+  if (s.hold_left > 0.0f) return;
+  const std::string& pick = pick_entry(active_cycle(s), hours, s.rng).state;
+  if (pick == s.current) {
+    s.hold_left = in_range(s.hold_s, s.rng);  // the same state again: hold on
+    return;
+  }
+  begin_transition(s, pick, s.rng);
+}
+
+WeatherBlend weather_now(const WeatherScheduler& s, const WeatherLibrary& lib) {
+  const WeatherState& a = lib.get(s.current.empty() ? s.start : s.current);
+  if (s.next.empty()) return blend(a, a, 0.0f);
+  // Smoothstep: a transition eases in and out.
+  const float t = std::clamp(s.t, 0.0f, 1.0f);
+  return blend(a, lib.get(s.next), t * t * (3.0f - 2.0f * t));
+}
+
+}  // namespace cumulo::clouds::weather

@@ -1,0 +1,64 @@
+#pragma once
+// The WeatherScheduler component (issue 9; 2017 talk: a schedule of weather states that the game
+// transitions between): holds a state for a while, then picks the next one by weighted chance among
+// the entries whose time-of-day window holds the current hour, and blends to it over 10-30 s. An
+// encounter schedule (a boss fight's cycle) replaces the regional one while it is active; when it ends
+// the regional cycle resumes with a fresh pick. Deterministic given the seed (the run's `--seed`).
+//
+//   "WeatherScheduler": {"start": "fair_cumulus",
+//                        "hold_s": [60, 180],          // how long a state holds before the next pick
+//                        "transition_s": [10, 30],     // how long a transition takes
+//                        "schedule": [{"state": "clear", "weight": 1, "hours": [6, 20]},
+//                                     {"state": "fair_cumulus", "weight": 3},
+//                                     {"state": "storm", "weight": 0.5, "hours": [12, 19]}],
+//                        "encounter": [{"state": "stormbird", "weight": 1}],
+//                        "encounter_active": false}
+// `hours` [from, to) may wrap midnight ([20, 4]); without it an entry is eligible all day.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/json.h"
+#include "modules/clouds/weather/weather_library.h"
+
+namespace cumulo::clouds::weather {
+
+struct ScheduleEntry {
+  std::string state;
+  float weight = 1.0f;
+  float from_hours = 0.0f, to_hours = 24.0f;
+  bool eligible_at(float hours) const;
+};
+
+struct WeatherScheduler {
+  std::string start;
+  glm::vec2 hold_s{60.0f, 180.0f};
+  glm::vec2 transition_s{10.0f, 30.0f};
+  std::vector<ScheduleEntry> schedule, encounter;
+  bool encounter_active = false;
+
+  // Runtime (not in the level file).
+  std::string current, next;  // next empty: holding `current`
+  float t = 0.0f;             // transition progress 0..1
+  float transition_duration = 0.0f, hold_left = 0.0f;
+  uint64_t rng = 0;
+  bool started = false, encounter_was_active = false;
+  uint32_t transitions = 0;   // completed
+};
+
+WeatherScheduler weather_scheduler_from_json(const JsonView& v);
+Json weather_scheduler_to_json(const WeatherScheduler& s);
+// Every state the scheduler names exists in `lib` (throws naming `where` and the state otherwise).
+void check_scheduler_states(const WeatherScheduler& s, const WeatherLibrary& lib, const std::string& where);
+
+// The weighted pick among the entries eligible at `hours` (all entries when none is); advances `rng`.
+const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, uint64_t& rng);
+// One simulation step: seeds the stream on the first call, counts down the hold, starts and finishes
+// transitions, switches to or from the encounter cycle at once when encounter_active changes.
+void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed);
+// The weather now: current, or the blend toward next.
+WeatherBlend weather_now(const WeatherScheduler& s, const WeatherLibrary& lib);
+
+}  // namespace cumulo::clouds::weather
