@@ -6,6 +6,8 @@
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/volume/import_command.h"
 #include "modules/clouds/weather/weather_scheduler.h"
+#include "modules/clouds/gameplay/stormbird.h"
+#include "engine/core/args.h"
 #include "engine/app/simulation.h"
 #include "engine/scene/sun.h"
 
@@ -20,12 +22,27 @@ void CloudsModule::register_commands(CommandRegistry& registry) {
 
 void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
   register_cloudscape_component(registry);
+  gameplay::register_stormbird_component(registry);
   registry.register_component<weather::WeatherScheduler>(
       "WeatherScheduler", [](const weather::WeatherScheduler& s) { return weather::weather_scheduler_to_json(s); },
       [](const JsonView& v) { return weather::weather_scheduler_from_json(v); });
 }
 
+void CloudsModule::add_run_options(ArgParser& p) {
+  scheduled_.clear();
+  p.option("--event", "NAME@SECONDS", "fire a gameplay event at a simulation time (repeatable), e.g. stormbird_killed@12",
+           [this](const std::string& v) { scheduled_.push_back(gameplay::parse_scheduled_event(v, "--event")); });
+  feature_.add_run_options(p);
+}
+
+void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& level) {
+  feature_.on_level_loaded(world, level);
+  world.set_resource<gameplay::ScheduledEvents>(gameplay::ScheduledEvents{scheduled_});
+}
+
 void CloudsModule::register_systems(ecs::Scheduler& s) {
+  gameplay::add_scripted_events_system(s);
+  gameplay::add_stormbird_system(s);
   // The weather scheduler: the hour from the time of day that counts (scene::find_sun), the stream
   // from the run's seed.
   s.add_system(ecs::Phase::Update, "weather scheduler", [](ecs::World& w, const ecs::FrameContext& f) {

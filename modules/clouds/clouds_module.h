@@ -1,9 +1,12 @@
 #pragma once
 // The cloud module's one registration point (DESIGN.md "Modules"): its subcommands (noise, bake,
-// import, bench), the Cloudscape component, its `cumulo run` flags and its render passes.
+// import, bench), its components (Cloudscape, WeatherScheduler, StormbirdDissipation) and systems, its
+// `cumulo run` flags (--event, the cloud flags) and its render passes.
 #include <memory>
+#include <vector>
 
 #include "engine/app/module.h"
+#include "modules/clouds/gameplay/game_events.h"
 #include "modules/clouds/render/cloud_feature.h"
 
 namespace cumulo::clouds {
@@ -12,11 +15,11 @@ class CloudsModule final : public app::Module {
  public:
   const char* name() const override { return "clouds"; }
   void register_commands(CommandRegistry& registry) override;
-  void add_run_options(ArgParser& p) override { feature_.add_run_options(p); }
+  void add_run_options(ArgParser& p) override;
   void check_run_options() override { feature_.check_run_options(); }
   void register_components(ecs::ComponentRegistry& registry) override;
   void register_systems(ecs::Scheduler& s) override;
-  void on_level_loaded(ecs::World& world, const scene::LevelInfo& level) override { feature_.on_level_loaded(world, level); }
+  void on_level_loaded(ecs::World& world, const scene::LevelInfo& level) override;
   void extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) override { feature_.extract(world, snapshot); }
   void create_gpu(cumulo::render::GpuServices& g) override { feature_.create_gpu(g); }
   void destroy_gpu() override { feature_.destroy_gpu(); }
@@ -26,6 +29,7 @@ class CloudsModule final : public app::Module {
 
  private:
   render::CloudFeature feature_;
+  std::vector<gameplay::ScheduledEvent> scheduled_;  // --event NAME@SECONDS
 };
 
 std::shared_ptr<app::Module> make_clouds_module();

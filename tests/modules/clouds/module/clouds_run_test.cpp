@@ -210,3 +210,29 @@ TEST_F(CloudsRun, WeatherStateReachesTheCloudsAndUnknownIdsAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// The Stormbird: `--event stormbird_killed@0` dissipates the cloud of the entity with the component
+// (wisps first, over duration_s): after it the frame is the frame without clouds; without the event
+// the cloud is still there.
+TEST_F(CloudsRun, StormbirdKilledEventDissipatesTheCloud) {
+  fs::path storm = level("storm", "\"Cloudscape\": {\"asset\": \"small_cloud.json\"}",
+                         "\"Cloudscape\": {\"asset\": \"small_cloud.json\"}, \"StormbirdDissipation\": {\"duration_s\": 1}");
+  fs::path with = level("with");
+  ASSERT_EQ(run(storm, "alive.png", {"--start-at", "2"}), 0);
+  ASSERT_EQ(run(storm, "dead.png", {"--event", "stormbird_killed@0.5", "--start-at", "2"}), 0);
+  ASSERT_EQ(run(with, "off.png", {"--clouds", "off", "--start-at", "2"}), 0);
+  const Png alive = load_png(dir_ / "alive.png"), dead = load_png(dir_ / "dead.png"), off = load_png(dir_ / "off.png");
+  std::printf("  |alive - off| %.3f, |dead - off| %.3f per channel\n", mean_diff(alive, off), mean_diff(dead, off));
+  EXPECT_GT(mean_diff(alive, off), 0.3);
+  EXPECT_EQ(dead.rgba, off.rgba);  // fully dissipated: no cloud at all
+  try {
+    run(storm, "x.png", {"--event", "stormbird_killed"});
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("NAME@SECONDS"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
