@@ -78,6 +78,7 @@ int run_level(const RunOptions& options, const Modules& modules) {
   sd.modules = modules;
   RunContext rc(o, sd);
   rc.camera = rc.sim.camera(o.camera);
+  rc.sim.world().set_resource<Viewer>(Viewer{rc.camera});
   // --start-at: simulate without rendering.
   uint64_t ff = rc.clock.steps_for_fast_forward(o.start_at);
   rc.sim.step(ff);

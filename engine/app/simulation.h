@@ -22,6 +22,13 @@ struct SimulationSeed {
   uint64_t value = 1;
 };
 
+// World resource: the entity the run views the world from (the camera of `--camera`, the one the
+// windowed run flies). Gameplay that depends on where the player is (weather zones, triggers) reads its
+// Transform. Absent in a world nobody views (tools, tests that set no viewer).
+struct Viewer {
+  ecs::Entity entity;
+};
+
 struct SimulationDesc {
   std::filesystem::path level;
   uint64_t seed = 1;

@@ -6,6 +6,8 @@
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/volume/import_command.h"
 #include "modules/clouds/weather/weather_scheduler.h"
+#include "modules/clouds/weather/weather_zone.h"
+#include "engine/scene/components.h"
 #include "modules/clouds/gameplay/stormbird.h"
 #include "engine/core/args.h"
 #include "engine/app/simulation.h"
@@ -26,6 +28,9 @@ void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
   registry.register_component<weather::WeatherScheduler>(
       "WeatherScheduler", [](const weather::WeatherScheduler& s) { return weather::weather_scheduler_to_json(s); },
       [](const JsonView& v) { return weather::weather_scheduler_from_json(v); });
+  registry.register_component<weather::WeatherZone>(
+      "WeatherZone", [](const weather::WeatherZone& z) { return weather::weather_zone_to_json(z); },
+      [](const JsonView& v) { return weather::weather_zone_from_json(v); });
 }
 
 void CloudsModule::add_run_options(ArgParser& p) {
@@ -49,8 +54,14 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
     const scene::ConstSunSource sun = scene::find_sun(static_cast<const ecs::World&>(w));
     const float hours = sun.time ? sun.time->hours : 12.0f;
     const auto* seed = w.try_resource<app::SimulationSeed>();
+    // The viewer's zone (none without a viewer or outside every zone).
+    weather::ZoneCycle zone;
+    if (const auto* viewer = w.try_resource<app::Viewer>())
+      if (const auto* t = static_cast<const ecs::World&>(w).try_get<scene::Transform>(viewer->entity))
+        if (const weather::WeatherZone* z = weather::active_zone(w, t->position))
+          zone = {z->name.empty() ? std::string("(unnamed zone)") : z->name, &z->states};
     w.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& ws) {
-      weather::advance(ws, float(f.dt), hours, seed ? seed->value : 1);
+      weather::advance(ws, float(f.dt), hours, seed ? seed->value : 1, zone);
     });
   });
 }

@@ -14,6 +14,7 @@
 #include "modules/clouds/render/weather_lighting.h"
 #include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_scheduler.h"
+#include "modules/clouds/weather/weather_zone.h"
 
 namespace cumulo::clouds::render {
 namespace fs = std::filesystem;
@@ -110,6 +111,16 @@ void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
     check_scheduler_states(w, *weather_lib_, level.file.string() + ": entity \"" + (name ? *name : "?") +
                                                  "\": WeatherScheduler");
     schedulers = true;
+  });
+  world.view<weather::WeatherZone>().each([&](ecs::Entity e, weather::WeatherZone& z) {
+    if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
+    const auto* n = world.try_get<ecs::Name>(e);
+    if (z.name.empty() && n) z.name = n->value;
+    weather::WeatherScheduler states;
+    states.start = z.states.front().state;
+    states.schedule = z.states;
+    check_scheduler_states(states, *weather_lib_, level.file.string() + ": entity \"" + (n ? n->value : "?") +
+                                                      "\": WeatherZone");
   });
   (void)schedulers;
 }

@@ -26,7 +26,9 @@ glm::vec2 seconds_range(const JsonView& v, const std::string& key, glm::vec2 fal
   return r;
 }
 
-std::vector<ScheduleEntry> entries_from_json(const JsonView& list) {
+}  // namespace
+
+std::vector<ScheduleEntry> schedule_entries_from_json(const JsonView& list) {
   std::vector<ScheduleEntry> out;
   double total = 0;
   for (const JsonView& e : list.elements()) {
@@ -49,6 +51,8 @@ std::vector<ScheduleEntry> entries_from_json(const JsonView& list) {
   return out;
 }
 
+namespace {
+
 Json entries_to_json(const std::vector<ScheduleEntry>& list) {
   Json out = Json::array();
   for (const ScheduleEntry& e : list) {
@@ -59,8 +63,11 @@ Json entries_to_json(const std::vector<ScheduleEntry>& list) {
   return out;
 }
 
+// The encounter's cycle while active, else the zone's while the viewer is in one, else the schedule.
 const std::vector<ScheduleEntry>& active_cycle(const WeatherScheduler& s) {
-  return s.encounter_active && !s.encounter.empty() ? s.encounter : s.schedule;
+  if (s.encounter_active && !s.encounter.empty()) return s.encounter;
+  if (!s.zone.empty() && !s.zone_states.empty()) return s.zone_states;
+  return s.schedule;
 }
 
 void begin_transition(WeatherScheduler& s, const std::string& to, uint64_t& rng) {
@@ -82,11 +89,11 @@ WeatherScheduler weather_scheduler_from_json(const JsonView& v) {
         k != "encounter_active")
       v.fail("unknown key \"" + k + "\" (expected start, hold_s, transition_s, schedule, encounter, encounter_active)");
   WeatherScheduler s;
-  s.schedule = entries_from_json(v["schedule"]);
+  s.schedule = schedule_entries_from_json(v["schedule"]);
   s.start = v.get<std::string>("start", s.schedule.front().state);
   s.hold_s = seconds_range(v, "hold_s", s.hold_s);
   s.transition_s = seconds_range(v, "transition_s", s.transition_s);
-  if (v.has("encounter")) s.encounter = entries_from_json(v["encounter"]);
+  if (v.has("encounter")) s.encounter = schedule_entries_from_json(v["encounter"]);
   s.encounter_active = v.get<bool>("encounter_active", false);
   if (s.encounter_active && s.encounter.empty()) v["encounter_active"].fail("true, but there is no encounter schedule");
   return s;
@@ -135,7 +142,7 @@ const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float
   return entries.back();
 }
 
-void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed) {
+void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed, const ZoneCycle& zone) {
   if (!s.started) {
     s.rng = hash64("weather scheduler", seed);
     s.current = s.start;
@@ -144,7 +151,13 @@ void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed) {
     s.started = true;
     s.encounter_was_active = s.encounter_active;
   }
-  if (s.encounter_active != s.encounter_was_active) {  // the encounter starts or ends: transition at once
+  const bool zone_changed = zone.name != s.zone;
+  if (zone_changed) {
+    s.zone = zone.name;
+    s.zone_states = zone.states ? *zone.states : std::vector<ScheduleEntry>{};
+  }
+  // The encounter starts or ends, or the viewer enters or leaves a zone: a transition at once.
+  if (s.encounter_active != s.encounter_was_active || zone_changed) {
     s.encounter_was_active = s.encounter_active;
     if (!s.next.empty()) s.current = s.next;  // a transition under way lands where it was going
     begin_transition(s, pick_entry(active_cycle(s), hours, s.rng).state, s.rng);

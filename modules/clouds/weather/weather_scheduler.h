@@ -1,9 +1,10 @@
 #pragma once
 // The WeatherScheduler component (issue 9; 2017 talk: a schedule of weather states that the game
 // transitions between): holds a state for a while, then picks the next one by weighted chance among
-// the entries whose time-of-day window holds the current hour, and blends to it over 10-30 s. An
-// encounter schedule (a boss fight's cycle) replaces the regional one while it is active; when it ends
-// the regional cycle resumes with a fresh pick. Deterministic given the seed (the run's `--seed`).
+// the entries whose time-of-day window holds the current hour, and blends to it over 10-30 s. The
+// viewer's WeatherZone (weather_zone.h) replaces the cycle while the viewer is in it, and an encounter
+// schedule (a boss fight's cycle) replaces both while it is active; each change starts a transition at
+// once to a fresh pick of the new cycle. Deterministic given the seed (the run's `--seed`).
 //
 //   "WeatherScheduler": {"start": "fair_cumulus",
 //                        "hold_s": [60, 180],          // how long a state holds before the next pick
@@ -45,10 +46,14 @@ struct WeatherScheduler {
   float transition_duration = 0.0f, hold_left = 0.0f;
   uint64_t rng = 0;
   bool started = false, encounter_was_active = false;
+  std::string zone;                        // the active WeatherZone's name ("" none)
+  std::vector<ScheduleEntry> zone_states;  // its cycle
   uint32_t transitions = 0;   // completed
 };
 
 WeatherScheduler weather_scheduler_from_json(const JsonView& v);
+// A list of {"state", "weight", "hours"} entries (a schedule, an encounter, a zone's states).
+std::vector<ScheduleEntry> schedule_entries_from_json(const JsonView& list);
 Json weather_scheduler_to_json(const WeatherScheduler& s);
 // Every state the scheduler names exists in `lib` (throws naming `where` and the state otherwise).
 void check_scheduler_states(const WeatherScheduler& s, const WeatherLibrary& lib, const std::string& where);
@@ -57,7 +62,12 @@ void check_scheduler_states(const WeatherScheduler& s, const WeatherLibrary& lib
 const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, uint64_t& rng);
 // One simulation step: seeds the stream on the first call, counts down the hold, starts and finishes
 // transitions, switches to or from the encounter cycle at once when encounter_active changes.
-void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed);
+// The viewer's zone this step (weather_zone.h): its name ("" for none) and its states.
+struct ZoneCycle {
+  std::string name;
+  const std::vector<ScheduleEntry>* states = nullptr;
+};
+void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed, const ZoneCycle& zone = {});
 // The weather now: current, or the blend toward next.
 WeatherBlend weather_now(const WeatherScheduler& s, const WeatherLibrary& lib);
 

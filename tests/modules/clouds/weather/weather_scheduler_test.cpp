@@ -8,7 +8,9 @@
 
 #include "engine/core/error.h"
 #include "engine/core/json.h"
+#include "engine/ecs/world.h"
 #include "modules/clouds/weather/weather_scheduler.h"
+#include "modules/clouds/weather/weather_zone.h"
 
 using namespace cumulo;
 using namespace cumulo::clouds::weather;
@@ -172,6 +174,66 @@ TEST(WeatherScheduler, WeatherNowBlendsAlongTheTransition) {
   EXPECT_LT(weather_now(s, lib).state.voxel_density, a + 0.1f * (b - a));  // eased in
   s.next.clear();
   EXPECT_FLOAT_EQ(weather_now(s, lib).state.voxel_density, a);
+}
+
+}  // namespace
+
+namespace {
+
+WeatherZone zone_from(const std::string& text) {
+  const JsonDocument doc = parse_json_text(text, "zone.json");
+  return weather_zone_from_json(doc.view());
+}
+
+TEST(WeatherZone, EnteringReplacesTheCycleAtOnceAndLeavingRestoresIt) {
+  WeatherScheduler s = scheduler_from(kSchedule);
+  const WeatherZone storm_coast = zone_from(R"({"name": "storm_coast", "box": {"min": [0, 0, 0], "max": [100, 100, 100]},
+                                               "states": [{"state": "storm", "weight": 1}]})");
+  const float dt = 1.0f / 60.0f;
+  for (int i = 0; i < 60; ++i) advance(s, dt, 12.0f, 5);
+  EXPECT_EQ(s.current, "fair_cumulus");
+  EXPECT_TRUE(s.next.empty());
+  advance(s, dt, 12.0f, 5, ZoneCycle{storm_coast.name, &storm_coast.states});  // entering
+  EXPECT_EQ(s.next, "storm");  // the transition starts at once
+  for (int i = 0; i < 60 * 40; ++i) advance(s, dt, 12.0f, 5, ZoneCycle{storm_coast.name, &storm_coast.states});
+  EXPECT_EQ(s.current, "storm");
+  for (int i = 0; i < 60 * 400; ++i) advance(s, dt, 12.0f, 5, ZoneCycle{storm_coast.name, &storm_coast.states});
+  EXPECT_EQ(s.current, "storm");  // the zone's only state, however long the stay
+  advance(s, dt, 12.0f, 5);        // leaving
+  ASSERT_FALSE(s.next.empty());
+  EXPECT_NE(s.next, "storm");      // a pick of the scheduler's own cycle (which has storm only at night)
+}
+
+TEST(WeatherZone, TheHighestPriorityThenTheSmallestZoneHoldingThePointIsActive) {
+  ecs::World w;
+  auto add = [&](const std::string& text) { w.emplace<WeatherZone>(w.create(), zone_from(text)); };
+  add(R"({"name": "region", "box": {"min": [-1000, -1000, -1000], "max": [1000, 1000, 1000]}, "states": [{"state": "clear"}]})");
+  add(R"({"name": "cove", "sphere": {"center": [100, 0, 0], "radius": 50}, "states": [{"state": "storm"}]})");
+  add(R"({"name": "lair", "priority": 2, "sphere": {"center": [500, 0, 0], "radius": 400}, "states": [{"state": "stormbird"}]})");
+  EXPECT_EQ(active_zone(w, {0, 0, 0})->name, "region");
+  EXPECT_EQ(active_zone(w, {100, 10, 0})->name, "cove");    // smaller, same priority
+  EXPECT_EQ(active_zone(w, {150, 0, 0})->name, "lair");     // priority wins over size
+  EXPECT_EQ(active_zone(w, {5000, 0, 0}), nullptr);
+}
+
+TEST(WeatherZone, BadZonesNameThePlace) {
+  auto error_of = [](const std::string& text) -> std::string {
+    try {
+      zone_from(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  std::string m = error_of(R"({"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "sphere": {"center": [0, 0, 0], "radius": 1},
+                               "states": [{"state": "clear"}]})");
+  EXPECT_NE(m.find("exactly one of"), std::string::npos) << m;
+  m = error_of(R"({"box": {"min": [0, 5, 0], "max": [1, 1, 1]}, "states": [{"state": "clear"}]})");
+  EXPECT_NE(m.find("$.box"), std::string::npos) << m;
+  m = error_of(R"({"sphere": {"center": [0, 0, 0], "radius": 1}, "states": []})");
+  EXPECT_NE(m.find("$.states"), std::string::npos) << m;
+  m = error_of(R"({"sphere": {"center": [0, 0, 0], "radius": 1}, "states": [{"state": "clear"}], "shape": "box"})");
+  EXPECT_NE(m.find("unknown key \"shape\""), std::string::npos) << m;
 }
 
 }  // namespace
