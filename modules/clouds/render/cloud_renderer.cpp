@@ -17,6 +17,7 @@
 #include "engine/gpu/pipeline_library.h"
 #include "engine/gpu/sampler.h"
 #include "engine/render/history.h"
+#include "modules/clouds/scene/density_query.h"
 #include "shaders/shared/cloud_params.h"
 
 namespace cumulo::clouds::render {
@@ -168,10 +169,7 @@ shared::CloudMarchPush target_push(VkExtent3D e) {
   return pc;
 }
 
-glm::mat4 instance_matrix(const CloudInstance& inst) {
-  return glm::translate(glm::mat4(1.0f), inst.position) * glm::mat4_cast(glm::normalize(inst.rotation)) *
-         glm::scale(glm::mat4(1.0f), glm::vec3(inst.scale));
-}
+glm::mat4 instance_matrix(const CloudInstance& inst) { return placement_matrix(placement_of(inst)); }
 
 uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
   struct Key {
@@ -187,6 +185,23 @@ uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
   k.grid[0] = d.light_grid_size.x, k.grid[1] = d.light_grid_size.y, k.grid[2] = d.light_grid_size.z;
   return hash64(&k, sizeof k);
 }
+
+}  // namespace
+
+shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun, double time) {
+  shared::CloudInstanceParams ip{};
+  ip.world_to_asset = glm::inverse(instance_matrix(inst));
+  const float scale = std::max(inst.scale, 1e-6f);
+  ip.bounds_min = glm::vec4(inst.asset->bounds_min, scale);
+  ip.bounds_max = glm::vec4(inst.asset->bounds_max, 1.0f / scale);
+  const glm::quat inv_rot = glm::inverse(glm::normalize(inst.rotation));
+  ip.sun_dir = glm::vec4(glm::normalize(inv_rot * glm::normalize(sun)), inst.density);
+  ip.sky_dir = glm::vec4(glm::normalize(inv_rot * glm::vec3(0.0f, 1.0f, 0.0f)), std::clamp(inst.dissipation, 0.0f, 1.0f));
+  ip.wind_offset = glm::vec4(wind_offset_asset(placement_of(inst), time), 0.0f);  // asset metres
+  return ip;
+}
+
+namespace {
 
 shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
                                 bool history_valid) {
@@ -213,23 +228,7 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
     p.light_pos[i] = glm::vec4(in.lights[i].position, std::max(in.lights[i].radius, 1e-3f));
     p.light_color[i] = glm::vec4(in.lights[i].color, 0.0f);
   }
-  for (size_t i = 0; i < in.instances.size(); ++i) {
-    const CloudInstance& inst = in.instances[i];
-    shared::CloudInstanceParams& ip = p.instances[i];
-    ip.world_to_asset = glm::inverse(instance_matrix(inst));
-    const float scale = std::max(inst.scale, 1e-6f);
-    ip.bounds_min = glm::vec4(inst.asset->bounds_min, scale);
-    ip.bounds_max = glm::vec4(inst.asset->bounds_max, 1.0f / scale);
-    const glm::quat inv_rot = glm::inverse(glm::normalize(inst.rotation));
-    ip.sun_dir = glm::vec4(glm::normalize(inv_rot * sun), inst.density);
-    ip.sky_dir = glm::vec4(glm::normalize(inv_rot * glm::vec3(0.0f, 1.0f, 0.0f)), std::clamp(inst.dissipation, 0.0f, 1.0f));
-    const float wl = glm::length(inst.wind_direction);
-    const glm::vec3 wind = wl > 0.0f ? inst.wind_direction / wl : glm::vec3(0.0f);
-    // Noise scroll in asset metres; the time wraps every 10^4 s of a 100 m tile period multiple so
-    // the float offset keeps its precision over long runs.
-    const double travelled = std::fmod(double(inst.wind_speed) * in.time, 100000.0);
-    ip.wind_offset = glm::vec4(inv_rot * (wind * float(travelled / scale)), 0.0f);
-  }
+  for (size_t i = 0; i < in.instances.size(); ++i) p.instances[i] = cloud_instance_params(in.instances[i], sun, in.time);
   return p;
 }
 

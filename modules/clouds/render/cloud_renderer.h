@@ -64,6 +64,8 @@
 #include "engine/render/graph/render_graph.h"
 #include "engine/scene/camera.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/scene/density_query.h"
+#include "shaders/shared/cloud_params.h"
 
 namespace cumulo::gpu {
 class Context;
@@ -165,6 +167,14 @@ struct CloudInstance {
   float wind_speed = 0.0f;                    // m/s
   float dissipation = 0.0f;                   // 0..1: removes low-profile, wispy regions first
 };
+
+// The instance as placed in the world (the part the CPU density query shares, scene/density_query.h).
+inline CloudPlacement placement_of(const CloudInstance& i) {
+  return {i.position, i.rotation, i.scale, i.density, i.wind_direction, i.wind_speed, i.dissipation};
+}
+// Its block of CloudParams (transform, box, sun and sky in asset space, density, dissipation, wind
+// scroll) for a frame at `time` with the sun toward `sun_direction`.
+shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun_direction, double time);
 
 struct CloudPointLight {  // secondary sources (lightning): the talk's potential-energy field
   glm::vec3 position{0.0f};

@@ -1,0 +1,88 @@
+#include "modules/clouds/scene/density_query.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/core/error.h"
+#include "modules/clouds/noise/noise_encode.h"
+#include "modules/clouds/volume/volume_file.h"
+
+namespace cumulo::clouds {
+namespace {
+
+// A GPU sampler's trilinear fetch of component c at normalized uvw (texel centres at (i + 0.5) / n):
+// clamp-to-edge, or repeat for the tiling noise.
+float trilinear(const Volume& v, glm::vec3 uvw, uint32_t c, bool repeat) {
+  const glm::ivec3 n(v.size);
+  const glm::vec3 p = uvw * glm::vec3(n) - 0.5f;
+  const glm::vec3 f0 = glm::floor(p);
+  const glm::vec3 w = p - f0;
+  const glm::ivec3 i0(f0);
+  auto coord = [&](int i, int size) {
+    if (repeat) return ((i % size) + size) % size;
+    return std::clamp(i, 0, size - 1);
+  };
+  float out = 0.0f;
+  for (int k = 0; k < 8; ++k) {
+    const glm::ivec3 o((k & 1), (k >> 1) & 1, (k >> 2) & 1);
+    const float weight = (o.x ? w.x : 1.0f - w.x) * (o.y ? w.y : 1.0f - w.y) * (o.z ? w.z : 1.0f - w.z);
+    if (weight == 0.0f) continue;
+    out += weight * v.texel(uint32_t(coord(i0.x + o.x, n.x)), uint32_t(coord(i0.y + o.y, n.y)),
+                            uint32_t(coord(i0.z + o.z, n.z)), c);
+  }
+  return out;
+}
+
+float saturate(float x) { return std::clamp(x, 0.0f, 1.0f); }
+
+}  // namespace
+
+glm::mat4 placement_matrix(const CloudPlacement& p) {
+  return glm::translate(glm::mat4(1.0f), p.position) * glm::mat4_cast(glm::normalize(p.rotation)) *
+         glm::scale(glm::mat4(1.0f), glm::vec3(p.scale));
+}
+
+glm::vec3 wind_offset_asset(const CloudPlacement& p, double time) {
+  const float wl = glm::length(p.wind_direction);
+  const glm::vec3 wind = wl > 0.0f ? p.wind_direction / wl : glm::vec3(0.0f);
+  // The time wraps at a multiple of the 100 m tile period so the float offset keeps its precision.
+  const double travelled = std::fmod(double(p.wind_speed) * time, 100000.0);
+  const float scale = std::max(p.scale, 1e-6f);
+  return glm::inverse(glm::normalize(p.rotation)) * (wind * float(travelled / scale));
+}
+
+CloudDensityQuery::CloudDensityQuery(Volume modeling, Volume noise) : modeling_(std::move(modeling)), noise_(std::move(noise)) {
+  if (is_block_encoding(modeling_.encoding) || encoding_components(modeling_.encoding) < 3)
+    fail("cloud density query: the modeling NVDF must be an uncompressed 3-4 channel volume (got %s)",
+         encoding_name(modeling_.encoding));
+  if (encoding_components(noise_.encoding) < 4 || is_block_encoding(noise_.encoding))
+    fail("cloud density query: the voxel noise must have 4 uncompressed channels (got %s)", encoding_name(noise_.encoding));
+  profile_ = modeling_.channel(kDimensionalProfile, "modeling NVDF");
+  type_ = modeling_.channel(kDetailType, "modeling NVDF");
+  scale_ = modeling_.channel(kDensityScale, "modeling NVDF");
+}
+
+CloudDensityQuery CloudDensityQuery::load(const std::filesystem::path& folder, const std::filesystem::path& noise_file) {
+  return CloudDensityQuery(load_volume(folder / "modeling.nvdf"), load_volume(noise_file));
+}
+
+float CloudDensityQuery::density(const CloudPlacement& p, glm::vec3 world, double time) const {
+  const glm::vec3 asset = glm::vec3(glm::inverse(placement_matrix(p)) * glm::vec4(world, 1.0f));
+  const glm::vec3 uvw = (asset - modeling_.bounds_min) / (modeling_.bounds_max - modeling_.bounds_min);
+  if (glm::any(glm::lessThan(uvw, glm::vec3(0.0f))) || glm::any(glm::greaterThan(uvw, glm::vec3(1.0f)))) return 0.0f;
+  float profile = trilinear(modeling_, uvw, profile_, false);
+  const float type = trilinear(modeling_, uvw, type_, false);
+  const float density_scale = trilinear(modeling_, uvw, scale_, false);
+  // Dissipation: the same re-ranging as cloud_common.glsl's modeling_data().
+  const float threshold = saturate(std::clamp(p.dissipation, 0.0f, 1.0f) * (1.5f + (1.0f - 1.5f) * type));
+  if (threshold > 0.0f) profile = saturate((profile - threshold) / std::max(1.0f - threshold, 1e-4f));
+  if (!(profile > 0.0f)) return 0.0f;
+  const glm::vec3 n = (asset - wind_offset_asset(p, time)) * 0.01f;  // the noise tiles every 100 m
+  float noise[4];
+  for (uint32_t c = 0; c < 4; ++c) noise[c] = trilinear(noise_, n, c, true);
+  return uprez_density(noise, profile, type, density_scale) * p.density;
+}
+
+}  // namespace cumulo::clouds
