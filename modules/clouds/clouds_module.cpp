@@ -8,6 +8,7 @@
 #include "modules/clouds/weather/weather_scheduler.h"
 #include "modules/clouds/weather/weather_zone.h"
 #include "engine/scene/components.h"
+#include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
 #include "engine/core/args.h"
 #include "engine/app/simulation.h"
@@ -25,6 +26,7 @@ void CloudsModule::register_commands(CommandRegistry& registry) {
 void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
   register_cloudscape_component(registry);
   gameplay::register_stormbird_component(registry);
+  gameplay::register_lightning_component(registry);
   registry.register_component<weather::WeatherScheduler>(
       "WeatherScheduler", [](const weather::WeatherScheduler& s) { return weather::weather_scheduler_to_json(s); },
       [](const JsonView& v) { return weather::weather_scheduler_from_json(v); });
@@ -50,7 +52,8 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
   gameplay::add_stormbird_system(s);
   // The weather scheduler: the hour from the time of day that counts (scene::find_sun), the stream
   // from the run's seed.
-  s.add_system(ecs::Phase::Update, "weather scheduler", [](ecs::World& w, const ecs::FrameContext& f) {
+  s.add_system(ecs::Phase::Update, "weather scheduler", [this](ecs::World& w, const ecs::FrameContext& f) {
+    const weather::WeatherLibrary* library_ = feature_.weather_library();
     const scene::ConstSunSource sun = scene::find_sun(static_cast<const ecs::World&>(w));
     const float hours = sun.time ? sun.time->hours : 12.0f;
     const auto* seed = w.try_resource<app::SimulationSeed>();
@@ -60,10 +63,19 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
       if (const auto* t = static_cast<const ecs::World&>(w).try_get<scene::Transform>(viewer->entity))
         if (const weather::WeatherZone* z = weather::active_zone(w, t->position))
           zone = {z->name.empty() ? std::string("(unnamed zone)") : z->name, &z->states};
+    bool first = true;
     w.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& ws) {
       weather::advance(ws, float(f.dt), hours, seed ? seed->value : 1, zone);
+      // The first scheduler's weather sets how often and where lightning strikes.
+      if (!first || !library_) return;
+      first = false;
+      auto* lw = w.try_resource<gameplay::LightningWeather>();
+      if (!lw) lw = &w.set_resource<gameplay::LightningWeather>();
+      lw->per_minute = ws.has_lightning_volume ? weather::weather_now(ws, *library_).state.lightning_per_minute : 0.0f;
+      lw->box_min = ws.lightning_min, lw->box_max = ws.lightning_max;
     });
   });
+  gameplay::add_lightning_system(s);
 }
 
 std::shared_ptr<app::Module> make_clouds_module() { return std::make_shared<CloudsModule>(); }

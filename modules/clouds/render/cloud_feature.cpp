@@ -15,6 +15,7 @@
 #include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_scheduler.h"
 #include "modules/clouds/weather/weather_zone.h"
+#include "modules/clouds/gameplay/lightning.h"
 
 namespace cumulo::clouds::render {
 namespace fs = std::filesystem;
@@ -142,6 +143,9 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
     i.dissipation = c.dissipation;
     frame.instances.push_back(std::move(i));
   });
+  // Live lightning flashes, brightest first: the renderer's point lights (a bluish white).
+  for (const gameplay::LightningLight& l : gameplay::lightning_lights(world, kMaxPointLights))
+    frame.lights.push_back({l.position, l.radius, glm::vec3(0.75f, 0.8f, 1.0f) * l.intensity});
   if (weather_lib_)
     world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) {
       if (!frame.weather) frame.weather = weather::weather_now(w, *weather_lib_).state;  // the first one counts

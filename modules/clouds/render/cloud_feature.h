@@ -80,6 +80,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   void add_run_options(ArgParser& p);
   void check_run_options();
   CloudRunOptions& options() { return options_; }
+  // The weather states, loaded when the level has a WeatherScheduler or WeatherZone (else null).
+  const weather::WeatherLibrary* weather_library() const { return weather_lib_ ? &*weather_lib_ : nullptr; }
 
   // Resolves every Cloudscape's asset (bakes recipes into the cache) and the noise. Throws naming the
   // level file and entity for a bad asset or a non-uniform scale.

@@ -86,8 +86,9 @@ bool ScheduleEntry::eligible_at(float hours) const {
 WeatherScheduler weather_scheduler_from_json(const JsonView& v) {
   for (const std::string& k : v.keys())
     if (k != "start" && k != "hold_s" && k != "transition_s" && k != "schedule" && k != "encounter" &&
-        k != "encounter_active")
-      v.fail("unknown key \"" + k + "\" (expected start, hold_s, transition_s, schedule, encounter, encounter_active)");
+        k != "encounter_active" && k != "lightning_volume")
+      v.fail("unknown key \"" + k +
+             "\" (expected start, hold_s, transition_s, schedule, encounter, encounter_active, lightning_volume)");
   WeatherScheduler s;
   s.schedule = schedule_entries_from_json(v["schedule"]);
   s.start = v.get<std::string>("start", s.schedule.front().state);
@@ -96,6 +97,13 @@ WeatherScheduler weather_scheduler_from_json(const JsonView& v) {
   if (v.has("encounter")) s.encounter = schedule_entries_from_json(v["encounter"]);
   s.encounter_active = v.get<bool>("encounter_active", false);
   if (s.encounter_active && s.encounter.empty()) v["encounter_active"].fail("true, but there is no encounter schedule");
+  if (v.has("lightning_volume")) {
+    const JsonView b = v["lightning_volume"];
+    s.lightning_min = b["min"].as_vec3();
+    s.lightning_max = b["max"].as_vec3();
+    if (!glm::all(glm::lessThanEqual(s.lightning_min, s.lightning_max))) b.fail("expected min <= max on every axis");
+    s.has_lightning_volume = true;
+  }
   return s;
 }
 
@@ -106,6 +114,9 @@ Json weather_scheduler_to_json(const WeatherScheduler& s) {
             {"schedule", entries_to_json(s.schedule)}};
   if (!s.encounter.empty()) j["encounter"] = entries_to_json(s.encounter);
   if (s.encounter_active) j["encounter_active"] = true;
+  if (s.has_lightning_volume)
+    j["lightning_volume"] = {{"min", {s.lightning_min.x, s.lightning_min.y, s.lightning_min.z}},
+                             {"max", {s.lightning_max.x, s.lightning_max.y, s.lightning_max.z}}};
   return j;
 }
 

@@ -13,7 +13,8 @@
 //                                     {"state": "fair_cumulus", "weight": 3},
 //                                     {"state": "storm", "weight": 0.5, "hours": [12, 19]}],
 //                        "encounter": [{"state": "stormbird", "weight": 1}],
-//                        "encounter_active": false}
+//                        "encounter_active": false,
+//                        "lightning_volume": {"min": [-2048, 600, -2048], "max": [2048, 900, 2048]}}
 // `hours` [from, to) may wrap midnight ([20, 4]); without it an entry is eligible all day.
 #include <cstdint>
 #include <string>
@@ -39,6 +40,9 @@ struct WeatherScheduler {
   glm::vec2 transition_s{10.0f, 30.0f};
   std::vector<ScheduleEntry> schedule, encounter;
   bool encounter_active = false;
+  // Where the weather's lightning (lightning.frequency_per_minute) strikes: a world box; none: nowhere.
+  bool has_lightning_volume = false;
+  glm::vec3 lightning_min{0.0f}, lightning_max{0.0f};
 
   // Runtime (not in the level file).
   std::string current, next;  // next empty: holding `current`

@@ -91,3 +91,69 @@ TEST(Gameplay, BadEventTextsAndComponentsNameThePlace) {
 }
 
 }  // namespace
+
+#include "engine/app/simulation.h"
+#include "modules/clouds/gameplay/lightning.h"
+
+namespace {
+
+TEST(Lightning, AFlashRisesFlickersAndEndsAndFeedsTheLightList) {
+  ecs::World w;
+  ecs::Scheduler sched;
+  add_lightning_system(sched);
+  strike_lightning(w, {0, 900, 0}, LightningKind::Internal, 60.0f);
+  float peak = 0.0f;
+  int direction_changes = 0;
+  float last = 0.0f, last_delta = 0.0f;
+  for (int i = 0; i < 60; ++i) {  // 1 s at 60 Hz: the 0.8 s flash and after
+    const auto lights = lightning_lights(w, 4);
+    const float k = lights.empty() ? 0.0f : lights[0].intensity;
+    peak = std::max(peak, k);
+    const float delta = k - last;
+    if (i > 2 && delta * last_delta < 0.0f) ++direction_changes;
+    last_delta = delta, last = k;
+    sched.step(w, 1.0 / 60.0);
+  }
+  EXPECT_GT(peak, 30.0f);
+  EXPECT_LE(peak, 60.0f);
+  EXPECT_GE(direction_changes, 3);  // it flickers
+  EXPECT_TRUE(lightning_lights(w, 4).empty());
+  EXPECT_EQ(w.alive_count(), 0u);  // the flash's entity is gone
+}
+
+TEST(Lightning, TheWeatherSpawnsAtItsRateInsideItsVolumeDeterministically) {
+  auto spawn = [](uint64_t seed, std::vector<glm::vec3>* positions) {
+    ecs::World w;
+    w.set_resource<app::SimulationSeed>(app::SimulationSeed{seed});
+    LightningWeather lw;
+    lw.per_minute = 60.0f;
+    lw.box_min = {-100, 600, -100};
+    lw.box_max = {100, 900, 100};
+    w.set_resource<LightningWeather>(lw);
+    ecs::Scheduler sched;
+    int strikes = 0;
+    sched.add_system(ecs::Phase::PostUpdate, "count", [&](ecs::World& world, const ecs::FrameContext&) {
+      world.view<const LightningEvent>().each([&](const LightningEvent& l) {
+        if (l.age_s == 0.0f) {
+          ++strikes;
+          positions->push_back(l.position);
+          EXPECT_TRUE(glm::all(glm::greaterThanEqual(l.position, glm::vec3(-100, 600, -100))));
+          EXPECT_TRUE(glm::all(glm::lessThanEqual(l.position, glm::vec3(100, 900, 100))));
+        }
+      });
+    });
+    add_lightning_system(sched);  // after the counter: a new flash is seen at age 0 in the next step
+    for (int i = 0; i < 120 * 60; ++i) sched.step(w, 1.0 / 60.0);
+    return strikes;
+  };
+  std::vector<glm::vec3> a, b, c;
+  const int na = spawn(5, &a), nb = spawn(5, &b), nc = spawn(6, &c);
+  std::printf("  120 s at 60 per minute: %d strikes (Poisson: 120 +- 11)\n", na);
+  EXPECT_GT(na, 80);
+  EXPECT_LT(na, 160);
+  EXPECT_EQ(na, nb);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+}
+
+}  // namespace

@@ -236,3 +236,23 @@ TEST_F(CloudsRun, StormbirdKilledEventDissipatesTheCloud) {
 }
 
 }  // namespace
+
+namespace {
+
+// A LightningEvent in the level (a flash at the cloud's centre, live on the first frames) reaches the
+// renderer's point lights: the cloud glows where it is thin.
+TEST_F(CloudsRun, ALightningFlashLightsTheCloud) {
+  fs::path dark = level("dark");
+  fs::path flash = level("flash", "{\"name\": \"cam\"",
+                         "{\"name\": \"bolt\", \"components\": {\"LightningEvent\": {\"position\": [0, 628, 0], \"radius\": 300, "
+                         "\"intensity\": 80, \"duration_s\": 5}}},\n    {\"name\": \"cam\"");
+  ASSERT_EQ(run(dark, "dark.png", {"--time-of-day", "23"}, 2), 0);
+  ASSERT_EQ(run(flash, "flash.png", {"--time-of-day", "23"}, 2), 0);
+  const Png a = load_png(dir_ / "dark.png"), b = load_png(dir_ / "flash.png");
+  double sa = 0, sb = 0;
+  for (size_t i = 0; i < a.rgba.size(); i += 4) sa += a.rgba[i + 2], sb += b.rgba[i + 2];
+  std::printf("  mean blue at night: %.2f dark, %.2f with the flash\n", sa / (a.rgba.size() / 4), sb / (b.rgba.size() / 4));
+  EXPECT_GT(sb, sa * 1.02);
+}
+
+}  // namespace
