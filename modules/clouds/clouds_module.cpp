@@ -10,6 +10,7 @@
 #include "engine/scene/components.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
+#include "modules/clouds/gameplay/triggers.h"
 #include "engine/core/args.h"
 #include "engine/app/simulation.h"
 #include "engine/scene/sun.h"
@@ -27,6 +28,7 @@ void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
   register_cloudscape_component(registry);
   gameplay::register_stormbird_component(registry);
   gameplay::register_lightning_component(registry);
+  gameplay::register_trigger_component(registry);
   registry.register_component<weather::WeatherScheduler>(
       "WeatherScheduler", [](const weather::WeatherScheduler& s) { return weather::weather_scheduler_to_json(s); },
       [](const JsonView& v) { return weather::weather_scheduler_from_json(v); });
@@ -49,6 +51,7 @@ void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
 
 void CloudsModule::register_systems(ecs::Scheduler& s) {
   gameplay::add_scripted_events_system(s);
+  gameplay::add_trigger_system(s);
   gameplay::add_stormbird_system(s);
   // The weather scheduler: the hour from the time of day that counts (scene::find_sun), the stream
   // from the run's seed.

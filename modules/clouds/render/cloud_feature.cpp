@@ -16,6 +16,7 @@
 #include "modules/clouds/weather/weather_scheduler.h"
 #include "modules/clouds/weather/weather_zone.h"
 #include "modules/clouds/gameplay/lightning.h"
+#include "modules/clouds/gameplay/triggers.h"
 
 namespace cumulo::clouds::render {
 namespace fs = std::filesystem;
@@ -122,6 +123,18 @@ void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
     states.schedule = z.states;
     check_scheduler_states(states, *weather_lib_, level.file.string() + ": entity \"" + (n ? n->value : "?") +
                                                       "\": WeatherZone");
+  });
+  world.view<gameplay::Trigger>().each([&](ecs::Entity e, gameplay::Trigger& t) {
+    for (const std::string& state : gameplay::trigger_weather_states(t)) {
+      if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
+      if (weather_lib_->find(state)) continue;
+      const auto* n = world.try_get<ecs::Name>(e);
+      try {
+        weather_lib_->get(state);
+      } catch (const Error& err) {
+        fail("%s: entity \"%s\": Trigger set_weather: %s", level.file.string().c_str(), n ? n->value.c_str() : "?", err.what());
+      }
+    }
   });
   (void)schedulers;
 }

@@ -194,6 +194,15 @@ void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed, const Zo
   begin_transition(s, pick, s.rng);
 }
 
+void force_state(WeatherScheduler& s, const std::string& state) {
+  if (!s.started) {  // before the first step: start in it
+    s.start = state;
+    return;
+  }
+  if (!s.next.empty()) s.current = s.next;
+  begin_transition(s, state, s.rng);
+}
+
 WeatherBlend weather_now(const WeatherScheduler& s, const WeatherLibrary& lib) {
   const WeatherState& a = lib.get(s.current.empty() ? s.start : s.current);
   if (s.next.empty()) return blend(a, a, 0.0f);

@@ -72,6 +72,9 @@ struct ZoneCycle {
   const std::vector<ScheduleEntry>* states = nullptr;
 };
 void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed, const ZoneCycle& zone = {});
+// A script's "set the weather": a transition to `state` at once (within the transition_s range); the
+// cycle then goes on from it.
+void force_state(WeatherScheduler& s, const std::string& state);
 // The weather now: current, or the blend toward next.
 WeatherBlend weather_now(const WeatherScheduler& s, const WeatherLibrary& lib);
 

@@ -157,3 +157,115 @@ TEST(Lightning, TheWeatherSpawnsAtItsRateInsideItsVolumeDeterministically) {
 }
 
 }  // namespace
+
+#include "engine/scene/components.h"
+#include "engine/scene/sun.h"
+#include "modules/clouds/gameplay/triggers.h"
+#include "modules/clouds/weather/weather_scheduler.h"
+
+namespace {
+
+Trigger trigger_from(const std::string& text) {
+  const JsonDocument doc = parse_json_text(text, "level.json");
+  return trigger_from_json(doc.view());
+}
+
+struct TriggerSim {
+  ecs::World w;
+  ecs::Scheduler sched;
+  ecs::Entity viewer, cloud, weather;
+  TriggerSim() {
+    add_scripted_events_system(sched);
+    add_trigger_system(sched);
+    add_lightning_system(sched);
+    viewer = named("viewer");
+    w.emplace<scene::Transform>(viewer).position = {0, 0, 0};
+    w.set_resource<app::Viewer>(app::Viewer{viewer});
+    cloud = named("cloudscape");
+    w.emplace<Cloudscape>(cloud);
+    w.emplace<scene::Transform>(cloud);
+    weather = named("weather");
+    weather::WeatherScheduler s;
+    s.start = "fair_cumulus";
+    s.schedule = {{"fair_cumulus", 1.0f}};
+    s.encounter = {{"stormbird", 1.0f}};
+    w.emplace<weather::WeatherScheduler>(weather, s);
+  }
+  ecs::Entity named(const char* name) {
+    const ecs::Entity e = w.create();
+    w.emplace<ecs::Name>(e, ecs::Name{name});
+    return e;
+  }
+  void move_viewer(glm::vec3 p) { w.get<scene::Transform>(viewer).position = p; }
+  void step() {
+    sched.step(w, 0.1);
+    w.view<weather::WeatherScheduler>().each([](weather::WeatherScheduler& s) { weather::advance(s, 0.1f, 12.0f, 1); });
+  }
+  weather::WeatherScheduler& sched_state() { return w.get<weather::WeatherScheduler>(weather); }
+};
+
+TEST(Triggers, EnterExitEventAndTimeRunTheirActions) {
+  TriggerSim s;
+  const ecs::Entity storm = s.w.create();
+  s.w.emplace<Trigger>(storm, trigger_from(R"({"when": {"enter": {"sphere": {"center": [0, 900, 0], "radius": 500}}},
+      "actions": [{"do": "set_weather", "state": "storm"}, {"do": "encounter", "active": true},
+                  {"do": "strike_lightning", "position": [0, 900, 0]}]})"));
+  s.w.emplace<Trigger>(s.w.create(), trigger_from(R"({"when": {"exit": {"sphere": {"center": [0, 900, 0], "radius": 500}}},
+      "actions": [{"do": "encounter", "active": false}]})"));
+  s.w.emplace<Trigger>(s.w.create(), trigger_from(R"({"when": {"event": "move_it"}, "once": false,
+      "actions": [{"do": "move_cloudscape", "entity": "cloudscape", "position": [100, 0, 0], "euler_deg": [0, 90, 0]}]})"));
+  s.w.emplace<Trigger>(s.w.create(), trigger_from(R"({"when": {"time": 2}, "actions": [{"do": "set_time_of_day", "hours": 18.5}]})"));
+  s.step();
+  s.step();
+  EXPECT_FALSE(s.sched_state().encounter_active);
+  s.move_viewer({0, 900, 100});  // enters the storm sphere
+  s.step();
+  EXPECT_TRUE(s.sched_state().encounter_active);
+  size_t flashes = 0;
+  s.w.view<const LightningEvent>().each([&](const LightningEvent&) { ++flashes; });
+  EXPECT_EQ(flashes, 1u);
+  s.move_viewer({0, 0, 0});  // leaves
+  s.step();
+  EXPECT_FALSE(s.sched_state().encounter_active);
+  s.move_viewer({0, 900, 0});  // enters again: the enter trigger fired once only
+  s.step();
+  EXPECT_FALSE(s.sched_state().encounter_active);
+  fire_event(s.w, "move_it");
+  s.step();
+  EXPECT_EQ(s.w.get<scene::Transform>(s.cloud).position, glm::vec3(100, 0, 0));
+  for (int i = 0; i < 20; ++i) s.step();  // past t = 2 s
+  EXPECT_FLOAT_EQ(scene::time_of_day_to_set(s.w).hours, 18.5f);
+}
+
+TEST(Triggers, StartingInsideIsNotEntering) {
+  TriggerSim s;
+  s.move_viewer({0, 900, 0});
+  s.w.emplace<Trigger>(s.w.create(), trigger_from(R"({"when": {"enter": {"box": {"min": [-10, 800, -10], "max": [10, 1000, 10]}}},
+      "actions": [{"do": "encounter", "active": true}]})"));
+  for (int i = 0; i < 5; ++i) s.step();
+  EXPECT_FALSE(s.sched_state().encounter_active);
+}
+
+TEST(Triggers, BadTriggersNameThePlace) {
+  auto error_of = [](const std::string& text) -> std::string {
+    try {
+      trigger_from(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  auto has = [](const std::string& m, const std::string& w) { return m.find(w) != std::string::npos; };
+  std::string m = error_of(R"({"when": {"event": "x", "time": 3}, "actions": [{"do": "fire_event", "name": "y"}]})");
+  EXPECT_TRUE(has(m, "$.when") && has(m, "exactly one")) << m;
+  m = error_of(R"({"when": {"event": "x"}, "actions": [{"do": "teleport"}]})");
+  EXPECT_TRUE(has(m, "$.actions[0].do") && has(m, "teleport")) << m;
+  m = error_of(R"({"when": {"event": "x"}, "actions": [{"do": "set_time_of_day", "hours": 25}]})");
+  EXPECT_TRUE(has(m, "$.actions[0].hours")) << m;
+  m = error_of(R"({"when": {"event": "x"}, "actions": []})");
+  EXPECT_TRUE(has(m, "$.actions") && has(m, "at least one")) << m;
+  m = error_of(R"({"when": {"enter": {"sphere": {"center": [0, 0, 0], "radius": 1}}}, "actions": [{"do": "set_weather", "state": "storm", "fast": true}]})");
+  EXPECT_TRUE(has(m, "unknown key \"fast\"")) << m;
+}
+
+}  // namespace
