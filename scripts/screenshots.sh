@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the README's screenshots: the sample level's three cameras (ground, mixed, immersed) at noon
-# and near sunset, headless, with the clouds (docs/images/<camera>_<time>.png). Builds first.
+# and near sunset, headless, with the clouds (docs/images/<camera>_<time>.png), and the shipped weather
+# states from the mixed camera (docs/images/weather/<state>_<time>.png). Builds first.
 # Usage: scripts/screenshots.sh [WxH] [FRAMES]   (default 480x270, 12 frames so the temporal accumulation settles)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,5 +17,15 @@ for cam in ground mixed immersed; do
     "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --camera "$cam" --time-of-day "$hours" \
       --size "$SIZE" --frames "$FRAMES" --screenshot "docs/images/${cam}_${name}.png" >/dev/null
     echo "docs/images/${cam}_${name}.png"
+  done
+done
+# The shipped weather states from the mixed camera at noon and near sunset (docs/images/weather/).
+mkdir -p docs/images/weather
+for state in clear fair_cumulus overcast_stratus storm stormbird; do
+  for tod in noon:12.5 sunset:18.0; do
+    "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --camera mixed --weather "$state" \
+      --time-of-day "${tod##*:}" --size 320x180 --frames "$FRAMES" \
+      --screenshot "docs/images/weather/${state}_${tod%%:*}.png" >/dev/null
+    echo "docs/images/weather/${state}_${tod%%:*}.png"
   done
 done
