@@ -56,7 +56,7 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
   // The weather scheduler: the hour from the time of day that counts (scene::find_sun), the stream
   // from the run's seed.
   s.add_system(ecs::Phase::Update, "weather scheduler", [this](ecs::World& w, const ecs::FrameContext& f) {
-    const weather::WeatherLibrary* library_ = feature_.weather_library();
+    const weather::WeatherLibrary* library = feature_.weather_library();
     const scene::ConstSunSource sun = scene::find_sun(static_cast<const ecs::World&>(w));
     const float hours = sun.time ? sun.time->hours : 12.0f;
     const auto* seed = w.try_resource<app::SimulationSeed>();
@@ -70,11 +70,11 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
     w.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& ws) {
       weather::advance(ws, float(f.dt), hours, seed ? seed->value : 1, zone);
       // The first scheduler's weather sets how often and where lightning strikes.
-      if (!first || !library_) return;
+      if (!first || !library) return;
       first = false;
       auto* lw = w.try_resource<gameplay::LightningWeather>();
       if (!lw) lw = &w.set_resource<gameplay::LightningWeather>();
-      lw->per_minute = ws.has_lightning_volume ? weather::weather_now(ws, *library_).state.lightning_per_minute : 0.0f;
+      lw->per_minute = ws.has_lightning_volume ? weather::weather_now(ws, *library).state.lightning_per_minute : 0.0f;
       lw->box_min = ws.lightning_min, lw->box_max = ws.lightning_max;
     });
   });

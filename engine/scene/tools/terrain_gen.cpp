@@ -2,6 +2,7 @@
 //
 // [index]  random numbers and noise  |  Archipelago (islands, height function)  |  Heightfield
 //          |  base-color texture  |  meshes and the .glb
+#include "engine/core/random.h"
 #include "engine/scene/tools/terrain_gen.h"
 
 #include <algorithm>
@@ -17,18 +18,7 @@ namespace cumulo::scene {
 namespace {
 
 // ---- random numbers and noise -----------------------------------------------------------------------
-// splitmix64 (Vigna): fixed integer arithmetic, so every platform draws the same sequence.
-struct Rng {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  float uniform() { return float(next() >> 40) * (1.0f / 16777216.0f); }  // [0, 1), 24 bits
-  float range(float lo, float hi) { return lo + (hi - lo) * uniform(); }
-};
+using Rng = SplitMix64;  // engine/core/random.h
 
 uint32_t hash2(int32_t x, int32_t y, uint32_t seed) {
   uint64_t h = (uint64_t(uint32_t(x)) * 0x9E3779B1ull) ^ (uint64_t(uint32_t(y)) * 0x85EBCA77ull) ^ (uint64_t(seed) << 32);

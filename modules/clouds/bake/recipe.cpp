@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "engine/core/random.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/json.h"
@@ -89,16 +90,9 @@ std::vector<Particle> generate_particles(const JsonView& g, uint64_t seed) {
   glm::vec2 r = g["radius"].as_vec2();
   if (!(r.x >= kMinSize) || r.y < r.x || r.y > kMaxCoord)
     g["radius"].fail(strf("expected [min, max] radii with %g <= min <= max <= %g", kMinSize, kMaxCoord));
-  uint64_t s = g.get<uint64_t>("seed", 0) ^ (seed * 0x9E3779B97F4A7C15ull);
+  SplitMix64 rng{g.get<uint64_t>("seed", 0) ^ (seed * 0x9E3779B97F4A7C15ull)};
   bool flat = g.get<bool>("flatten_bottom", false);
-  auto next = [&s]() {  // splitmix64 -> [0, 1)
-    s += 0x9E3779B97F4A7C15ull;
-    uint64_t z = s;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return static_cast<float>(z >> 40) * (1.0f / 16777216.0f);
-  };
+  auto next = [&rng]() { return rng.uniform(); };
   std::vector<Particle> out;
   out.reserve(count);
   while (out.size() < count) {

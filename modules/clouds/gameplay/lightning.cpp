@@ -9,17 +9,6 @@
 #include "engine/core/hash.h"
 
 namespace cumulo::clouds::gameplay {
-namespace {
-
-uint64_t next_u64(uint64_t& s) {
-  uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-float unit(uint64_t& s) { return float(next_u64(s) >> 40) / float(1ull << 24); }
-
-}  // namespace
 
 LightningEvent lightning_event_from_json(const JsonView& v) {
   for (const std::string& k : v.keys())
@@ -53,11 +42,11 @@ float lightning_envelope(const LightningEvent& e) {
   constexpr float kRise = 0.03f;
   if (t < kRise) return t / kRise;
   // Re-strokes: 3-5 pulses spread over the life, each a short bright peak over a decaying glow.
-  uint64_t s = e.seed;
-  const int strokes = 3 + int(unit(s) * 3.0f);
+  SplitMix64 s{e.seed};
+  const int strokes = 3 + int(s.uniform() * 3.0f);
   float flicker = 0.0f;
   for (int k = 0; k < strokes; ++k) {
-    const float at = e.duration_s * (0.1f + 0.8f * unit(s));
+    const float at = e.duration_s * (0.1f + 0.8f * s.uniform());
     const float d = (t - at) / 0.04f;
     flicker = std::max(flicker, std::exp(-d * d));
   }
@@ -93,16 +82,16 @@ void add_lightning_system(ecs::Scheduler& s) {
     if (!weather || !(weather->per_minute > 0.0f)) return;
     if (!weather->seeded) {
       const auto* seed = w.try_resource<app::SimulationSeed>();
-      weather->rng = hash64("lightning", seed ? seed->value : 1);
+      weather->rng = SplitMix64{hash64("lightning", seed ? seed->value : 1)};
       weather->seeded = true;
     }
     // Poisson arrivals: the chance of a strike in this step (rates far below the step rate).
     const float p = std::min(1.0f, weather->per_minute / 60.0f * dt);
-    if (unit(weather->rng) >= p) return;
-    const glm::vec3 r(unit(weather->rng), unit(weather->rng), unit(weather->rng));
+    if (weather->rng.uniform() >= p) return;
+    const glm::vec3 r(weather->rng.uniform(), weather->rng.uniform(), weather->rng.uniform());
     const glm::vec3 pos = weather->box_min + (weather->box_max - weather->box_min) * r;
-    const LightningKind kind = unit(weather->rng) < 0.3f ? LightningKind::Ground : LightningKind::Internal;
-    strike_lightning(w, pos, kind, 40.0f + 40.0f * unit(weather->rng));
+    const LightningKind kind = weather->rng.uniform() < 0.3f ? LightningKind::Ground : LightningKind::Internal;
+    strike_lightning(w, pos, kind, 40.0f + 40.0f * weather->rng.uniform());
   });
 }
 

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/json.h"
+#include "engine/core/random.h"
 #include "engine/ecs/scheduler.h"
 #include "engine/ecs/serialize.h"
 #include "engine/ecs/world.h"
@@ -47,7 +48,7 @@ ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKin
 struct LightningWeather {
   float per_minute = 0.0f;
   glm::vec3 box_min{0.0f}, box_max{0.0f};  // spawn volume (the first cloudscape's world box, lower half)
-  uint64_t rng = 0;
+  SplitMix64 rng;
   bool seeded = false;
 };
 

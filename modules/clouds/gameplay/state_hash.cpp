@@ -30,13 +30,13 @@ uint64_t cloud_state_hash(const ecs::World& world) {
   Hasher x;
   world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& s) {
     x.str(s.current), x.str(s.next), x.str(s.zone);
-    x.pod(s.t), x.pod(s.transition_duration), x.pod(s.hold_left), x.pod(s.rng), x.pod(s.transitions);
+    x.pod(s.t), x.pod(s.transition_duration), x.pod(s.hold_left), x.pod(s.rng.state), x.pod(s.transitions);
     x.pod(s.encounter_active);
   });
   world.view<const LightningEvent>().each([&](const LightningEvent& l) {
     x.pod(l.position), x.pod(l.age_s), x.pod(l.intensity), x.pod(l.seed), x.pod(l.kind);
   });
-  if (const auto* lw = world.try_resource<LightningWeather>()) x.pod(lw->rng), x.pod(lw->per_minute);
+  if (const auto* lw = world.try_resource<LightningWeather>()) x.pod(lw->rng.state), x.pod(lw->per_minute);
   world.view<const Cloudscape>().each([&](const Cloudscape& c) { x.pod(c.dissipation), x.pod(c.density); });
   world.view<const StormbirdDissipation>().each([&](const StormbirdDissipation& d) { x.pod(d.progress), x.pod(d.active); });
   return x.h;

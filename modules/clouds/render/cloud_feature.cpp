@@ -103,40 +103,27 @@ void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
     any = true;
   });
   if (any && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
-  // Weather schedulers: every state they name must exist; `--weather ID` is the state they start in.
-  bool schedulers = false;
-  world.view<weather::WeatherScheduler>().each([&](ecs::Entity e, weather::WeatherScheduler& w) {
+  // Every weather state the level names must exist; `--weather ID` is the state schedulers start in.
+  auto library = [&]() -> const weather::WeatherLibrary& {
     if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
+    return *weather_lib_;
+  };
+  auto where = [&](ecs::Entity e, const char* component) {
+    const auto* n = world.try_get<ecs::Name>(e);
+    return level.file.string() + ": entity \"" + (n ? n->value : "?") + "\": " + component;
+  };
+  world.view<weather::WeatherScheduler>().each([&](ecs::Entity e, weather::WeatherScheduler& w) {
     if (options_.weather) w.start = options_.weather->id;
-    const std::string* name = nullptr;
-    if (const auto* n = world.try_get<ecs::Name>(e)) name = &n->value;
-    check_scheduler_states(w, *weather_lib_, level.file.string() + ": entity \"" + (name ? *name : "?") +
-                                                 "\": WeatherScheduler");
-    schedulers = true;
+    check_scheduler_states(w, library(), where(e, "WeatherScheduler"));
   });
   world.view<weather::WeatherZone>().each([&](ecs::Entity e, weather::WeatherZone& z) {
-    if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
-    const auto* n = world.try_get<ecs::Name>(e);
-    if (z.name.empty() && n) z.name = n->value;
-    weather::WeatherScheduler states;
-    states.start = z.states.front().state;
-    states.schedule = z.states;
-    check_scheduler_states(states, *weather_lib_, level.file.string() + ": entity \"" + (n ? n->value : "?") +
-                                                      "\": WeatherZone");
+    if (const auto* n = world.try_get<ecs::Name>(e); z.name.empty() && n) z.name = n->value;
+    for (const weather::ScheduleEntry& s : z.states) library().require(s.state, where(e, "WeatherZone"));
   });
   world.view<gameplay::Trigger>().each([&](ecs::Entity e, gameplay::Trigger& t) {
-    for (const std::string& state : gameplay::trigger_weather_states(t)) {
-      if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
-      if (weather_lib_->find(state)) continue;
-      const auto* n = world.try_get<ecs::Name>(e);
-      try {
-        weather_lib_->get(state);
-      } catch (const Error& err) {
-        fail("%s: entity \"%s\": Trigger set_weather: %s", level.file.string().c_str(), n ? n->value.c_str() : "?", err.what());
-      }
-    }
+    for (const std::string& state : gameplay::trigger_weather_states(t))
+      library().require(state, where(e, "Trigger set_weather"));
   });
-  (void)schedulers;
 }
 
 void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) const {
@@ -205,14 +192,8 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame->instances) {
     CloudInstance ci;
+    static_cast<CloudPlacement&>(ci) = i;
     ci.asset = cache_->cloudscape(i.folder, formats);
-    ci.position = i.position;
-    ci.rotation = i.rotation;
-    ci.scale = i.scale;
-    ci.density = i.density;
-    ci.wind_direction = i.wind_direction;
-    ci.wind_speed = i.wind_speed;
-    ci.dissipation = i.dissipation;
     in.instances.push_back(std::move(ci));
   }
   in.lights = frame->lights;

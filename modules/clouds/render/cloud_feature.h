@@ -42,15 +42,8 @@ struct LevelInfo;
 namespace cumulo::clouds::render {
 
 // One Cloudscape entity, as extracted for a frame.
-struct CloudInstanceFrame {
+struct CloudInstanceFrame : CloudPlacement {
   std::filesystem::path folder;  // resolved NVDF folder
-  glm::vec3 position{0.0f};
-  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
-  float scale = 1.0f;
-  float density = 1.0f;
-  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
-  float wind_speed = 0.0f;
-  float dissipation = 0.0f;
 };
 
 // The snapshot extension of the clouds module.

@@ -169,7 +169,7 @@ shared::CloudMarchPush target_push(VkExtent3D e) {
   return pc;
 }
 
-glm::mat4 instance_matrix(const CloudInstance& inst) { return placement_matrix(placement_of(inst)); }
+glm::mat4 instance_matrix(const CloudInstance& inst) { return placement_matrix(inst); }
 
 uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
   struct Key {
@@ -197,7 +197,7 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
   const glm::quat inv_rot = glm::inverse(glm::normalize(inst.rotation));
   ip.sun_dir = glm::vec4(glm::normalize(inv_rot * glm::normalize(sun)), inst.density);
   ip.sky_dir = glm::vec4(glm::normalize(inv_rot * glm::vec3(0.0f, 1.0f, 0.0f)), std::clamp(inst.dissipation, 0.0f, 1.0f));
-  ip.wind_offset = glm::vec4(wind_offset_asset(placement_of(inst), time), 0.0f);  // asset metres
+  ip.wind_offset = glm::vec4(wind_offset_asset(inst, time), 0.0f);  // asset metres
   return ip;
 }
 

@@ -18,7 +18,9 @@
 //   CloudFrameInputs in;
 //   in.camera = snapshot.camera; in.frame_index = n; in.time = t; in.slot = frame.slot;
 //   in.sun_direction = ...; in.sun_color = ...; in.ambient_color = ...;
-//   in.instances.push_back({.asset = assets.cloudscape(folder, default_cloud_formats(ctx.info()))});
+//   CloudInstance inst;
+//   inst.asset = assets.cloudscape(folder, default_cloud_formats(ctx.info()));
+//   in.instances.push_back(inst);
 //   hdr = clouds::render::add_cloud_passes(*res, graph, in, hdr, depth);   // before tonemap
 //
 // [SECTION] Passes (each a graph pass: debug label + timestamps)
@@ -157,21 +159,12 @@ inline uint32_t reprojection_block(const CloudSettings& s) {
 
 // One placed cloudscape. A Cloudscape ECS component (+ its entity's Transform) maps onto this 1:1;
 // several instances may share one asset (one GPU copy; each gets its own light grid).
-struct CloudInstance {
+// The placement (position, rotation, uniform scale, density, wind, dissipation: CloudPlacement,
+// scene/density_query.h, which the CPU density query shares) plus the asset on the GPU.
+struct CloudInstance : CloudPlacement {
   std::shared_ptr<const CloudAsset> asset;
-  glm::vec3 position{0.0f};                   // world = position + rotation * (scale * asset_space)
-  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
-  float scale = 1.0f;                         // uniform
-  float density = 1.0f;                       // density multiplier
-  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};  // noise scroll direction (world; need not be unit)
-  float wind_speed = 0.0f;                    // m/s
-  float dissipation = 0.0f;                   // 0..1: removes low-profile, wispy regions first
 };
 
-// The instance as placed in the world (the part the CPU density query shares, scene/density_query.h).
-inline CloudPlacement placement_of(const CloudInstance& i) {
-  return {i.position, i.rotation, i.scale, i.density, i.wind_direction, i.wind_speed, i.dissipation};
-}
 // Its block of CloudParams (transform, box, sun and sky in asset space, density, dissipation, wind
 // scroll) for a frame at `time` with the sun toward `sun_direction`.
 shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun_direction, double time);

@@ -38,11 +38,19 @@ const WeatherState* WeatherLibrary::find(const std::string& id) const {
   return it == states_.end() ? nullptr : &it->second;
 }
 
-const WeatherState& WeatherLibrary::get(const std::string& id) const {
-  if (const WeatherState* s = find(id)) return *s;
+std::string WeatherLibrary::unknown(const std::string& id) const {
   std::string known;
   for (const std::string& k : ids()) known += (known.empty() ? "" : ", ") + k;
-  fail("unknown weather state \"%s\" (known in %s: %s)", id.c_str(), folder_.string().c_str(), known.c_str());
+  return strf("unknown weather state \"%s\" (known in %s: %s)", id.c_str(), folder_.string().c_str(), known.c_str());
+}
+
+const WeatherState& WeatherLibrary::get(const std::string& id) const {
+  if (const WeatherState* s = find(id)) return *s;
+  fail("%s", unknown(id).c_str());
+}
+
+void WeatherLibrary::require(const std::string& id, const std::string& where) const {
+  if (!find(id)) fail("%s: %s", where.c_str(), unknown(id).c_str());
 }
 
 }  // namespace cumulo::clouds::weather

@@ -21,10 +21,13 @@ class WeatherLibrary {
   std::vector<std::string> ids() const;  // sorted
   const WeatherState* find(const std::string& id) const;
   const WeatherState& get(const std::string& id) const;  // throws "unknown weather state ... (known: ...)"
+  // The same check for data that names a state: throws "WHERE: unknown weather state ... (known: ...)".
+  void require(const std::string& id, const std::string& where) const;
   const std::filesystem::path& folder() const { return folder_; }
 
  private:
   std::filesystem::path folder_;
+  std::string unknown(const std::string& id) const;
   std::map<std::string, WeatherState> states_;
 };
 

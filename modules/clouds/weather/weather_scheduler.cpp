@@ -9,15 +9,7 @@
 namespace cumulo::clouds::weather {
 namespace {
 
-// splitmix64: a small, well-mixed stream (the seed alone decides every pick).
-uint64_t next_u64(uint64_t& state) {
-  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-float next_unit(uint64_t& state) { return float(next_u64(state) >> 40) / float(1ull << 24); }  // [0, 1)
-float in_range(glm::vec2 r, uint64_t& rng) { return r.x + (r.y - r.x) * next_unit(rng); }
+float in_range(glm::vec2 r, SplitMix64& rng) { return rng.range(r.x, r.y); }
 
 glm::vec2 seconds_range(const JsonView& v, const std::string& key, glm::vec2 fallback) {
   if (!v.has(key)) return fallback;
@@ -70,7 +62,7 @@ const std::vector<ScheduleEntry>& active_cycle(const WeatherScheduler& s) {
   return s.schedule;
 }
 
-void begin_transition(WeatherScheduler& s, const std::string& to, uint64_t& rng) {
+void begin_transition(WeatherScheduler& s, const std::string& to, SplitMix64& rng) {
   s.next = to;
   s.t = 0.0f;
   s.transition_duration = in_range(s.transition_s, rng);
@@ -121,27 +113,19 @@ Json weather_scheduler_to_json(const WeatherScheduler& s) {
 }
 
 void check_scheduler_states(const WeatherScheduler& s, const WeatherLibrary& lib, const std::string& where) {
-  auto check = [&](const std::string& id, const char* what) {
-    if (lib.find(id)) return;
-    try {
-      lib.get(id);
-    } catch (const Error& e) {
-      fail("%s: %s: %s", where.c_str(), what, e.what());
-    }
-  };
-  check(s.start, "start");
-  for (const ScheduleEntry& e : s.schedule) check(e.state, "schedule");
-  for (const ScheduleEntry& e : s.encounter) check(e.state, "encounter");
+  lib.require(s.start, where + ": start");
+  for (const ScheduleEntry& e : s.schedule) lib.require(e.state, where + ": schedule");
+  for (const ScheduleEntry& e : s.encounter) lib.require(e.state, where + ": encounter");
 }
 
-const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, uint64_t& rng) {
+const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, SplitMix64& rng) {
   double total = 0;
   for (const ScheduleEntry& e : entries)
     if (e.eligible_at(hours)) total += e.weight;
   const bool any = total > 0.0;
   if (!any)
     for (const ScheduleEntry& e : entries) total += e.weight;
-  double x = double(next_unit(rng)) * total;
+  double x = double(rng.uniform()) * total;
   for (const ScheduleEntry& e : entries) {
     if (any && !e.eligible_at(hours)) continue;
     if (e.weight <= 0.0f) continue;
@@ -155,7 +139,7 @@ const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float
 
 void advance(WeatherScheduler& s, float dt, float hours, uint64_t seed, const ZoneCycle& zone) {
   if (!s.started) {
-    s.rng = hash64("weather scheduler", seed);
+    s.rng = SplitMix64{hash64("weather scheduler", seed)};
     s.current = s.start;
     s.next.clear();
     s.hold_left = in_range(s.hold_s, s.rng);

@@ -23,6 +23,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/json.h"
+#include "engine/core/random.h"
 #include "modules/clouds/weather/weather_library.h"
 
 namespace cumulo::clouds::weather {
@@ -48,7 +49,7 @@ struct WeatherScheduler {
   std::string current, next;  // next empty: holding `current`
   float t = 0.0f;             // transition progress 0..1
   float transition_duration = 0.0f, hold_left = 0.0f;
-  uint64_t rng = 0;
+  SplitMix64 rng;
   bool started = false, encounter_was_active = false;
   std::string zone;                        // the active WeatherZone's name ("" none)
   std::vector<ScheduleEntry> zone_states;  // its cycle
@@ -63,7 +64,7 @@ Json weather_scheduler_to_json(const WeatherScheduler& s);
 void check_scheduler_states(const WeatherScheduler& s, const WeatherLibrary& lib, const std::string& where);
 
 // The weighted pick among the entries eligible at `hours` (all entries when none is); advances `rng`.
-const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, uint64_t& rng);
+const ScheduleEntry& pick_entry(const std::vector<ScheduleEntry>& entries, float hours, SplitMix64& rng);
 // One simulation step: seeds the stream on the first call, counts down the hold, starts and finishes
 // transitions, switches to or from the encounter cycle at once when encounter_active changes.
 // The viewer's zone this step (weather_zone.h): its name ("" for none) and its states.

@@ -15,6 +15,7 @@
 #include <cstdio>
 
 #include <cstring>
+#include "engine/core/random.h"
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/descriptors.h"
 #include "engine/gpu/sampler.h"
@@ -505,12 +506,9 @@ TEST_F(CloudRender, CpuDensityQueryMatchesTheGpuSampler) {
   const uint32_t n = 4096;
   // Points in the instance's box (asset space), most of them in the sphere's neighbourhood.
   std::vector<glm::vec4> points(n);
-  uint64_t rng = 99;
-  auto unit = [&rng] {
-    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-    return float(rng >> 40) / float(1ull << 24);
-  };
-  const glm::mat4 m = placement_matrix(placement_of(inst));
+  SplitMix64 rng{99};
+  auto unit = [&rng] { return rng.uniform(); };
+  const glm::mat4 m = placement_matrix(inst);
   for (uint32_t i = 0; i < n; ++i) {
     const glm::vec3 lo = inst.asset->bounds_min, hi = inst.asset->bounds_max;
     glm::vec3 a = i % 4 == 0 ? lo + (hi - lo) * glm::vec3(unit(), unit(), unit())
@@ -546,7 +544,7 @@ TEST_F(CloudRender, CpuDensityQueryMatchesTheGpuSampler) {
   double sum = 0, worst = 0;
   size_t cloudy = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    const float c = q.density(placement_of(inst), glm::vec3(points[i]), time);
+    const float c = q.density(inst, glm::vec3(points[i]), time);
     const double e = std::abs(double(c) - double(gpu_d[i]));
     sum += e;
     worst = std::max(worst, e);

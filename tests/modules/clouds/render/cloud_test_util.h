@@ -208,7 +208,9 @@ class CloudRenderFixture : public gpu::test::GpuTest {
     in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.8f, -0.4f));
     in.sun_color = glm::vec3(6.0f, 5.6f, 5.0f);
     in.ambient_color = glm::vec3(0.35f, 0.45f, 0.6f);
-    in.instances.push_back({.asset = asset});
+    CloudInstance inst;
+    inst.asset = asset;
+    in.instances.push_back(inst);
     in.settings.temporal = false;
     in.settings.animated_jitter_distance_m = 0.0f;  // static jitter: frames are reproducible
     return in;

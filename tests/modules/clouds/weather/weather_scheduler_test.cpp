@@ -31,7 +31,7 @@ TEST(WeatherScheduler, PicksByWeightChiSquare) {
   const WeatherScheduler s = scheduler_from(kSchedule);
   // At 03:00 fair_cumulus (3) and storm (0.5, window wraps midnight) are eligible, clear is not.
   std::map<std::string, int> n;
-  uint64_t rng = 12345;
+  SplitMix64 rng{12345};
   const int picks = 35000;
   for (int i = 0; i < picks; ++i) ++n[pick_entry(s.schedule, 3.0f, rng).state];
   EXPECT_EQ(n["clear"], 0);
