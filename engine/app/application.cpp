@@ -1,10 +1,14 @@
 #include "engine/app/application.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 
 #include "engine/app/detail/run_context.h"
 #include "engine/app/frame_output.h"
+#include "engine/app/recording.h"
 #include "engine/core/command.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
@@ -61,8 +65,35 @@ int run_headless(RunContext& rc) {
 
 }  // namespace
 
+namespace {
+
+// --replay: the recording's seed, step rate, time of day and camera replace the flags (said when they differ).
+void apply_recording_settings(RunOptions& o, const Recording& r) {
+  auto note = [&](const char* what, const std::string& given, const std::string& recorded) {
+    if (given != recorded) std::printf("cumulo: --replay %s: %s %s (recorded), not %s\n", o.replay.c_str(), what, recorded.c_str(), given.c_str());
+  };
+  if (o.seed_set) note("seed", std::to_string(o.seed), std::to_string(r.seed));
+  if (o.sim_hz_set) note("sim-hz", std::to_string(o.sim_hz), std::to_string(r.sim_hz));
+  if (o.camera_set) note("camera", o.camera, r.camera);
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!r.level.empty() && !fs::equivalent(fs::path(r.level), fs::path(o.level), ec))
+    std::printf("cumulo: --replay %s: recorded on %s, replayed on %s\n", o.replay.c_str(), r.level.c_str(), o.level.c_str());
+  o.seed = r.seed;
+  o.sim_hz = r.sim_hz;
+  o.time_of_day = r.time_of_day;
+  o.camera = r.camera;
+}
+
+}  // namespace
+
 int run_level(const RunOptions& options, const Modules& modules) {
   RunOptions o = options;
+  std::optional<Recording> replay;
+  if (!o.replay.empty()) {
+    replay = load_recording(o.replay);
+    apply_recording_settings(o, *replay);
+  }
   bool headless = o.headless;
   if (!headless && !platform::display_available()) {
     std::printf("cumulo: no display (DISPLAY and WAYLAND_DISPLAY are unset): running headless\n");
@@ -78,21 +109,41 @@ int run_level(const RunOptions& options, const Modules& modules) {
   sd.modules = modules;
   RunContext rc(o, sd);
   rc.camera = rc.sim.camera(o.camera);
-  rc.sim.world().set_resource<Viewer>(Viewer{rc.camera});
+  ecs::World& world = rc.sim.world();
+  world.set_resource<Viewer>(Viewer{rc.camera});
+  world.set_resource<ScheduledEvents>(ScheduledEvents{o.events});
+  if (!o.record.empty()) start_recording(rc.sim, Recording{o.level, o.seed, o.sim_hz, o.time_of_day, o.camera});
+  if (replay) {
+    start_replay(rc.sim, *replay);
+    // Headless without --frames: as many frames as the recording lasts (after --start-at).
+    const uint64_t start = rc.clock.steps_for_fast_forward(o.start_at);
+    if (headless && !o.frames_set && replay->steps > start) {
+      const double steps_per_frame = double(o.sim_hz) / double(render::budget_hz(o.mode));
+      rc.opt.frames = uint32_t(std::min<double>(1e6, std::ceil(double(replay->steps - start) / steps_per_frame)));
+    }
+  }
   // --start-at: simulate without rendering.
   uint64_t ff = rc.clock.steps_for_fast_forward(o.start_at);
   rc.sim.step(ff);
   rc.clock.on_steps_run(ff);
 
+  int code = -1;
   if (!headless) {
     try {
-      return detail::run_windowed(rc);
+      code = detail::run_windowed(rc);
     } catch (const WindowUnavailable& e) {
       std::printf("cumulo: %s: running headless\n", e.what());
       if (rc.opt.frames == 0) rc.opt.frames = kDefaultHeadlessFrames;
     }
   }
-  return run_headless(rc);
+  if (code < 0) code = run_headless(rc);
+  if (!o.record.empty()) {
+    const Recording r = finish_recording(rc.sim);
+    save_recording(o.record, r);
+    std::printf("cumulo: recorded %llu steps, %zu camera poses, %zu events to %s\n", (unsigned long long)r.steps,
+                r.camera_path.size(), r.events.size(), o.record.c_str());
+  }
+  return code;
 }
 
 void register_app_commands(CommandRegistry& registry, const Modules& modules) {

@@ -1,6 +1,7 @@
 #include "engine/app/run_options.h"
 
 #include <cstdlib>
+#include <filesystem>
 
 #include "engine/core/args.h"
 #include "engine/core/error.h"
@@ -44,7 +45,14 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
       .option("--stats", "PATH", "write JSON statistics: per-pass GPU ms, CPU frame ms, device, validation errors, memory", &o.stats)
       .option("--dump-graph", "FILE", "write the compiled render graph of the first frame (Graphviz if FILE ends in .dot)", &o.dump_graph)
       .option("--sim-hz", "HZ", "fixed simulation rate (default 60)", &o.sim_hz)
-      .range(1, 1000);
+      .range(1, 1000)
+      .option("--event", "NAME@SECONDS", "fire a gameplay event at a simulation time (repeatable), e.g. stormbird_killed@12",
+              [&o](const std::string& v) { o.events.push_back(parse_scheduled_event(v, "--event")); })
+      .option("--record", "FILE", "write the run's inputs (camera path, events, seed) as JSON for --replay", &o.record)
+      .option("--replay", "FILE",
+              "run from a recording: its seed, step rate, camera path and events (headless: as many frames as it "
+              "lasts unless --frames)",
+              &o.replay);
   for (const auto& m : modules) m->add_run_options(p);
   if (!p.parse(argc, argv)) return std::nullopt;
   for (const auto& m : modules) m->check_run_options();
@@ -55,6 +63,15 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
   }
   // Ranges (and finiteness: --start-at nan would be ~9e18 fast-forward steps) are checked by the parser.
   if (p.was_set("--time-of-day")) o.time_of_day = tod;
+  o.frames_set = p.was_set("--frames");
+  o.seed_set = p.was_set("--seed");
+  o.sim_hz_set = p.was_set("--sim-hz");
+  o.camera_set = p.was_set("--camera");
+  if (!o.replay.empty() && !o.events.empty())
+    fail("--event and --replay: a replay fires the recording's events (record a new run to change them)");
+  if (!o.replay.empty() && !o.record.empty() &&
+      std::filesystem::weakly_canonical(o.replay) == std::filesystem::weakly_canonical(o.record))
+    fail("--record %s: the same file as --replay", o.record.c_str());
   if (o.headless && o.frames == 0) o.frames = kDefaultHeadlessFrames;
   return o;
 }

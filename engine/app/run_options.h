@@ -3,7 +3,9 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "engine/app/game_events.h"
 #include "engine/app/module.h"
 #include "engine/render/budget_mode.h"
 
@@ -24,6 +26,10 @@ struct RunOptions {
   std::string stats;                 // JSON statistics path
   std::string dump_graph;            // compiled render graph (text, or Graphviz when it ends in .dot)
   uint32_t sim_hz = 60;              // fixed simulation rate
+  bool frames_set = false, seed_set = false, sim_hz_set = false, camera_set = false;
+  std::vector<ScheduledEvent> events;  // --event NAME@SECONDS (repeatable)
+  std::string record;                // --record FILE: write the run's inputs (engine/app/recording.h)
+  std::string replay;                // --replay FILE: drive the run from a recording
 };
 
 // Frames a headless run renders when --frames is not given.

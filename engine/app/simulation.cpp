@@ -1,5 +1,7 @@
 #include "engine/app/simulation.h"
 
+#include "engine/app/game_events.h"
+#include "engine/app/recording.h"
 #include "engine/core/error.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/components.h"
@@ -10,6 +12,9 @@
 namespace cumulo::app {
 
 void register_engine_systems(ecs::Scheduler& scheduler) {
+  // Input phase, in this order: a replay's pose and events, the recorder, then the scheduled events.
+  add_record_replay_systems(scheduler);
+  add_scripted_events_system(scheduler);
   // The day cycle: the TimeOfDay that counts (scene::find_sun) advances at its hours_per_second.
   // Update phase: gameplay systems in PreUpdate may set the time first.
   scheduler.add_system(ecs::Phase::Update, "time_of_day", [](ecs::World& w, const ecs::FrameContext& f) {

@@ -64,7 +64,8 @@ class Simulation {
   uint32_t sim_hz_ = 60;
 };
 
-// The engine's own systems (the day cycle). Modules add theirs through Module::register_systems.
+// The engine's own systems (replay and recording, the scheduled events, the day cycle). Modules add
+// theirs through Module::register_systems.
 void register_engine_systems(ecs::Scheduler& scheduler);
 
 }  // namespace cumulo::app

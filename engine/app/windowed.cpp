@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "engine/app/detail/run_context.h"
+#include "engine/app/recording.h"
 #include "engine/app/frame_output.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
@@ -74,7 +75,9 @@ int run_windowed(RunContext& rc) {
     Stopwatch cpu;
     window->poll(input);
     if (input.was_pressed(platform::Key::Tab)) window->set_cursor_captured(!input.cursor_captured);
-    if (update_fly_camera(fly, input, static_cast<float>(std::min(dt, 0.1)))) apply_fly_camera(rc.sim.world(), rc.camera, fly);
+    // A replay moves the camera itself (the recorded path); the keys and mouse do not.
+    if (!replaying(rc.sim.world()) && update_fly_camera(fly, input, static_cast<float>(std::min(dt, 0.1))))
+      apply_fly_camera(rc.sim.world(), rc.camera, fly);
 
     uint32_t steps = rc.clock.steps_for_real_time(dt);
     rc.sim.step(steps);

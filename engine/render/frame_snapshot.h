@@ -31,6 +31,14 @@ struct ModelDraw {
 // The light the scene passes (and modules) use, in the renderer's units (exposure 1 maps the noon sun's
 // radiance of about 3 to a bright, unclipped white). extract_frame fills it from the stand-in sky model
 // (sky_model.h); a module's extract may replace it.
+// A short-lived light on the geometry (FRAME_MAX_POINT_LIGHTS of them reach the geometry pass; a module's
+// extract may add them, e.g. a lightning discharge lighting the terrain).
+struct PointLight {
+  glm::vec3 position{0.0f};
+  float reach = 1000.0f;      // m: the light fades smoothly to 0 there
+  glm::vec3 color{0.0f};      // radiance scale of a white Lambertian surface facing it at 100 m
+};
+
 struct SceneLighting {
   glm::vec3 sun_radiance{0.0f};   // reaching the ground (after the atmosphere)
   float ambient = 0.0f;           // scale of the hemispheric ambient term
@@ -38,6 +46,7 @@ struct SceneLighting {
   float fog_density = 0.0f;       // 1/m at sea level
   float fog_falloff = 0.0f;       // 1/m (exponential height falloff)
   std::string source = "stand-in";  // who filled it (stats, debugging)
+  std::vector<PointLight> point_lights;  // the first FRAME_MAX_POINT_LIGHTS reach the geometry
 };
 
 // Per-frame data of modules, one value per type:

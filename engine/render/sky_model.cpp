@@ -54,6 +54,12 @@ shared::FrameParams make_frame_params(const FrameSnapshot& s, float exposure) {
   float w = static_cast<float>(std::max(1u, s.width)), h = static_cast<float>(std::max(1u, s.height));
   p.viewport_size = glm::vec2(w, h);
   p.inv_viewport_size = glm::vec2(1.0f / w, 1.0f / h);
+  const size_t n = std::min<size_t>(c.point_lights.size(), FRAME_MAX_POINT_LIGHTS);
+  for (size_t i = 0; i < n; ++i) {
+    p.point_light_pos[i] = glm::vec4(c.point_lights[i].position, std::max(c.point_lights[i].reach, 1e-3f));
+    p.point_light_color[i] = glm::vec4(c.point_lights[i].color, 0.0f);
+  }
+  p.point_light_count = glm::uvec4(uint32_t(n), 0, 0, 0);
   return p;
 }
 

@@ -37,20 +37,13 @@ void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
       [](const JsonView& v) { return weather::weather_zone_from_json(v); });
 }
 
-void CloudsModule::add_run_options(ArgParser& p) {
-  scheduled_.clear();
-  p.option("--event", "NAME@SECONDS", "fire a gameplay event at a simulation time (repeatable), e.g. stormbird_killed@12",
-           [this](const std::string& v) { scheduled_.push_back(gameplay::parse_scheduled_event(v, "--event")); });
-  feature_.add_run_options(p);
-}
+void CloudsModule::add_run_options(ArgParser& p) { feature_.add_run_options(p); }
 
 void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& level) {
   feature_.on_level_loaded(world, level);
-  world.set_resource<gameplay::ScheduledEvents>(gameplay::ScheduledEvents{scheduled_});
 }
 
 void CloudsModule::register_systems(ecs::Scheduler& s) {
-  gameplay::add_scripted_events_system(s);
   gameplay::add_trigger_system(s);
   gameplay::add_stormbird_system(s);
   // The weather scheduler: the hour from the time of day that counts (scene::find_sun), the stream
@@ -74,8 +67,11 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
       first = false;
       auto* lw = w.try_resource<gameplay::LightningWeather>();
       if (!lw) lw = &w.set_resource<gameplay::LightningWeather>();
-      lw->per_minute = ws.has_lightning_volume ? weather::weather_now(ws, *library).state.lightning_per_minute : 0.0f;
-      lw->box_min = ws.lightning_min, lw->box_max = ws.lightning_max;
+      const bool encounter_box = ws.encounter_active && ws.has_encounter_lightning_volume;
+      lw->per_minute = ws.has_lightning_volume || encounter_box
+                           ? weather::weather_now(ws, *library).state.lightning_per_minute : 0.0f;
+      lw->box_min = encounter_box ? ws.encounter_lightning_min : ws.lightning_min;
+      lw->box_max = encounter_box ? ws.encounter_lightning_max : ws.lightning_max;
     });
   });
   gameplay::add_lightning_system(s);

@@ -1,12 +1,10 @@
 #pragma once
 // The cloud module's one registration point (DESIGN.md "Modules"): its subcommands (noise, bake,
 // import, bench), its components (Cloudscape, WeatherScheduler, StormbirdDissipation) and systems, its
-// `cumulo run` flags (--event, the cloud flags) and its render passes.
+// `cumulo run` flags (the cloud flags; --event is the engine's) and its render passes.
 #include <memory>
-#include <vector>
 
 #include "engine/app/module.h"
-#include "modules/clouds/gameplay/game_events.h"
 #include "modules/clouds/render/cloud_feature.h"
 
 namespace cumulo::clouds {
@@ -29,7 +27,6 @@ class CloudsModule final : public app::Module {
 
  private:
   render::CloudFeature feature_;
-  std::vector<gameplay::ScheduledEvent> scheduled_;  // --event NAME@SECONDS
 };
 
 std::shared_ptr<app::Module> make_clouds_module();

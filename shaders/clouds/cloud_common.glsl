@@ -21,6 +21,15 @@ layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { Clo
 layout(set = 0, binding = CLOUD_BINDING_MODELING) uniform sampler3D modeling_tex;
 layout(set = 0, binding = CLOUD_BINDING_FIELD) uniform sampler3D field_tex;
 layout(set = 0, binding = CLOUD_BINDING_NOISE) uniform sampler3D noise_tex;
+// A second cloudscape asset (CLOUD_ASSET_SLOTS 2: instances whose wind_offset.w is 1 read these). The
+// functions below take the asset's samplers as arguments, so one march body serves both slots.
+#ifndef CLOUD_ASSET_SLOTS
+#define CLOUD_ASSET_SLOTS 1
+#endif
+#if CLOUD_ASSET_SLOTS > 1
+layout(set = 0, binding = CLOUD_BINDING_MODELING_1) uniform sampler3D modeling_tex_1;
+layout(set = 0, binding = CLOUD_BINDING_FIELD_1) uniform sampler3D field_tex_1;
+#endif
 
 // lavapipe (LAVAPIPE.md) runs both sides of an `if` for its 8-lane group even when no lane takes it,
 // but stops a loop once every lane is done. So an expensive block that is often empty for the whole
@@ -67,11 +76,11 @@ vec3 asset_uvw(CloudInstanceParams inst, vec3 asset_pos) {
 
 // Signed distance in asset metres (negative inside). Both forms are conservative (never above the
 // true distance at texels; bake/bc1.h states the guarantee and its limits between texels).
-float cloud_distance(vec3 uvw) {
+float cloud_distance(sampler3D field, vec3 uvw) {
 #if SDF_BC1
-  float v = dot(textureLod(field_tex, uvw, 0.0).rgb, vec3(1.0, 9.0 / 255.0, 45.0 / 65025.0));
+  float v = dot(textureLod(field, uvw, 0.0).rgb, vec3(1.0, 9.0 / 255.0, 45.0 / 65025.0));
 #else
-  float v = textureLod(field_tex, uvw, 0.0).r;
+  float v = textureLod(field, uvw, 0.0).r;
 #endif
   return kSdfMin + kSdfRange * v;
 }
@@ -86,8 +95,8 @@ struct ModelingData {
 // Dissipation (issue 8; the Stormbird's death drives it later): removes low-profile, wispy regions
 // first. The profile is re-ranged above a threshold that wispy cloud (type 0) reaches at dissipation
 // 2/3 and billowy cloud (type 1) at 1, so at 1 every cloud is gone.
-ModelingData modeling_data(vec3 uvw, float dissipation) {
-  vec3 m = textureLod(modeling_tex, uvw, 0.0).rgb;
+ModelingData modeling_data(sampler3D modeling, vec3 uvw, float dissipation) {
+  vec3 m = textureLod(modeling, uvw, 0.0).rgb;
   ModelingData d;
   float threshold = saturate(dissipation * mix(1.5, 1.0, m.g));
   d.profile = threshold > 0.0 ? saturate((m.r - threshold) / max(1.0 - threshold, kEpsilon)) : m.r;
@@ -161,8 +170,8 @@ struct DensitySample {
   float profile;  // profile * density scale: the scattering-probability fields
   float raw_profile;
 };
-DensitySample sample_density(CloudInstanceParams inst, vec3 asset_pos, float dist, float mip, bool details) {
-  ModelingData m = modeling_data(asset_uvw(inst, asset_pos), inst.sky_dir.w);
+DensitySample sample_density(sampler3D modeling, CloudInstanceParams inst, vec3 asset_pos, float dist, float mip, bool details) {
+  ModelingData m = modeling_data(modeling, asset_uvw(inst, asset_pos), inst.sky_dir.w);
   DensitySample s;
   s.raw_profile = m.profile;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;
@@ -173,8 +182,8 @@ DensitySample sample_density(CloudInstanceParams inst, vec3 asset_pos, float dis
 
 // The same with a given noise value (no noise fetch): where the caller's resolution is far coarser than
 // the noise, which then contributes only its mean (the light-grid sweep).
-DensitySample sample_density_with_noise(CloudInstanceParams inst, vec3 asset_pos, vec4 noise) {
-  ModelingData m = modeling_data(asset_uvw(inst, asset_pos), inst.sky_dir.w);
+DensitySample sample_density_with_noise(sampler3D modeling, CloudInstanceParams inst, vec3 asset_pos, vec4 noise) {
+  ModelingData m = modeling_data(modeling, asset_uvw(inst, asset_pos), inst.sky_dir.w);
   DensitySample s;
   s.raw_profile = m.profile;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;

@@ -88,7 +88,7 @@ vec2 light_grid(int i, vec3 asset_pos) {
 }
 
 // Optical depth toward the sun from an asset-space point (world metres of density x extinction).
-float sun_optical_depth(int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
+float sun_optical_depth(sampler3D modeling, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
   vec3 sun = inst.sun_dir.xyz;
   float scale = inst.bounds_min.w, inv_scale = inst.bounds_max.w;
   float sum = 0.0;
@@ -97,16 +97,16 @@ float sun_optical_depth(int i, CloudInstanceParams inst, vec3 p, float dist, flo
   uint n = uint(P.light.w);
   for (uint k = 0u; k < n; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
-    sum += sample_density(inst, q, dist, mip, false).full * seg;
+    sum += sample_density(modeling, inst, q, dist, mip, false).full * seg;
   }
 #else
   float seg = P.light.x;
   for (int k = 0; k < 2; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
 #if LIGHT_SAMPLE_NOISE_MEAN
-    sum += sample_density_with_noise(inst, q, mean_noise).full * seg;
+    sum += sample_density_with_noise(modeling, inst, q, mean_noise).full * seg;
 #else
-    sum += sample_density(inst, q, dist, mip, false).full * seg;
+    sum += sample_density(modeling, inst, q, dist, mip, false).full * seg;
 #endif
   }
   sum += light_grid(i, p + sun * (2.0 * seg * inv_scale)).x;
@@ -117,7 +117,7 @@ float sun_optical_depth(int i, CloudInstanceParams inst, vec3 p, float dist, flo
 // `t_front`: transmittance in front of this segment (the near layer's, for the far march; 1 otherwise).
 // It only ends the march early (where the near layer is already opaque the far one cannot show); the
 // far layer's own radiance and transmittance stay unattenuated for the merge.
-void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
+void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
                     float t_front, vec4 mean_noise, inout PixelData px) {
   CloudInstanceParams inst = P.instances[i];
   vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
@@ -134,7 +134,7 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
     if (t >= t1 || px.transmittance * t_front < P.march.z) break;
     px.steps += 1.0;
 #if ABLATION == CLOUD_ABLATION_FULL
-    float sdf = cloud_distance(asset_uvw(inst, ao + ad * t)) * scale;  // world metres
+    float sdf = cloud_distance(field, asset_uvw(inst, ao + ad * t)) * scale;  // world metres
     float adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
     // Steps in air, where no sample is taken, in a loop of their own: lavapipe runs the sample block
     // below for a group of 8 pixels whenever one of them is in cloud, and a lane in air would pay for
@@ -145,7 +145,7 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
       if (t >= t1) break;
       ++s;
       px.steps += 1.0;
-      sdf = cloud_distance(asset_uvw(inst, ao + ad * t)) * scale;
+      sdf = cloud_distance(field, asset_uvw(inst, ao + ad * t)) * scale;
       adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
     }
     if (t >= t1) break;
@@ -162,12 +162,12 @@ void march_instance(int i, vec3 ro, vec3 rd, float t_begin, float t_end, float h
     CLOUD_WHERE(inside && ts < t1) {
       vec3 q = ao + ad * ts;
       float mip = noise_mip(ts);
-      DensitySample ds = sample_density(inst, q, ts, mip, true);
+      DensitySample ds = sample_density(modeling, inst, q, ts, mip, true);
       CLOUD_WHERE(ds.full > 0.0) {
 #if ABLATION != CLOUD_ABLATION_FULL
-        sdf = cloud_distance(asset_uvw(inst, q)) * scale;  // for the ms relaxation only
+        sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
-        float od_sun = sun_optical_depth(i, inst, q, ts, mip, mean_noise);
+        float od_sun = sun_optical_depth(modeling, i, inst, q, ts, mip, mean_noise);
         float od_sky = light_grid(i, q).y * ext * P.light.y;
         float ms = ds.profile * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
         vec3 light_in = P.sun_color.rgb * (exp(-od_sun) * phase + ms * P.phase.w / (4.0 * kPi));
@@ -233,23 +233,42 @@ void main() {
   float hash_static = pixel_hash(hash_pixel, 0u);
   float hash_animated = pixel_hash(hash_pixel, P.frame.x);
 
-  // Instances in order of their entry distance (at most CLOUD_MAX_INSTANCES: a tiny insertion sort).
+  // Instances in order of their entry distance (at most CLOUD_MAX_INSTANCES: a tiny insertion sort), and
+  // every entry and exit along the ray: boxes may overlap (a hero cloud inside the cloudscape's box), so the
+  // ray is marched interval by interval between these boundaries, each instance present in an interval
+  // in entry order. Marching one instance's whole segment and then the next would add a far cloud of the
+  // first behind a near wall of the second at full weight.
   uint n = min(P.frame.y, uint(CLOUD_MAX_INSTANCES));
   float enter[CLOUD_MAX_INSTANCES];
+  float leave[CLOUD_MAX_INSTANCES];
   int order[CLOUD_MAX_INSTANCES];
+  float cuts[2 * CLOUD_MAX_INSTANCES];
+  uint n_cuts = 0u;
   for (uint i = 0u; i < n; ++i) {
     CloudInstanceParams inst = P.instances[i];
     vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
     vec3 ad = mat3(inst.world_to_asset) * rd;
     vec2 seg = ray_box(ao, ad, inst.bounds_min.xyz, inst.bounds_max.xyz);
-    enter[i] = seg.x <= seg.y ? max(seg.x, 0.0) : 1e30;
+    bool hit = seg.x <= seg.y && seg.y > 0.0;
+    enter[i] = hit ? max(seg.x, 0.0) : 1e30;
+    leave[i] = hit ? seg.y : -1e30;
     order[i] = int(i);
+    if (hit) {
+      cuts[n_cuts++] = enter[i];
+      cuts[n_cuts++] = leave[i];
+    }
   }
   for (uint i = 1u; i < n; ++i)
     for (uint j = i; j > 0u && enter[order[j]] < enter[order[j - 1u]]; --j) {
       int tmp = order[j];
       order[j] = order[j - 1u];
       order[j - 1u] = tmp;
+    }
+  for (uint i = 1u; i < n_cuts; ++i)
+    for (uint j = i; j > 0u && cuts[j] < cuts[j - 1u]; --j) {
+      float tmp = cuts[j];
+      cuts[j] = cuts[j - 1u];
+      cuts[j - 1u] = tmp;
     }
   float t_front = 1.0;
   vec4 mean_noise = noise_mean();
@@ -265,8 +284,30 @@ void main() {
       for (int k = 0; k < 2; ++k) t_front = max(t_front, texelFetch(near_color, clamp(b + ivec2(k, j), ivec2(0), ns - 1), 0).a);
   }
 #endif
-  for (uint k = 0u; k < n; ++k)
-    if (enter[order[k]] < t_end) march_instance(order[k], ro, rd, t_begin, t_end, hash_animated, hash_static, t_front, mean_noise, px);
+  for (uint c = 0u; c + 1u < n_cuts; ++c) {
+    float a = max(cuts[c], t_begin), b = min(cuts[c + 1u], t_end);
+    if (b <= a) continue;
+    uint present = 0u;
+    for (uint k = 0u; k < n; ++k) present += enter[k] <= a && leave[k] >= b ? 1u : 0u;
+    // Where boxes overlap, the interval goes in pieces (64 m near the camera, an eighth of the distance
+    // beyond 512 m), each piece marched for every instance: ordering errors stay within a piece.
+    for (float p0 = a; p0 < b && px.transmittance * t_front >= P.march.z;) {
+      float p1 = present > 1u ? min(b, p0 + max(64.0, 0.125 * p0)) : b;
+      for (uint k = 0u; k < n; ++k) {
+        int i = order[k];
+        if (enter[i] > a || leave[i] < b) continue;  // not in this interval
+#if CLOUD_ASSET_SLOTS > 1
+        // A lane marching the other slot's instance leaves this call's loop at once (lavapipe runs a loop
+        // only while some lane is in it), so the two calls cost about one march.
+        if (P.instances[i].wind_offset.w > 0.5)
+          march_instance(modeling_tex_1, field_tex_1, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+        else
+#endif
+          march_instance(modeling_tex, field_tex, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+      }
+      p0 = p1;
+    }
+  }
 
   float depth = px.depth50 < 1e5 ? px.depth50 : px.first_hit;
   vec4 color = vec4(px.radiance, px.transmittance);

@@ -1,6 +1,6 @@
 #version 450
 // Geometry pass fragment stage: base colour (texture x factor) lit by the directional sun (Lambert),
-// a hemispheric ambient term from the sky and ground colours, and exponential height fog toward the sky
+// a hemispheric ambient term from the sky and ground colours, short-lived point lights (lightning), and exponential height fog toward the sky
 // gradient (aerial perspective) so the 4 km level fades into the horizon.
 #extension GL_GOOGLE_include_directive : require
 #include "engine/sky_common.glsl"
@@ -24,6 +24,13 @@ void main() {
   float up = dot(n, kWorldUp) * 0.5 + 0.5;
   vec3 ambient = mix(frame.ground_color, mix(frame.sky_horizon, frame.sky_zenith, 0.5), up) * frame.ambient;
   vec3 lit = base.rgb * (frame.sun_radiance * ndl + ambient);
+  // Point lights (lightning): inverse square, normalized to their colour at 100 m, faded to 0 at their reach.
+  for (uint i = 0u; i < frame.point_light_count.x; ++i) {
+    vec3 to_l = frame.point_light_pos[i].xyz - in_world;
+    float d = max(length(to_l), 1.0);
+    float fade = clamp(1.0 - d / frame.point_light_pos[i].w, 0.0, 1.0);
+    lit += base.rgb * frame.point_light_color[i].rgb * (max(dot(n, to_l / d), 0.0) * 1e4 / (d * d) * fade * fade);
+  }
 
   // Sun glint for smooth materials (the ocean): normalized Blinn-Phong with the exponent from the glTF
   // roughness (alpha = r^2, n = 2/alpha^2 - 2, Walter et al. 2007's mapping) and Schlick Fresnel (F0 0.02).

@@ -13,8 +13,9 @@
 CUMULO_SHARED_BEGIN
 
 // ---- Limits and binding numbers (set 0, push descriptors) ----------------------------------------
-#define CLOUD_MAX_INSTANCES 4  // instances of one asset drawn by one march (each has its own light grid)
+#define CLOUD_MAX_INSTANCES 4  // instances drawn by one march (each has its own light grid)
 #define CLOUD_MAX_POINT_LIGHTS 4
+#define CLOUD_MAX_ASSETS 2  // distinct cloudscape assets in one frame (define CLOUD_ASSET_SLOTS: 1 or 2)
 #define CLOUD_LOCAL_SIZE 8  // 8x8 work groups for the 2D passes (lavapipe runs 8 lanes at a time)
 
 // light_grid_update.comp and march_render.comp
@@ -28,6 +29,8 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_OUT_DEPTH 7   // image2D rg32f: x distance where opacity reached 0.5 (or segment end), y steps
 #define CLOUD_BINDING_GRID_OUT 8    // image3D rg16f: the light grid being updated (all slabs)
 #define CLOUD_BINDING_NEAR_IN 9     // sampler2D: the far march reads the near layer's transmittance (early exit)
+#define CLOUD_BINDING_MODELING_1 10 // sampler3D: the second asset's modeling NVDF (CLOUD_ASSET_SLOTS 2)
+#define CLOUD_BINDING_FIELD_1 11    // sampler3D: the second asset's signed distance
 // temporal_accumulate.comp
 #define CLOUD_BINDING_CURRENT 1         // sampler2D: this frame's march colour
 #define CLOUD_BINDING_CURRENT_DEPTH 2   // sampler2D: this frame's march depth
@@ -69,7 +72,7 @@ struct CloudInstanceParams {
   vec4 bounds_max;      // xyz; w: 1 / scale
   vec4 sun_dir;         // xyz: unit vector toward the sun in asset space; w: density multiplier
   vec4 sky_dir;         // xyz: unit vector up (world +Y) in asset space; w: dissipation 0..1
-  vec4 wind_offset;     // xyz: noise scroll (asset metres), wind direction * speed * time; w: unused
+  vec4 wind_offset;     // xyz: noise scroll (asset metres), wind direction * speed * time; w: asset slot (0 or 1)
 };
 CUMULO_SHARED_SIZE(CloudInstanceParams, 144)
 

@@ -12,6 +12,8 @@
 
 CUMULO_SHARED_BEGIN
 
+#define FRAME_MAX_POINT_LIGHTS 4
+
 struct FrameParams {
   mat4 view_proj;      // world -> clip (Vulkan clip space, y down, reversed-Z: near 1, far 0)
   mat4 inv_view_proj;  // clip -> world, for sky rays
@@ -29,8 +31,13 @@ struct FrameParams {
   float pad0;
   vec2 viewport_size;      // pixels
   vec2 inv_viewport_size;  // 1 / pixels
+  // Short-lived point lights on the geometry (a lightning discharge lighting the terrain): xyz world
+  // position, w reach (m; the light fades to 0 there); rgb radiance scale at 100 m, w unused.
+  vec4 point_light_pos[FRAME_MAX_POINT_LIGHTS];
+  vec4 point_light_color[FRAME_MAX_POINT_LIGHTS];
+  uvec4 point_light_count;  // x: count
 };
-CUMULO_SHARED_SIZE(FrameParams, 240)
+CUMULO_SHARED_SIZE(FrameParams, 384)
 CUMULO_SHARED_OFFSET(FrameParams, sun_radiance, 160)
 CUMULO_SHARED_OFFSET(FrameParams, viewport_size, 224)
 

@@ -54,11 +54,12 @@ float lightning_envelope(const LightningEvent& e) {
   return std::clamp(0.35f * decay + 0.65f * flicker * decay + (t < 0.1f ? 1.0f - t / 0.1f : 0.0f), 0.0f, 1.0f);
 }
 
-ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKind kind, float intensity) {
+ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKind kind, float intensity, float radius) {
   LightningEvent e;
   e.kind = kind;
   e.position = position;
   e.intensity = intensity;
+  e.radius = radius;
   const auto* seed = world.try_resource<app::SimulationSeed>();
   uint64_t p[4];
   std::memcpy(p, &position, sizeof position);
@@ -99,10 +100,46 @@ std::vector<LightningLight> lightning_lights(const ecs::World& world, size_t max
   std::vector<LightningLight> out;
   world.view<const LightningEvent>().each([&](const LightningEvent& l) {
     const float k = lightning_envelope(l) * l.intensity;
-    if (k > 0.0f) out.push_back({l.position, l.radius, k});
+    if (k > 0.0f) out.push_back({l.position, l.radius, k, l.kind, l.seed});
   });
   std::sort(out.begin(), out.end(), [](const LightningLight& a, const LightningLight& b) { return a.intensity > b.intensity; });
   if (out.size() > max) out.resize(max);
+  return out;
+}
+
+std::vector<BoltSegment> lightning_bolt(glm::vec3 top, float ground_y, uint64_t seed) {
+  std::vector<BoltSegment> out;
+  const float height = top.y - ground_y;
+  if (!(height > 1.0f)) return out;
+  SplitMix64 rng{hash64("bolt", seed)};
+  auto signed_unit = [&] { return rng.uniform() * 2.0f - 1.0f; };
+  // Main channel: equal height steps, each leaning a random way (a tortuous leader, about 30 degrees off
+  // the vertical on average), pulled back toward the strike point below the top so it ends near it.
+  const glm::vec2 target = glm::vec2(top.x, top.z) + glm::vec2(signed_unit(), signed_unit()) * (0.25f * height);
+  const float dy = height / float(kBoltMainSegments);
+  std::vector<glm::vec3> main{top};
+  for (int i = 1; i <= kBoltMainSegments; ++i) {
+    const glm::vec3 p = main.back();
+    const float left = float(kBoltMainSegments - i + 1);
+    const glm::vec2 pull = (target - glm::vec2(p.x, p.z)) / left;
+    const glm::vec2 jag = glm::vec2(signed_unit(), signed_unit()) * (0.6f * dy);
+    const glm::vec3 q(p.x + pull.x + jag.x, i == kBoltMainSegments ? ground_y : p.y - dy, p.z + pull.y + jag.y);
+    out.push_back({p, q, 1.0f});
+    main.push_back(q);
+  }
+  // Branches: from points on the upper two thirds, down and outward, fading along their length.
+  const int branches = 3 + int(rng.uniform() * 3.0f);
+  for (int b = 0; b < branches && int(out.size()) < kBoltMaxSegments; ++b) {
+    glm::vec3 p = main[1 + size_t(rng.uniform() * float(kBoltMainSegments * 2 / 3))];
+    const glm::vec2 out_dir = glm::normalize(glm::vec2(signed_unit(), signed_unit()) + glm::vec2(1e-3f, 0.0f));
+    const int n = 4 + int(rng.uniform() * 5.0f);
+    for (int k = 0; k < n && int(out.size()) < kBoltMaxSegments && p.y - dy > ground_y; ++k) {
+      const glm::vec2 step = out_dir * (0.7f * dy) + glm::vec2(signed_unit(), signed_unit()) * (0.5f * dy);
+      const glm::vec3 q(p.x + step.x, p.y - dy * (0.6f + 0.4f * rng.uniform()), p.z + step.y);
+      out.push_back({p, q, 0.45f * (1.0f - float(k) / float(n))});
+      p = q;
+    }
+  }
   return out;
 }
 

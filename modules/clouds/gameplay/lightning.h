@@ -42,7 +42,7 @@ void register_lightning_component(ecs::ComponentRegistry& registry);
 float lightning_envelope(const LightningEvent& e);
 
 ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKind kind = LightningKind::Internal,
-                             float intensity = 60.0f);
+                             float intensity = 60.0f, float radius = 400.0f);
 
 // Where and how often the weather spawns flashes: set each step by the module from the weather now.
 struct LightningWeather {
@@ -58,9 +58,22 @@ void add_lightning_system(ecs::Scheduler& s);
 struct LightningLight {
   glm::vec3 position;
   float radius;
-  float intensity;
+  float intensity;  // envelope x peak intensity now
+  LightningKind kind = LightningKind::Internal;
+  uint64_t seed = 1;
 };
 // The live flashes, brightest first, at most `max` (the renderer's point-light list).
 std::vector<LightningLight> lightning_lights(const ecs::World& world, size_t max);
+
+// The visible channel of a ground discharge: a branching path from the flash's position down to
+// `ground_y`, as segments (a main channel of kBoltMainSegments jagged steps, then a few shorter branches
+// leaving it downward). Deterministic for the seed; every segment lies between ground_y and the top.
+struct BoltSegment {
+  glm::vec3 a, b;
+  float brightness;  // 1 on the main channel, less on branches
+};
+inline constexpr int kBoltMainSegments = 28;
+inline constexpr int kBoltMaxSegments = 64;
+std::vector<BoltSegment> lightning_bolt(glm::vec3 top, float ground_y, uint64_t seed);
 
 }  // namespace cumulo::clouds::gameplay

@@ -6,6 +6,7 @@
 #include "engine/core/hash.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
+#include "modules/clouds/gameplay/triggers.h"
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/weather/weather_scheduler.h"
 
@@ -39,6 +40,7 @@ uint64_t cloud_state_hash(const ecs::World& world) {
   if (const auto* lw = world.try_resource<LightningWeather>()) x.pod(lw->rng.state), x.pod(lw->per_minute);
   world.view<const Cloudscape>().each([&](const Cloudscape& c) { x.pod(c.dissipation), x.pod(c.density); });
   world.view<const StormbirdDissipation>().each([&](const StormbirdDissipation& d) { x.pod(d.progress), x.pod(d.active); });
+  world.view<const Trigger>().each([&](const Trigger& t) { x.pod(t.inside), x.pod(t.fired), x.pod(t.primed); });
   return x.h;
 }
 

@@ -62,8 +62,11 @@ TriggerAction action_from_json(const JsonView& v) {
       if (a.text.empty()) v["name"].fail("expected an event name");
       break;
     case TriggerAction::Kind::StrikeLightning:
-      only_keys(v, {"do", "position"});
+      only_keys(v, {"do", "position", "kind", "intensity", "radius"});
       a.position = v["position"].as_vec3();
+      a.flag = v.has("kind") && v["kind"].as_enum({"ground", "internal"}) == 0;  // true: a ground discharge
+      a.number = v.has("intensity") ? v["intensity"].as_float_in(0.0f, 1e6f) : LightningEvent{}.intensity;
+      a.radius = v.has("radius") ? v["radius"].as_float_in(1.0f, 1e5f) : LightningEvent{}.radius;
       break;
     case TriggerAction::Kind::SetTimeOfDay:
       only_keys(v, {"do", "hours"});
@@ -85,7 +88,12 @@ Json action_to_json(const TriggerAction& a) {
     case TriggerAction::Kind::SetWeather: return {{"do", "set_weather"}, {"state", a.text}};
     case TriggerAction::Kind::Encounter: return {{"do", "encounter"}, {"active", a.flag}};
     case TriggerAction::Kind::FireEvent: return {{"do", "fire_event"}, {"name", a.text}};
-    case TriggerAction::Kind::StrikeLightning: return {{"do", "strike_lightning"}, {"position", {a.position.x, a.position.y, a.position.z}}};
+    case TriggerAction::Kind::StrikeLightning:
+      return {{"do", "strike_lightning"},
+              {"position", {a.position.x, a.position.y, a.position.z}},
+              {"kind", a.flag ? "ground" : "internal"},
+              {"intensity", a.number},
+              {"radius", a.radius}};
     case TriggerAction::Kind::SetTimeOfDay: return {{"do", "set_time_of_day"}, {"hours", a.number}};
     case TriggerAction::Kind::MoveCloudscape: {
       Json j = {{"do", "move_cloudscape"}, {"entity", a.text}};
@@ -107,7 +115,9 @@ void run_action(ecs::World& w, const TriggerAction& a) {
       w.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& s) { s.encounter_active = a.flag && !s.encounter.empty(); });
       break;
     case TriggerAction::Kind::FireEvent: fire_event(w, a.text); break;
-    case TriggerAction::Kind::StrikeLightning: strike_lightning(w, a.position); break;
+    case TriggerAction::Kind::StrikeLightning:
+      strike_lightning(w, a.position, a.flag ? LightningKind::Ground : LightningKind::Internal, a.number, a.radius);
+      break;
     case TriggerAction::Kind::SetTimeOfDay: scene::time_of_day_to_set(w).hours = a.number; break;
     case TriggerAction::Kind::MoveCloudscape: {
       const ecs::Entity e = w.find(a.text);

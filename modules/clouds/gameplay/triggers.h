@@ -8,7 +8,8 @@
 //               "actions": [{"do": "set_weather", "state": "storm"},
 //                           {"do": "encounter", "active": true},
 //                           {"do": "fire_event", "name": "stormbird_killed"},            // e.g. dissipation
-//                           {"do": "strike_lightning", "position": [0, 800, 0]},
+//                           {"do": "strike_lightning", "position": [0, 800, 0],         // kind ground|internal,
+//                            "kind": "internal", "intensity": 60, "radius": 400},        // the rest optional
 //                           {"do": "set_time_of_day", "hours": 18.5},
 //                           {"do": "move_cloudscape", "entity": "cloudscape", "position": [0, 0, 0],
 //                            "euler_deg": [0, 30, 0], "scale": 1.0}]}
@@ -38,7 +39,8 @@ struct TriggerAction {
   enum class Kind { SetWeather, Encounter, FireEvent, StrikeLightning, SetTimeOfDay, MoveCloudscape } kind;
   std::string text;  // state, event or entity name
   bool flag = false;
-  float number = 0.0f;
+  float number = 0.0f;   // hours (set_time_of_day), intensity (strike_lightning)
+  float radius = 0.0f;   // strike_lightning
   glm::vec3 position{0.0f};
   std::optional<glm::vec3> euler_deg;
   std::optional<float> scale;

@@ -29,7 +29,7 @@ using cumulo::render::ResourceState;
 using cumulo::render::TextureDesc;
 using cumulo::render::Usage;
 
-static_assert(kMaxInstances == CLOUD_MAX_INSTANCES && kMaxPointLights == CLOUD_MAX_POINT_LIGHTS);
+static_assert(kMaxInstances == CLOUD_MAX_INSTANCES && kMaxPointLights == CLOUD_MAX_POINT_LIGHTS && kMaxAssets == CLOUD_MAX_ASSETS);
 
 namespace {
 
@@ -51,7 +51,7 @@ struct CloudResources {
     glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
     uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
   };
-  using MarchKey = std::tuple<int, int, bool, bool, bool>;  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples
+  using MarchKey = std::tuple<int, int, bool, bool, bool, int>;  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots
 
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
@@ -84,8 +84,9 @@ struct CloudResources {
 
   CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
 
-  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise) {
-    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise};
+  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise,
+                       int asset_slots = 1) {
+    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     static const char* kSegments[] = {"all", "near", "far"};
@@ -95,15 +96,17 @@ struct CloudResources {
                  {"SEGMENT", std::to_string(segment)},
                  {"SDF_BC1", bc1 ? "1" : "0"},
                  {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"},
-                 {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"}};
+                 {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"},
+                 {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)}};
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
-             (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") + ")";
+             (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
+             (asset_slots > 1 ? ", 2 assets" : "") + ")";
     gpu::Pipeline& p = library.compute(d);
     march_pipes[key] = &p;
     return p;
   }
   gpu::Pipeline& sweep(bool bc1) {
-    MarchKey key{-2, 0, bc1, true, true};
+    MarchKey key{-2, 0, bc1, true, true, 1};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
@@ -114,7 +117,7 @@ struct CloudResources {
   }
   gpu::Pipeline& grid(bool bc1) {
     // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true, true};
+    MarchKey key{-1, 0, bc1, true, true, 1};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
@@ -204,7 +207,7 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
 namespace {
 
 shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
-                                bool history_valid) {
+                                bool history_valid, const std::vector<uint32_t>& slots) {
   const CloudSettings& s = in.settings;
   shared::CloudParams p{};
   p.view_proj = in.camera.view_proj;
@@ -228,7 +231,10 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
     p.light_pos[i] = glm::vec4(in.lights[i].position, std::max(in.lights[i].radius, 1e-3f));
     p.light_color[i] = glm::vec4(in.lights[i].color, 0.0f);
   }
-  for (size_t i = 0; i < in.instances.size(); ++i) p.instances[i] = cloud_instance_params(in.instances[i], sun, in.time);
+  for (size_t i = 0; i < in.instances.size(); ++i) {
+    p.instances[i] = cloud_instance_params(in.instances[i], sun, in.time);
+    p.instances[i].wind_offset.w = float(slots[i]);
+  }
   return p;
 }
 
@@ -377,29 +383,47 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     fail("clouds: %zu cloudscape instances, at most %u per frame", in.instances.size(), kMaxInstances);
   if (in.lights.size() > kMaxPointLights)
     fail("clouds: %zu point lights, at most %u per frame", in.lights.size(), kMaxPointLights);
-  const std::shared_ptr<const CloudAsset>& asset = in.instances[0].asset;
+  // Distinct assets in order of first use: slot 0 and, for a second asset, slot 1 (the march binds both).
+  std::vector<const CloudAsset*> assets;
+  std::vector<uint32_t> slots;
   for (const CloudInstance& inst : in.instances) {
     if (!inst.asset) fail("clouds: a cloudscape instance has no asset");
-    if (inst.asset != asset)
-      fail("clouds: instances of different assets in one frame (%s, %s): one asset per frame for now",
-           asset->folder.string().c_str(), inst.asset->folder.string().c_str());
+    auto it = std::find(assets.begin(), assets.end(), inst.asset.get());
+    if (it == assets.end()) {
+      if (assets.size() == kMaxAssets)
+        fail("clouds: more than %u cloudscape assets in one frame (%s, %s, %s): instances may share an asset", kMaxAssets,
+             assets[0]->folder.string().c_str(), assets[1]->folder.string().c_str(), inst.asset->folder.string().c_str());
+      assets.push_back(inst.asset.get());
+      it = assets.end() - 1;
+    }
+    slots.push_back(uint32_t(it - assets.begin()));
   }
+  for (const CloudAsset* a : assets)
+    if (a->formats.bc1_field != assets[0]->formats.bc1_field)
+      fail("clouds: the cloudscape assets %s and %s use different SDF formats in one frame", assets[0]->folder.string().c_str(),
+           a->folder.string().c_str());
+  const int asset_slots = int(assets.size());
   const CloudSettings& s = in.settings;
   const VkExtent2D size = graph.output_size();
-  const bool bc1 = asset->formats.bc1_field;
+  const bool bc1 = assets[0]->formats.bc1_field;
   gpu::Context& ctx = res.ctx;
   CloudResources* r = &res;
 
   // ---- Persistent resources: assets, noise, light grids, history ----
-  auto import_3d = [&](const char* name, const gpu::Image& img) {
+  auto import_3d = [&](const std::string& name, const gpu::Image& img) {
     const VkExtent3D e = img.extent();
     TextureDesc d = TextureDesc::absolute(img.format(), e.width, e.height, e.depth);
     d.type = cumulo::render::ImageType::Image3D;
     d.mips = img.mips();
     return graph.import_texture(name, d, img.handle(), img.view(), sampled_state());
   };
-  const TextureHandle modeling = import_3d("clouds.modeling", asset->modeling);
-  const TextureHandle field = import_3d("clouds.field", asset->field);
+  std::vector<TextureHandle> modelings, fields;
+  for (size_t a = 0; a < assets.size(); ++a) {
+    const std::string suffix = a ? "." + std::to_string(a) : "";
+    modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling));
+    fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field));
+  }
+  const TextureHandle modeling = modelings[0], field = fields[0];
   const TextureHandle noise = import_3d("clouds.noise", res.noise->image);
 
   const uint32_t n = uint32_t(in.instances.size());
@@ -489,7 +513,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   res.recon_block = block > 1 ? block : 0;
 
   const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
-  const shared::CloudParams params = make_params(res, in, size, history.valid);
+  const shared::CloudParams params = make_params(res, in, size, history.valid, slots);
   std::memcpy(ubo.mapped(), &params, sizeof params);
   res.prev_view_proj = in.camera.view_proj;
   const VkBuffer ubo_handle = ubo.handle();
@@ -516,24 +540,31 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   for (const GridWork& w : grids) grid_work |= w.layers > 0 && (!sweep || w.level_count > 0);
   if (grid_work) graph.add_pass("clouds.light_grid", Queue::Compute,
       [&](PassBuilder& b) {
-        b.read(modeling, Usage::Sampled);
-        b.read(field, Usage::Sampled);
+        for (size_t a = 0; a < modelings.size(); ++a) {
+          b.read(modelings[a], Usage::Sampled);
+          b.read(fields[a], Usage::Sampled);
+        }
         b.read(noise, Usage::Sampled);
         grid = b.read_write(grid, Usage::StorageWrite);
       },
-      [r, grid_pipe, grids, plans, sweep, grid, modeling, field, noise, ubo_handle, rdesc](PassContext& c) {
+      [r, grid_pipe, grids, plans, sweep, grid, modelings, fields, slots, noise, ubo_handle, rdesc](PassContext& c) {
         const VkExtent3D e = c.extent(grid);
-        auto bind = [&] {
+        // Each instance's dispatches read its own asset (push descriptors: rebound when the asset changes).
+        uint32_t bound = UINT32_MAX;
+        auto bind = [&](uint32_t a) {
+          if (a == bound) return;
+          bound = a;
           Bindings(*grid_pipe)
               .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
-              .sampled(CLOUD_BINDING_FIELD, c.view(field), r->linear_clamp, c.layout(field))
+              .sampled(CLOUD_BINDING_MODELING, c.view(modelings[a]), r->linear_clamp, c.layout(modelings[a]))
+              .sampled(CLOUD_BINDING_FIELD, c.view(fields[a]), r->linear_clamp, c.layout(fields[a]))
               .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
               .storage(CLOUD_BINDING_GRID_OUT, c.view(grid))
               .push(r->ctx, c.cmd());
         };
-        bind();
         for (uint32_t i = 0; i < grids.size(); ++i) {
+          if (grids[i].layers == 0 || (sweep && grids[i].level_count == 0)) continue;
+          bind(slots[i]);
           shared::CloudLightGridPush pc{};
           if (!sweep) {
             pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, 0);
@@ -565,11 +596,13 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   // `front` (far segment only): the near layer, read for its transmittance (early exit).
   auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
                        TextureHandle front = {}, uint32_t sub_block = 1) {
-    gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean);
+    gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean, asset_slots);
     graph.add_pass(name, Queue::Compute,
         [&](PassBuilder& b) {
-          b.read(modeling, Usage::Sampled);
-          b.read(field, Usage::Sampled);
+          for (size_t a = 0; a < modelings.size(); ++a) {
+            b.read(modelings[a], Usage::Sampled);
+            b.read(fields[a], Usage::Sampled);
+          }
           b.read(noise, Usage::Sampled);
           b.read(grid, Usage::Sampled);
           b.read(depth, Usage::Sampled);
@@ -577,8 +610,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           color = b.write(color, Usage::StorageWrite);
           cdepth = b.write(cdepth, Usage::StorageWrite);
         },
-        [r, pipe, grid, modeling, field, noise, depth, color, cdepth, front, ubo_handle, sub_block, sub_offset,
-         size](PassContext& c) {
+        [r, pipe, grid, modeling, field, modelings, fields, noise, depth, color, cdepth, front, ubo_handle, sub_block,
+         sub_offset, size](PassContext& c) {
           Bindings bind(*pipe);
           bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
               .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
@@ -589,6 +622,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
               .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
               .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
           if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
+          if (modelings.size() > 1)
+            bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), r->linear_clamp, c.layout(modelings[1]))
+                .sampled(CLOUD_BINDING_FIELD_1, c.view(fields[1]), r->linear_clamp, c.layout(fields[1]));
           bind.push(r->ctx, c.cmd());
           const VkExtent3D e = c.extent(color);
           if (sub_block > 1) {

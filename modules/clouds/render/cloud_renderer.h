@@ -158,7 +158,8 @@ inline uint32_t reprojection_block(const CloudSettings& s) {
 }
 
 // One placed cloudscape. A Cloudscape ECS component (+ its entity's Transform) maps onto this 1:1;
-// several instances may share one asset (one GPU copy; each gets its own light grid).
+// several instances may share one asset (one GPU copy; each gets its own light grid); a frame may hold
+// two distinct assets (a cloudscape and a hero cloud: the march binds both, see CLOUD_ASSET_SLOTS).
 // The placement (position, rotation, uniform scale, density, wind, dissipation: CloudPlacement,
 // scene/density_query.h, which the CPU density query shares) plus the asset on the GPU.
 struct CloudInstance : CloudPlacement {
@@ -183,7 +184,7 @@ struct CloudFrameInputs {
   glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};  // unit, toward the sun
   glm::vec3 sun_color{1.0f};                  // colour x illuminance (linear)
   glm::vec3 ambient_color{0.3f, 0.4f, 0.5f};  // sky ambient (linear)
-  std::vector<CloudInstance> instances;       // at most kMaxInstances, all of one asset for now
+  std::vector<CloudInstance> instances;       // at most kMaxInstances, of at most kMaxAssets assets
   std::vector<CloudPointLight> lights;        // at most kMaxPointLights
   bool camera_cut = false;                    // history invalid this frame
   bool rebuild_light_grid = false;            // force a full light-grid rebuild
@@ -204,6 +205,7 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
 
 inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
 inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS
+inline constexpr uint32_t kMaxAssets = 2;       // CLOUD_MAX_ASSETS: distinct assets among the instances
 
 struct CloudResourcesDesc {
   // The talk's grid on GPUs; on CPU devices (lavapipe) 96x16x96 (43 x 32 x 43 m voxels over the sample's
@@ -235,8 +237,7 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
 
 // Adds this frame's cloud passes and returns the new version of `hdr` (R16G16B16A16F, output size;
 // gets storage usage). `depth` is the scene depth (D32F reversed-Z), read only. With no instance it
-// adds nothing and returns `hdr`. Throws cumulo::Error for more instances or lights than the limits or
-// instances of different assets.
+// adds nothing and returns `hdr`. Throws cumulo::Error for more instances, assets or lights than the limits.
 // `outputs` (optional) receives the cloud colour and depth of this frame (after temporal accumulation
 // when on), e.g. for aerial perspective or a test readback.
 struct CloudPassOutputs {

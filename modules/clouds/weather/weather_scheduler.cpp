@@ -78,9 +78,10 @@ bool ScheduleEntry::eligible_at(float hours) const {
 WeatherScheduler weather_scheduler_from_json(const JsonView& v) {
   for (const std::string& k : v.keys())
     if (k != "start" && k != "hold_s" && k != "transition_s" && k != "schedule" && k != "encounter" &&
-        k != "encounter_active" && k != "lightning_volume")
+        k != "encounter_active" && k != "lightning_volume" && k != "encounter_lightning_volume")
       v.fail("unknown key \"" + k +
-             "\" (expected start, hold_s, transition_s, schedule, encounter, encounter_active, lightning_volume)");
+             "\" (expected start, hold_s, transition_s, schedule, encounter, encounter_active, lightning_volume, "
+             "encounter_lightning_volume)");
   WeatherScheduler s;
   s.schedule = schedule_entries_from_json(v["schedule"]);
   s.start = v.get<std::string>("start", s.schedule.front().state);
@@ -89,13 +90,20 @@ WeatherScheduler weather_scheduler_from_json(const JsonView& v) {
   if (v.has("encounter")) s.encounter = schedule_entries_from_json(v["encounter"]);
   s.encounter_active = v.get<bool>("encounter_active", false);
   if (s.encounter_active && s.encounter.empty()) v["encounter_active"].fail("true, but there is no encounter schedule");
-  if (v.has("lightning_volume")) {
-    const JsonView b = v["lightning_volume"];
-    s.lightning_min = b["min"].as_vec3();
-    s.lightning_max = b["max"].as_vec3();
-    if (!glm::all(glm::lessThanEqual(s.lightning_min, s.lightning_max))) b.fail("expected min <= max on every axis");
-    s.has_lightning_volume = true;
-  }
+  auto box = [&](const char* key, glm::vec3& lo, glm::vec3& hi) {
+    if (!v.has(key)) return false;
+    const JsonView b = v[key];
+    for (const std::string& k : b.keys())
+      if (k != "min" && k != "max") b.fail("unknown key \"" + k + "\" (expected min, max)");
+    lo = b["min"].as_vec3();
+    hi = b["max"].as_vec3();
+    if (!glm::all(glm::lessThanEqual(lo, hi))) b.fail("expected min <= max on every axis");
+    return true;
+  };
+  s.has_lightning_volume = box("lightning_volume", s.lightning_min, s.lightning_max);
+  s.has_encounter_lightning_volume = box("encounter_lightning_volume", s.encounter_lightning_min, s.encounter_lightning_max);
+  if (s.has_encounter_lightning_volume && s.encounter.empty())
+    v["encounter_lightning_volume"].fail("given, but there is no encounter schedule");
   return s;
 }
 
@@ -109,6 +117,10 @@ Json weather_scheduler_to_json(const WeatherScheduler& s) {
   if (s.has_lightning_volume)
     j["lightning_volume"] = {{"min", {s.lightning_min.x, s.lightning_min.y, s.lightning_min.z}},
                              {"max", {s.lightning_max.x, s.lightning_max.y, s.lightning_max.z}}};
+  if (s.has_encounter_lightning_volume)
+    j["encounter_lightning_volume"] = {
+        {"min", {s.encounter_lightning_min.x, s.encounter_lightning_min.y, s.encounter_lightning_min.z}},
+        {"max", {s.encounter_lightning_max.x, s.encounter_lightning_max.y, s.encounter_lightning_max.z}}};
   return j;
 }
 

@@ -14,7 +14,10 @@
 //                                     {"state": "storm", "weight": 0.5, "hours": [12, 19]}],
 //                        "encounter": [{"state": "stormbird", "weight": 1}],
 //                        "encounter_active": false,
-//                        "lightning_volume": {"min": [-2048, 600, -2048], "max": [2048, 900, 2048]}}
+//                        "lightning_volume": {"min": [-2048, 600, -2048], "max": [2048, 900, 2048]},
+//                        "encounter_lightning_volume": {"min": [800, 650, -900], "max": [1200, 1000, -500]}}
+// While the encounter is active its lightning strikes in encounter_lightning_volume (the boss's storm
+// cloud) when there is one, else in lightning_volume.
 // `hours` [from, to) may wrap midnight ([20, 4]); without it an entry is eligible all day.
 #include <cstdint>
 #include <string>
@@ -44,6 +47,8 @@ struct WeatherScheduler {
   // Where the weather's lightning (lightning.frequency_per_minute) strikes: a world box; none: nowhere.
   bool has_lightning_volume = false;
   glm::vec3 lightning_min{0.0f}, lightning_max{0.0f};
+  bool has_encounter_lightning_volume = false;
+  glm::vec3 encounter_lightning_min{0.0f}, encounter_lightning_max{0.0f};
 
   // Runtime (not in the level file).
   std::string current, next;  // next empty: holding `current`

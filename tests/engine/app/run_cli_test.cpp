@@ -174,10 +174,12 @@ TEST(RunCliBadInput, MissingGltfIsNamed) {
   std::string level = read_text(kLevel);
   ASSERT_FALSE(level.empty());
   size_t n = 0;
-  for (size_t pos = 0; (pos = level.find(".glb", pos)) != std::string::npos; pos += 4) {
-    size_t q = level.rfind('"', pos);
-    level.replace(q + 1, pos + 4 - (q + 1), "missing_terrain.glb");
-    ++n;
+  // Every model path ("path": "....glb") renamed.
+  const std::string key = "\"path\": \"";
+  for (size_t pos = 0; (pos = level.find(key, pos)) != std::string::npos;) {
+    const size_t from = pos + key.size(), to = level.find('"', from);
+    if (level.compare(to - 4, 4, ".glb") == 0) level.replace(from, to - from, "missing_terrain.glb"), ++n;
+    pos = from;
   }
   ASSERT_GT(n, 0u) << "the sample level names no .glb";
   fs::path p = d / "missing_gltf.json";

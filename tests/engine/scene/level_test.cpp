@@ -35,7 +35,7 @@ TEST(Level, SampleLevelLoadsWithCamerasSunAndTerrain) {
 
   EXPECT_EQ(level.name, "sample");
   EXPECT_EQ(level.entities.size(), world.alive_count());
-  for (const char* name : {"ground", "mixed", "immersed", "overview"}) {
+  for (const char* name : {"ground", "mixed", "immersed", "stormbird", "lair", "overview"}) {
     ecs::Entity cam = find_camera(world, name);
     EXPECT_TRUE(world.has<Camera>(cam)) << name;
     EXPECT_NE(std::find(level.cameras.begin(), level.cameras.end(), name), level.cameras.end()) << name;

@@ -33,7 +33,8 @@ inline std::string expect_error(const std::function<void()>& fn, std::initialize
   return {};
 }
 
-// The sample level also names module components (the clouds module's Cloudscape and WeatherScheduler).
+// The sample level also names module components (the clouds module's Cloudscape, WeatherScheduler,
+// StormbirdDissipation and Trigger).
 // The engine's tests must not link modules, so they accept those as opaque JSON (one stand-in type per
 // component name); the module's own tests check them.
 template <int Tag>
@@ -49,6 +50,8 @@ inline void register_sample_level_components(ecs::ComponentRegistry& reg) {
   register_components(reg);
   register_stand_in<0>(reg, "Cloudscape");
   register_stand_in<1>(reg, "WeatherScheduler");
+  register_stand_in<2>(reg, "StormbirdDissipation");
+  register_stand_in<3>(reg, "Trigger");
 }
 
 }  // namespace cumulo::scene::test

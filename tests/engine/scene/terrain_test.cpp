@@ -186,7 +186,15 @@ TEST(Terrain, SampleLevelCamerasSitWhereTheBriefSays) {
   const Transform& immersed = world.get<Transform>(find_camera(world, "immersed"));
   EXPECT_GT(immersed.position.y, kCloudBase);
   EXPECT_LT(immersed.position.y, kCloudTop);
-  for (const Transform* t : {&ground, &mixed, &immersed}) {
+  // stormbird: below the cloud base, clear of the terrain, outside the storm cloud (about 1.4 km from it);
+  // lair: in the storm cloud's chamber (the clouds module's tests check the chamber is air there).
+  const Transform& stormbird = world.get<Transform>(find_camera(world, "stormbird"));
+  EXPECT_LT(stormbird.position.y, kCloudBase);
+  EXPECT_GT(stormbird.position.y - hf.sample(stormbird.position.x, stormbird.position.z), 100.0f);
+  const Transform& lair = world.get<Transform>(find_camera(world, "lair"));
+  EXPECT_GT(lair.position.y, kCloudBase);
+  EXPECT_LT(lair.position.y, kCloudTop);
+  for (const Transform* t : {&ground, &mixed, &immersed, &stormbird, &lair}) {
     EXPECT_LT(std::abs(t->position.x), 2048.0f);
     EXPECT_LT(std::abs(t->position.z), 2048.0f);
   }

@@ -218,17 +218,37 @@ TEST(SampleCloudscape, HasTheAuthoredFeatures) {
   auto inside = [&](glm::vec3 p) { return evaluate_point(r, p).d < 0.0f; };
   EXPECT_TRUE(inside({-650, 840, -850})) << "hero cumulus core";
   EXPECT_FALSE(inside({-300, 900, 400})) << "the immersed camera sits in clear air inside the layer";
-  // Stormbird: base (1000, 620, -700), egg at y = 840 inside a hollow chamber.
-  EXPECT_TRUE(inside({1000, 840, -700})) << "egg";
-  EXPECT_FALSE(inside({1080, 845, -700})) << "chamber around the egg";
-  EXPECT_TRUE(inside({1100, 700, -700})) << "plume wall";
-  for (float y = 606; y < 800; y += 8) EXPECT_FALSE(inside({1000, y, -700})) << "lightning hole under the egg at y " << y;
-  EXPECT_FALSE(inside({1075, 1020, -650})) << "opening to the sky";
-  EXPECT_TRUE(inside({1000, 1000, -580})) << "crown";
+  EXPECT_FALSE(inside({1000, 840, -700})) << "the storm cloud is its own asset (storm_cloud.json)";
   // Tunnel cloud: the main tunnel runs along the immersed camera's view through the cloud body.
   EXPECT_FALSE(inside({-1011, 890, -100})) << "main tunnel";
   EXPECT_TRUE(inside({-1011, 955, -100})) << "tunnel ceiling";
   EXPECT_FALSE(inside({-900, 900, 0})) << "central cave";
+}
+
+TEST(SampleStormCloud, HasTheAuthoredFeatures) {
+  Recipe r = load_recipe(cumulo::repo_root() / "content/levels/sample/storm_cloud.json");
+  EXPECT_EQ(make_grid(r).dims, glm::uvec3(140, 64, 140));
+  auto inside = [&](glm::vec3 p) { return evaluate_point(r, p).d < 0.0f; };
+  // Base (1000, 620, -700), egg (45 x 60 x 45 m) at y = 840 inside a hollow chamber.
+  EXPECT_TRUE(inside({1000, 840, -700})) << "egg";
+  EXPECT_FALSE(inside({1080, 845, -700})) << "chamber around the egg";
+  EXPECT_TRUE(inside({1100, 700, -700})) << "plume wall";
+  for (float y = 606; y < 776; y += 8) EXPECT_FALSE(inside({1000, y, -700})) << "lightning hole under the egg at y " << y;
+  EXPECT_FALSE(inside({1075, 1020, -650})) << "opening to the sky";
+  EXPECT_TRUE(inside({1000, 1000, -580})) << "crown";
+  EXPECT_TRUE(inside({1000, 860, -340})) << "plume wall around the chamber, 190 m thick";
+  EXPECT_FALSE(inside({1090, 860, -700})) << "the level's lair camera stands in the chamber";
+  // Everything the group makes lies inside the asset's box (nothing cut off at its faces).
+  BakeResult b = bake_recipe(r, quiet());
+  EXPECT_GT(b.field_stats.inside_voxels, 20000u);
+  int cut = 0;
+  for (uint32_t side = 0; side < 140; side += 139)
+    for (uint32_t y = 0; y < 64; ++y)
+      for (uint32_t k = 0; k < 140; ++k) {
+        cut += evaluate_point(r, r.bounds_min + (glm::vec3(side, y, k) + 0.5f) * 8.0f).d < 0.0f;
+        cut += evaluate_point(r, r.bounds_min + (glm::vec3(k, y, side) + 0.5f) * 8.0f).d < 0.0f;
+      }
+  EXPECT_EQ(cut, 0) << "voxels inside cloud on the box's side faces";
 }
 
 TEST(SampleCloudscape, ReducedBakeIsConservative) {

@@ -10,6 +10,7 @@
 
 
 #include "engine/app/application.h"
+#include "engine/app/recording.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "modules/clouds/clouds_module.h"
@@ -52,8 +53,10 @@ class CloudsRun : public ::testing::Test {
 
   // Runs `cumulo run LEVEL --headless` in this process with a fresh clouds module; returns the exit code.
   int run(const fs::path& level_file, const std::string& shot, std::vector<std::string> extra = {}, int frames = 3) {
-    std::vector<std::string> args{"run", level_file.string(), "--headless", "--frames", std::to_string(frames), "--size", "160x90",
+    // frames < 0: no --frames flag.
+    std::vector<std::string> args{"run", level_file.string(), "--headless", "--size", "160x90",
                                   "--screenshot", (dir_ / shot).string(), "--dump-graph", (dir_ / (shot + ".txt")).string()};
+    if (frames >= 0) args.insert(args.begin() + 3, {"--frames", std::to_string(frames)});
     args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
@@ -253,6 +256,52 @@ TEST_F(CloudsRun, ALightningFlashLightsTheCloud) {
   for (size_t i = 0; i < a.rgba.size(); i += 4) sa += a.rgba[i + 2], sb += b.rgba[i + 2];
   std::printf("  mean blue at night: %.2f dark, %.2f with the flash\n", sa / (a.rgba.size() / 4), sb / (b.rgba.size() / 4));
   EXPECT_GT(sb, sa * 1.02);
+}
+
+}  // namespace
+
+namespace {
+
+// `--record` writes the run's inputs; `--replay` of that file runs the same simulation: the same frame,
+// and recording the replay gives the same file. A replay does not take --event; bad recordings are
+// refused naming the file and the JSON path.
+TEST_F(CloudsRun, RecordThenReplayGivesTheSameRunAndBadRecordingsAreNamed) {
+  fs::path storm = level("storm", "\"Cloudscape\": {\"asset\": \"small_cloud.json\"}",
+                         "\"Cloudscape\": {\"asset\": \"small_cloud.json\"}, \"StormbirdDissipation\": {\"duration_s\": 1}");
+  const std::string a = (dir_ / "a.json").string(), b = (dir_ / "b.json").string();
+  ASSERT_EQ(run(storm, "recorded.png", {"--event", "stormbird_killed@0.3", "--seed", "5", "--record", a}, 20), 0);
+  ASSERT_EQ(run(storm, "replayed.png", {"--replay", a, "--record", b}, 20), 0);
+  const app::Recording ra = app::load_recording(a), rb = app::load_recording(b);
+  EXPECT_EQ(ra.seed, 5u);
+  EXPECT_EQ(ra.steps, 40u);  // 20 frames at 30 Hz, 60 Hz steps
+  ASSERT_EQ(ra.events.size(), 1u);
+  EXPECT_EQ(ra.events[0].step, 18u);  // the step whose end passes 0.3 s: [18/60, 19/60)
+  EXPECT_EQ(app::recording_to_json(ra), app::recording_to_json(rb));
+  EXPECT_EQ(load_png(dir_ / "recorded.png").rgba, load_png(dir_ / "replayed.png").rgba);
+  // Without --frames a headless replay lasts as long as the recording.
+  ASSERT_EQ(run(storm, "again.png", {"--replay", a, "--record", b}, -1), 0);
+  EXPECT_EQ(app::load_recording(b).steps, 40u);
+
+  auto refused = [&](const std::vector<std::string>& extra, const std::string& expect) {
+    try {
+      run(storm, "x.png", extra);
+      ADD_FAILURE() << "accepted: " << expect;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    }
+  };
+  refused({"--replay", a, "--event", "x@1"}, "--event and --replay");
+  refused({"--replay", (dir_ / "missing.json").string()}, "missing.json");
+  std::string text = read_file_text(a);
+  const size_t step = text.find("\"step\"", text.find("\"events\""));
+  ASSERT_NE(step, std::string::npos);
+  write_file_atomic(dir_ / "bad_step.json", text.replace(step, text.find_first_not_of("0123456789", step + 8) - step, "\"step\": -3"));
+  refused({"--replay", (dir_ / "bad_step.json").string()}, "bad_step.json: $.events[0].step");
+  text = read_file_text(a);
+  write_file_atomic(dir_ / "bad_format.json", text.replace(text.find("cumulo-recording"), 16, "something-else"));
+  refused({"--replay", (dir_ / "bad_format.json").string()}, "$.format");
+  write_file_atomic(dir_ / "truncated.json", read_file_text(a).substr(0, 40));
+  refused({"--replay", (dir_ / "truncated.json").string()}, "truncated.json");
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "modules/clouds/gameplay/game_events.h"
+#include "engine/app/game_events.h"
 
 #include <cctype>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "engine/core/error.h"
 
-namespace cumulo::clouds::gameplay {
+namespace cumulo::app {
 
 void fire_event(ecs::World& world, std::string name) { world.emit(GameEvent{std::move(name)}); }
 
@@ -27,6 +27,12 @@ ScheduledEvent parse_scheduled_event(const std::string& text, const std::string&
   return e;
 }
 
+void schedule_event(ecs::World& world, std::string name, double seconds) {
+  auto* list = world.try_resource<ScheduledEvents>();
+  if (!list) list = &world.set_resource<ScheduledEvents>();
+  list->events.push_back({std::move(name), seconds});
+}
+
 void add_scripted_events_system(ecs::Scheduler& s) {
   s.add_system(ecs::Phase::Input, "scripted events", [](ecs::World& w, const ecs::FrameContext& f) {
     auto* list = w.try_resource<ScheduledEvents>();
@@ -34,9 +40,10 @@ void add_scripted_events_system(ecs::Scheduler& s) {
     for (ScheduledEvent& e : list->events)
       if (!e.fired && e.seconds < f.time + f.dt) {
         e.fired = true;
+        e.step = f.step;
         fire_event(w, e.name);
       }
   });
 }
 
-}  // namespace cumulo::clouds::gameplay
+}  // namespace cumulo::app
