@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates the README's screenshots: the sample level's three cameras (ground, mixed, immersed) at noon
 # and near sunset, headless, with the clouds (docs/images/<camera>_<time>.png), and the shipped weather
-# states from the mixed camera (docs/images/weather/<state>_<time>.png). Builds first.
+# states from the mixed camera (docs/images/weather/<state>_<time>.png), and the Stormbird encounter
+# (docs/images/stormbird/: the storm cloud before, during and after stormbird_killed, a ground discharge
+# with its rain, the lair lit from inside by a flash). Builds first.
 # Usage: scripts/screenshots.sh [WxH] [FRAMES]   (default 480x270, 12 frames so the temporal accumulation settles)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,3 +31,19 @@ for state in clear fair_cumulus overcast_stratus storm stormbird; do
     echo "docs/images/weather/${state}_${tod%%:*}.png"
   done
 done
+# The Stormbird encounter (docs/images/stormbird/): dissipation with the level's default 20 s, a bolt, the lair.
+mkdir -p docs/images/stormbird
+run_storm() {  # NAME ARGS...
+  local name=$1
+  shift
+  "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --size "$SIZE" "$@" \
+    --screenshot "docs/images/stormbird/$name.png" >/dev/null
+  echo "docs/images/stormbird/$name.png"
+}
+run_storm before --camera stormbird --start-at 40 --frames 2
+run_storm during --camera stormbird --event stormbird_killed@1 --start-at 13 --frames 2
+run_storm after --camera stormbird --event stormbird_killed@1 --start-at 40 --frames 2
+run_storm bolt --camera stormbird --event storm_bolt@1.02 --start-at 1 --frames 3
+run_storm bolt_night --camera stormbird --time-of-day 21.5 --event storm_bolt@1.02 --start-at 1 --frames 3
+run_storm lair --camera lair --start-at 3 --frames "$FRAMES"
+run_storm lair_flash --camera lair --event lair_flash@1 --start-at 0.95 --frames 3

@@ -22,7 +22,7 @@ void register_engine_systems(ecs::Scheduler& scheduler) {
   });
 }
 
-Simulation::Simulation(const SimulationDesc& desc) : sim_hz_(desc.sim_hz) {
+Simulation::Simulation(const SimulationDesc& desc) : modules_(desc.modules), sim_hz_(desc.sim_hz) {
   world_.set_resource<SimulationSeed>(SimulationSeed{desc.seed});
   auto& registry = world_.set_resource<ecs::ComponentRegistry>();
   scene::register_components(registry);

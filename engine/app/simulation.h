@@ -58,6 +58,8 @@ class Simulation {
   const scene::LevelInfo& level() const { return level_; }
 
  private:
+  // Kept alive with the simulation: their systems capture them.
+  Modules modules_;
   scene::LevelInfo level_;
   ecs::World world_;
   ecs::Scheduler scheduler_;

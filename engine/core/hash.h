@@ -20,6 +20,12 @@ constexpr uint64_t hash64(const void* data, size_t size, uint64_t seed = kFnvOff
 }
 
 inline uint64_t hash64(std::string_view s, uint64_t seed = kFnvOffset) { return hash64(s.data(), s.size(), seed); }
+// A string literal with a seed: without this, hash64("name", seed) would pick the (data, size) form above
+// and read `seed` bytes of the literal.
+template <size_t N>
+inline uint64_t hash64(const char (&s)[N], uint64_t seed = kFnvOffset) {
+  return hash64(std::string_view(s, N - 1), seed);
+}
 
 inline uint64_t hash_combine(uint64_t a, uint64_t b) { return a ^ (b + 0x9e3779b97f4a7c15ull + (a << 6) + (a >> 2)); }
 

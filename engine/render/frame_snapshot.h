@@ -36,7 +36,7 @@ struct ModelDraw {
 struct PointLight {
   glm::vec3 position{0.0f};
   float reach = 1000.0f;      // m: the light fades smoothly to 0 there
-  glm::vec3 color{0.0f};      // radiance scale of a white Lambertian surface facing it at 100 m
+  glm::vec3 color{0.0f};      // radiance scale of a white Lambertian surface facing it at 500 m
 };
 
 struct SceneLighting {

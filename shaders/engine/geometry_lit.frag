@@ -24,12 +24,13 @@ void main() {
   float up = dot(n, kWorldUp) * 0.5 + 0.5;
   vec3 ambient = mix(frame.ground_color, mix(frame.sky_horizon, frame.sky_zenith, 0.5), up) * frame.ambient;
   vec3 lit = base.rgb * (frame.sun_radiance * ndl + ambient);
-  // Point lights (lightning): inverse square, normalized to their colour at 100 m, faded to 0 at their reach.
+  // Point lights (lightning): inverse square, normalized to their colour at 500 m (capped within 100 m),
+  // faded to 0 at their reach.
   for (uint i = 0u; i < frame.point_light_count.x; ++i) {
     vec3 to_l = frame.point_light_pos[i].xyz - in_world;
-    float d = max(length(to_l), 1.0);
+    float d = max(length(to_l), 100.0);
     float fade = clamp(1.0 - d / frame.point_light_pos[i].w, 0.0, 1.0);
-    lit += base.rgb * frame.point_light_color[i].rgb * (max(dot(n, to_l / d), 0.0) * 1e4 / (d * d) * fade * fade);
+    lit += base.rgb * frame.point_light_color[i].rgb * (max(dot(n, to_l / d), 0.0) * 2.5e5 / (d * d) * fade * fade);
   }
 
   // Sun glint for smooth materials (the ocean): normalized Blinn-Phong with the exponent from the glTF

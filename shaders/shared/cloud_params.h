@@ -111,6 +111,36 @@ struct CloudMarchPush {
 };
 CUMULO_SHARED_SIZE(CloudMarchPush, 32)
 
+// ---- Lightning bolts and rain (lightning_bolt.comp, rain.comp) -----------------------------------
+#define CLOUD_MAX_BOLT_SEGMENTS 128  // two bolts of gameplay::kBoltMaxSegments
+#define CLOUD_MAX_RAIN 4             // rain columns (one per precipitating instance)
+#define CLOUD_BINDING_FX_PARAMS 0    // uniform CloudEffectsParams
+#define CLOUD_BINDING_FX_DEPTH 1     // sampler2D: scene depth (reversed-Z)
+#define CLOUD_BINDING_FX_CLOUDS 2    // sampler2D: cloud colour (a: transmittance)
+#define CLOUD_BINDING_FX_CLOUD_DEPTH 3  // sampler2D: cloud depth (x: opacity-0.5 distance)
+#define CLOUD_BINDING_FX_HDR 4       // image2D rgba16f: scene colour, read-modify-write
+
+struct CloudEffectsParams {
+  mat4 inv_view_proj;
+  vec4 camera_pos;     // xyz; w: simulation time (s)
+  vec4 viewport;       // width, height, 1/width, 1/height
+  vec4 bolt;           // rgb: radiance of the channel's core; w: core radius (m)
+  vec4 misc;           // x: angle of one pixel (rad), y: cloud outputs valid (1), z, w: unused
+  uvec4 counts;        // x: bolt segments, y: rain columns
+  vec4 seg_a[CLOUD_MAX_BOLT_SEGMENTS];  // xyz: segment start (world); w: brightness
+  vec4 seg_b[CLOUD_MAX_BOLT_SEGMENTS];  // xyz: segment end
+  vec4 rain_column[CLOUD_MAX_RAIN];     // xyz: centre at the cloud base (world); w: radius (m)
+  vec4 rain_params[CLOUD_MAX_RAIN];     // x: intensity 0..1, y: bottom (world y), z, w: unused
+  vec4 rain_light;                      // rgb: light scattered by the rain (sky ambient + some sun)
+};
+CUMULO_SHARED_SIZE(CloudEffectsParams, 4384)
+
+// Push constants of lightning_bolt.comp: the screen rectangle dispatched (the bolts' bounds).
+struct CloudEffectsPush {
+  ivec4 rect;  // x, y: first pixel; z, w: size
+};
+CUMULO_SHARED_SIZE(CloudEffectsPush, 16)
+
 CUMULO_SHARED_END
 
 #endif

@@ -32,7 +32,7 @@ struct FrameParams {
   vec2 viewport_size;      // pixels
   vec2 inv_viewport_size;  // 1 / pixels
   // Short-lived point lights on the geometry (a lightning discharge lighting the terrain): xyz world
-  // position, w reach (m; the light fades to 0 there); rgb radiance scale at 100 m, w unused.
+  // position, w reach (m; the light fades to 0 there); rgb radiance scale at 500 m, w unused.
   vec4 point_light_pos[FRAME_MAX_POINT_LIGHTS];
   vec4 point_light_color[FRAME_MAX_POINT_LIGHTS];
   uvec4 point_light_count;  // x: count

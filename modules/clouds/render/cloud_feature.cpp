@@ -1,5 +1,6 @@
 #include "modules/clouds/render/cloud_feature.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/core/args.h"
@@ -141,11 +142,29 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
     i.wind_direction = c.wind_direction;
     i.wind_speed = c.wind_speed;
     i.dissipation = c.dissipation;
+    i.rain = c.rain;
     frame.instances.push_back(std::move(i));
   });
-  // Live lightning flashes, brightest first: the renderer's point lights (a bluish white).
-  for (const gameplay::LightningLight& l : gameplay::lightning_lights(world, kMaxPointLights))
-    frame.lights.push_back({l.position, l.radius, glm::vec3(0.75f, 0.8f, 1.0f) * l.intensity});
+  // Live lightning flashes, brightest first: the renderer's point lights (a bluish white); a ground
+  // discharge also shows its channel (a bolt down to sea level, hidden by the terrain where it stands
+  // higher) and lights the terrain from the channel's foot, an internal flash the ground faintly.
+  const glm::vec3 kLightningColor(0.75f, 0.8f, 1.0f);
+  for (const gameplay::LightningLight& l : gameplay::lightning_lights(world, kMaxPointLights)) {
+    frame.lights.push_back({l.position, l.radius, kLightningColor * l.intensity});
+    if (l.kind == gameplay::LightningKind::Ground) {
+      BoltFrame bolt;
+      bolt.intensity = l.intensity;
+      for (const gameplay::BoltSegment& g : gameplay::lightning_bolt(l.position, 0.0f, l.seed))
+        bolt.segments.push_back({g.a, g.b, g.brightness});
+      if (!bolt.segments.empty()) {
+        const glm::vec3 foot = bolt.segments[gameplay::kBoltMainSegments - 1].b;
+        snapshot.lighting.point_lights.push_back({foot + glm::vec3(0, 60, 0), 3000.0f, kLightningColor * (0.01f * l.intensity)});
+      }
+      frame.bolts.push_back(std::move(bolt));
+    } else {
+      snapshot.lighting.point_lights.push_back({l.position, 2000.0f, kLightningColor * (0.0015f * l.intensity)});
+    }
+  }
   if (weather_lib_)
     world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) {
       if (!frame.weather) frame.weather = weather::weather_now(w, *weather_lib_).state;  // the first one counts
@@ -161,12 +180,14 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
   CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
+  effects_ = std::make_unique<CloudEffects>(g.ctx, g.library);
 }
 
 void CloudFeature::destroy_gpu() {
   steps_buffer_.reset();
   steps_pixels_ = 0;
   resources_.reset();
+  effects_.reset();
   cache_.reset();
   ctx_ = nullptr;
 }
@@ -206,9 +227,29 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   last_camera_ = s.camera.position;
   last_camera_name_ = s.camera_name;
   have_last_camera_ = true;
+  // Rain columns under precipitating clouds: below the centre of the box, 0.3 of its smaller side wide,
+  // from the cloud base to sea level (the scene depth stops them at the terrain), fading with dissipation.
+  CloudEffectsInputs fx;
+  fx.camera = s.camera;
+  fx.time = s.sim_time;
+  fx.slot = f.slot;
+  fx.bolts = frame->bolts;
+  fx.rain_light = in.ambient_color * 0.3f + in.sun_color * 0.01f;  // under the cloud: mostly shadowed
+  for (size_t k = 0; k < frame->instances.size(); ++k) {
+    const CloudInstanceFrame& i = frame->instances[k];
+    const float intensity = i.rain * (1.0f - std::clamp(i.dissipation, 0.0f, 1.0f));
+    if (!(intensity > 0.0f)) continue;
+    const CloudAsset& a = *in.instances[k].asset;
+    const glm::vec3 base(0.5f * (a.bounds_min.x + a.bounds_max.x), a.bounds_min.y, 0.5f * (a.bounds_min.z + a.bounds_max.z));
+    const glm::vec3 extent = a.bounds_max - a.bounds_min;
+    fx.rain.push_back({i.position + glm::normalize(i.rotation) * (i.scale * base),
+                       0.3f * i.scale * std::min(extent.x, extent.z), 0.0f, intensity});
+  }
+  const bool effects = !fx.bolts.empty() || !fx.rain.empty();
   CloudPassOutputs outputs;
-  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ ? &outputs : nullptr);
+  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ || effects ? &outputs : nullptr);
   if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
+  if (effects) f.hdr = effects_->add_passes(f.graph, fx, f.hdr, f.depth, outputs);
 }
 
 void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth) {

@@ -2,7 +2,8 @@
 // The clouds module's runtime (the wiring of cloud_renderer.h into the engine): `cumulo run` flags,
 // the Cloudscape assets of a level, the per-frame CloudFrame extension, and the cloud passes at the
 // AfterOpaque stage (between sky and tonemap), using the sun and ambient colours of the snapshot's
-// SceneLighting (the atmosphere replaces those later).
+// SceneLighting (the atmosphere replaces those later); then the lightning bolts and the rain
+// (cloud_effects.h), and the ground discharges' light on the terrain (SceneLighting::point_lights).
 //
 //   --clouds on|off            off: the same frame without the module's passes
 //   --cloud-debug VIEW         none | profile | steps | light-grid | split
@@ -28,6 +29,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/render_feature.h"
+#include "modules/clouds/render/cloud_effects.h"
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_state.h"
@@ -44,12 +46,14 @@ namespace cumulo::clouds::render {
 // One Cloudscape entity, as extracted for a frame.
 struct CloudInstanceFrame : CloudPlacement {
   std::filesystem::path folder;  // resolved NVDF folder
+  float rain = 0.0f;             // Cloudscape "rain" (0..1), before dissipation
 };
 
 // The snapshot extension of the clouds module.
 struct CloudFrame {
   std::vector<CloudInstanceFrame> instances;
   std::vector<CloudPointLight> lights;
+  std::vector<BoltFrame> bolts;  // ground discharges live this frame (their visible channels)
   std::optional<weather::WeatherState> weather;  // the WeatherScheduler's blend this frame (none: no scheduler)
 };
 
@@ -106,6 +110,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
   CloudResourcesPtr resources_;
+  std::unique_ptr<CloudEffects> effects_;
   glm::vec3 last_camera_{0.0f};
   std::string last_camera_name_;
   bool have_last_camera_ = false;

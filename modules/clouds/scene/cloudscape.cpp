@@ -19,7 +19,7 @@ void check_keys(const JsonView& v, std::initializer_list<const char*> allowed) {
 
 Cloudscape cloudscape_from_json(const JsonView& v) {
   if (!v.is_object()) v.fail("expected an object {\"asset\": PATH, ...}");
-  check_keys(v, {"asset", "density", "wind", "dissipation"});
+  check_keys(v, {"asset", "density", "wind", "dissipation", "rain"});
   Cloudscape c;
   JsonView asset = v["asset"];
   c.asset = asset.as<std::string>();
@@ -27,6 +27,7 @@ Cloudscape cloudscape_from_json(const JsonView& v) {
   c.where = asset.where();
   if (v.has("density")) c.density = v["density"].as_float_in(0.0f, 1000.0f);
   if (v.has("dissipation")) c.dissipation = v["dissipation"].as_float_in(0.0f, 1.0f);
+  if (v.has("rain")) c.rain = v["rain"].as_float_in(0.0f, 1.0f);
   if (v.has("wind")) {
     JsonView w = v["wind"];
     check_keys(w, {"direction", "speed"});
@@ -45,7 +46,8 @@ Json cloudscape_to_json(const Cloudscape& c) {
   return Json{{"asset", c.asset},
               {"density", c.density},
               {"wind", {{"direction", {c.wind_direction.x, c.wind_direction.y, c.wind_direction.z}}, {"speed", c.wind_speed}}},
-              {"dissipation", c.dissipation}};
+              {"dissipation", c.dissipation},
+              {"rain", c.rain}};
 }
 
 void register_cloudscape_component(ecs::ComponentRegistry& registry) {

@@ -8,7 +8,9 @@
 //                                                         // the level file, or absolute
 //                  "density": 1.0,                        // density multiplier (>= 0)
 //                  "wind": {"direction": [1, 0, 0], "speed": 0},   // noise scroll, m/s
-//                  "dissipation": 0.0}                    // 0..1: removes low-profile, wispy regions first
+//                  "dissipation": 0.0,                    // 0..1: removes low-profile, wispy regions first
+//                  "rain": 0.0}                           // 0..1: rain falls under the cloud (a column below
+//                                                         // its box's centre, fading with dissipation)
 //
 // Several entities may name the same asset: they share one GPU copy.
 #include <filesystem>
@@ -27,6 +29,7 @@ struct Cloudscape {
   glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
   float wind_speed = 0.0f;
   float dissipation = 0.0f;
+  float rain = 0.0f;
   // Filled when the level loads (clouds module): the folder of NVDFs the renderer loads.
   std::filesystem::path resolved;
   std::string where;  // "level.json: $.entities[3].components.Cloudscape.asset", for later messages

@@ -113,6 +113,24 @@ TEST_F(FrameRendererTest, NightIsDarkerThanNoon) {
   EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
 }
 
+// A point light (a lightning discharge's foot) lights the terrain near it and leaves the sky alone; lights
+// past FRAME_MAX_POINT_LIGHTS are dropped, not written past the block.
+TEST_F(FrameRendererTest, PointLightLightsTheTerrainAtNight) {
+  auto model = std::make_shared<const scene::Model>(scene::load_gltf("content/levels/sample/terrain.glb"));
+  FrameRenderer r(ctx);
+  FrameSnapshot s = snapshot({900, 420, 1600}, {-100, 360, -200}, 23.0f);
+  s.models.push_back({model, glm::mat4(1.0f)});
+  auto dark = render(r, s);
+  for (int i = 0; i < 6; ++i) s.lighting.point_lights.push_back({{500, 200, 900}, 3000.0f, glm::vec3(0.5f)});
+  EXPECT_EQ(make_frame_params(s, 1.0f).point_light_count.x, uint32_t(FRAME_MAX_POINT_LIGHTS));
+  auto lit = render(r, s);
+  EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+  const double below_dark = luminance_rows(dark, 60, kH), below_lit = luminance_rows(lit, 60, kH);
+  std::printf("  terrain rows at night: %.2f dark, %.2f lit\n", below_dark, below_lit);
+  EXPECT_GT(below_lit, below_dark * 1.5 + 2.0);
+  EXPECT_NEAR(luminance_rows(lit, 0, 10), luminance_rows(dark, 0, 10), 1.0);  // the sky rows
+}
+
 TEST(SkyModel, FrameParamsCarryCameraAndSun) {
   FrameSnapshot s;
   s.width = 320;

@@ -1,6 +1,8 @@
 // Level loading: the sample level, component JSON forms, and errors that name the file and JSON path.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include "engine/core/file_io.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/components.h"
@@ -232,4 +234,35 @@ TEST(Level, SmallTestLevelUsesEveryComponentForm) {
   LevelInfo info = load_level_document(doc, "/nonexistent/dir", bare, reg, false);
   EXPECT_EQ(info.models.size(), 0u);
   EXPECT_EQ(bare.get<ModelRef>(bare.find("model")).resolved, fs::path("/nonexistent/gltf/quad.gltf"));
+}
+
+// The shipped level schema documents the sample level: every "$ref" resolves, every component the level
+// uses is a property of the schema's entity components, and every key it gives a component is one of that
+// component's properties.
+TEST(Level, SampleLevelKeysAreAllInTheLevelSchema) {
+  const Json schema = Json::parse(read_file_text(repo_root() / "content/schemas/level.schema.json"));
+  const Json level = Json::parse(read_file_text(sample_level()));
+  std::function<void(const Json&, const std::string&)> refs = [&](const Json& j, const std::string& at) {
+    if (j.is_object()) {
+      if (j.contains("$ref")) {
+        const std::string r = j["$ref"].get<std::string>();
+        ASSERT_EQ(r.rfind("#/$defs/", 0), 0u) << at << ": " << r;
+        EXPECT_TRUE(schema["$defs"].contains(r.substr(8))) << at << ": unresolved " << r;
+      }
+      for (const auto& [k, v] : j.items()) refs(v, at + "/" + k);
+    } else if (j.is_array()) {
+      for (size_t i = 0; i < j.size(); ++i) refs(j[i], at + "/" + std::to_string(i));
+    }
+  };
+  refs(schema, "#");
+  const Json& components = schema["$defs"]["entity"]["properties"]["components"]["properties"];
+  for (const Json& e : level["entities"])
+    for (const auto& [name, value] : e["components"].items()) {
+      ASSERT_TRUE(components.contains(name)) << e["name"] << ": component " << name << " is not in the schema";
+      const std::string ref = components[name]["$ref"].get<std::string>();
+      const Json& def = schema["$defs"][ref.substr(8)];
+      if (!def.contains("properties")) continue;
+      for (const auto& [key, v] : value.items())
+        EXPECT_TRUE(def["properties"].contains(key)) << e["name"] << ": " << name << "." << key << " is not in the schema";
+    }
 }

@@ -269,3 +269,35 @@ TEST(Triggers, BadTriggersNameThePlace) {
 }
 
 }  // namespace
+
+namespace {
+
+// The bolt of a ground discharge: a connected main channel from the flash down to the ground, branches
+// that leave it downward, everything between the ground and the top, the same path for the same seed.
+TEST(Lightning, ABoltRunsFromTheFlashToTheGroundWithBranches) {
+  using namespace cumulo::clouds::gameplay;
+  const glm::vec3 top(100, 760, -50);
+  const std::vector<BoltSegment> bolt = lightning_bolt(top, 0.0f, 42);
+  ASSERT_GE(bolt.size(), size_t(kBoltMainSegments + 3));  // at least three branch segments
+  ASSERT_LE(bolt.size(), size_t(kBoltMaxSegments));
+  EXPECT_EQ(bolt.front().a, top);
+  for (int i = 1; i < kBoltMainSegments; ++i) EXPECT_EQ(bolt[i].a, bolt[i - 1].b) << "main channel broken at " << i;
+  EXPECT_FLOAT_EQ(bolt[kBoltMainSegments - 1].b.y, 0.0f);  // it reaches the ground
+  for (const BoltSegment& s : bolt) {
+    EXPECT_LE(s.b.y, s.a.y);  // downward
+    EXPECT_GE(s.b.y, 0.0f);
+    EXPECT_LE(s.a.y, top.y);
+    EXPECT_GT(s.brightness, 0.0f);
+    EXPECT_LE(s.brightness, 1.0f);
+  }
+  // The foot lands within a quarter of the height of the flash (not drifting off across the map).
+  const glm::vec3 foot = bolt[kBoltMainSegments - 1].b;
+  EXPECT_LT(glm::length(glm::vec2(foot.x - top.x, foot.z - top.z)), 0.25f * 760.0f * 1.5f);
+  const std::vector<BoltSegment> again = lightning_bolt(top, 0.0f, 42), other = lightning_bolt(top, 0.0f, 43);
+  ASSERT_EQ(again.size(), bolt.size());
+  for (size_t i = 0; i < bolt.size(); ++i) EXPECT_EQ(again[i].b, bolt[i].b);
+  EXPECT_NE(other[kBoltMainSegments - 1].b, foot);
+  EXPECT_TRUE(lightning_bolt(glm::vec3(0, 0.5f, 0), 0.0f, 1).empty());  // no height, no bolt
+}
+
+}  // namespace

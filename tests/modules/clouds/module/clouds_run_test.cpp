@@ -305,3 +305,79 @@ TEST_F(CloudsRun, RecordThenReplayGivesTheSameRunAndBadRecordingsAreNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+// Mean of channel sums over the rows [y0, y1) and the brightest pixel there.
+struct RowStats {
+  double mean = 0;
+  int max = 0;
+};
+RowStats row_stats(const Png& p, int y0, int y1) {
+  RowStats r;
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < p.w; ++x) {
+      const int v = p.at(x, y, 0) + p.at(x, y, 1) + p.at(x, y, 2);
+      r.mean += v;
+      r.max = std::max(r.max, v);
+    }
+  r.mean /= double((y1 - y0) * p.w);
+  return r;
+}
+
+// A ground discharge under the cloud at night: its channel shows as a thin bright line below the cloud
+// (most columns of those rows unchanged), and it is gone once the flash ends.
+TEST_F(CloudsRun, AGroundDischargeShowsABoltBelowTheCloud) {
+  fs::path dark = level("dark");
+  const std::string bolt = "{\"name\": \"bolt\", \"components\": {\"LightningEvent\": {\"kind\": \"ground\", \"position\": [0, 540, 0], "
+                           "\"intensity\": 80, \"duration_s\": 2}}},\n    {\"name\": \"cam\"";
+  fs::path strike = level("strike", "{\"name\": \"cam\"", bolt);
+  ASSERT_EQ(run(dark, "dark.png", {"--time-of-day", "23"}, 2), 0);
+  ASSERT_EQ(run(strike, "strike.png", {"--time-of-day", "23"}, 2), 0);
+  ASSERT_EQ(run(strike, "after.png", {"--time-of-day", "23", "--start-at", "3"}, 2), 0);
+  const Png a = load_png(dir_ / "dark.png"), b = load_png(dir_ / "strike.png"), c = load_png(dir_ / "after.png");
+  // Below the cloud on screen: the lowest third of the frame (the cloud's base is at 500 m, the camera at 628 m).
+  const int y0 = a.h * 2 / 3;
+  int changed_columns = 0;
+  for (int x = 0; x < a.w; ++x) {
+    int d = 0;
+    for (int y = y0; y < a.h; ++y)
+      for (int ch = 0; ch < 3; ++ch) d = std::max(d, std::abs(b.at(x, y, ch) - a.at(x, y, ch)));
+    changed_columns += d > 60;
+  }
+  std::printf("  below the cloud: brightest %d dark, %d with the bolt; %d of %d columns lit\n", row_stats(a, y0, a.h).max,
+              row_stats(b, y0, a.h).max, changed_columns, a.w);
+  EXPECT_GT(row_stats(b, y0, a.h).max, row_stats(a, y0, a.h).max + 300);
+  EXPECT_GE(changed_columns, 1);
+  EXPECT_LT(changed_columns, a.w / 4);  // a channel, not a sheet
+  EXPECT_EQ(c.rgba, a.rgba);            // the flash has ended
+}
+
+// Rain under a precipitating cloud greys the view below it; a fully dissipated cloud has neither cloud
+// nor rain (the frame without the module's passes).
+TEST_F(CloudsRun, RainFallsUnderAPrecipitatingCloudAndStopsWithDissipation) {
+  const std::string from = "\"Cloudscape\": {\"asset\": \"small_cloud.json\"}";
+  fs::path dry = level("dry");
+  fs::path wet = level("wet", from, "\"Cloudscape\": {\"asset\": \"small_cloud.json\", \"rain\": 1}");
+  fs::path gone = level("gone", from, "\"Cloudscape\": {\"asset\": \"small_cloud.json\", \"rain\": 1, \"dissipation\": 1}");
+  ASSERT_EQ(run(dry, "dry.png", {}, 2), 0);
+  ASSERT_EQ(run(wet, "wet.png", {}, 2), 0);
+  ASSERT_EQ(run(gone, "gone.png", {}, 2), 0);
+  ASSERT_EQ(run(dry, "off.png", {"--clouds", "off"}, 2), 0);
+  const Png a = load_png(dir_ / "dry.png"), b = load_png(dir_ / "wet.png"), g = load_png(dir_ / "gone.png"),
+            off = load_png(dir_ / "off.png");
+  const int y0 = a.h * 2 / 3;
+  std::printf("  below the cloud: |wet - dry| %.2f per channel\n", mean_diff(a, b));
+  double below = 0;
+  for (int y = y0; y < a.h; ++y)
+    for (int x = a.w / 3; x < 2 * a.w / 3; ++x)
+      for (int ch = 0; ch < 3; ++ch) below += std::abs(b.at(x, y, ch) - a.at(x, y, ch));
+  below /= double((a.h - y0) * (a.w / 3) * 3);
+  EXPECT_GT(below, 0.25);  // the column under the cloud's centre (a grey curtain before a grey ground)
+  for (int y = 0; y < a.h / 3; ++y)  // rays from above the cloud base that rise never meet the column
+    for (int x = 0; x < a.w; ++x)
+      for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(b.at(x, y, ch), a.at(x, y, ch)) << x << ", " << y;
+  EXPECT_EQ(g.rgba, off.rgba);
+}
+
+}  // namespace

@@ -33,6 +33,7 @@ struct SimRun {
   size_t max_flashes = 0;
   bool encounter = false;
   float dissipation = 0.0f;
+  int strikes_fight = 0, strikes_after = 0;  // flashes spawned in the storm cloud: 5-7 min, 7.5-10 min
 };
 
 std::unique_ptr<app::Simulation> make_sim(uint64_t seed) {
@@ -59,7 +60,12 @@ SimRun simulate(app::Simulation& sim, bool live) {
     sim.step(1);
     r.hashes.push_back(clouds::gameplay::cloud_state_hash(w));
     size_t flashes = 0;
-    w.view<const clouds::gameplay::LightningEvent>().each([&](const clouds::gameplay::LightningEvent&) { ++flashes; });
+    w.view<const clouds::gameplay::LightningEvent>().each([&](const clouds::gameplay::LightningEvent& l) {
+      ++flashes;
+      const bool fresh = l.age_s == 0.0f, in_storm = glm::distance(l.position, glm::vec3(1000, 830, -700)) < 300.0f;
+      if (fresh && in_storm && i >= 5 * 3600 && i < 7 * 3600) ++r.strikes_fight;
+      if (fresh && in_storm && i >= 7 * 3600 + 1800) ++r.strikes_after;
+    });
     r.max_flashes = std::max(r.max_flashes, flashes);
     w.view<const clouds::weather::WeatherScheduler>().each(
         [&](const clouds::weather::WeatherScheduler& s) { r.encounter |= s.encounter_active; });
@@ -95,6 +101,11 @@ TEST(CloudReplay, ARecordingReplaysTheSameStateEveryStepForTenMinutes) {
   EXPECT_GE(a.transitions, 1u);        // so the hash covered a transition
   EXPECT_GE(a.max_flashes, 1u);        // and lightning
   EXPECT_FLOAT_EQ(a.dissipation, 1.0f);  // and the whole dissipation
+  // The fight's lightning strikes in the storm cloud (stormbird: 12 a minute) and stops with its death.
+  std::printf("  strikes in the storm cloud: %d in the 2 min of the fight, %d in the 2.5 min after its death\n",
+              a.strikes_fight, a.strikes_after);
+  EXPECT_GE(a.strikes_fight, 8);
+  EXPECT_LE(a.strikes_after, a.strikes_fight / 8);
 
   auto replay_sim = make_sim(7);
   app::start_replay(*replay_sim, app::load_recording(file));
