@@ -177,7 +177,7 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   for (const ModelDraw& d : s.models) m.scene.get(d.model);
 
   m.uniforms.begin_frame(slot);
-  const UniformSlice ubo = m.uniforms.push(make_frame_params(s, exposure_));
+  const UniformSlice ubo = m.uniforms.push(make_frame_params(s, exposure_ * s.lighting.exposure));
 
   RenderGraph graph(target.extent);
   TextureDesc out_desc = TextureDesc::absolute(target.format, target.extent.width, target.extent.height);
@@ -220,7 +220,7 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
 
   run_stage(Stage::AfterOpaque);
 
-  const float exposure = exposure_;
+  const float exposure = exposure_ * s.lighting.exposure;  // the renderer's, times the scene's meter
   const bool srgb_target = is_srgb(target.format);
   graph.add_pass("tonemap", Queue::Graphics,
       [&](PassBuilder& b) {

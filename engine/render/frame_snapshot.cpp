@@ -22,7 +22,7 @@ FrameSnapshot extract_frame(const ecs::World& world, ecs::Entity camera, uint32_
   scene::TimeOfDay tod = sun.time ? *sun.time : scene::TimeOfDay{};
   s.sun = scene::sun_light(tod, sun.sun ? *sun.sun : scene::Sun{});
   s.time_of_day_hours = tod.hours;
-  s.lighting = stand_in_lighting(s.sun);
+  s.lighting = sky_lighting(s.sun, s.camera.position.y);
 
   world.view<const scene::ModelRef, const scene::Transform>().each([&](const scene::ModelRef& m, const scene::Transform& tr) {
     if (m.model) s.models.push_back({m.model, tr.matrix()});

@@ -2,37 +2,21 @@
 
 #include <algorithm>
 
-namespace cumulo::render {
-namespace {
+#include "engine/render/atmosphere/atmosphere.h"
 
-float smoothstep(float a, float b, float x) {
-  float t = std::clamp((x - a) / (b - a), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
+namespace cumulo::render {
+const Atmosphere& default_atmosphere() {
+  static const Atmosphere atmosphere(load_atmosphere(default_atmosphere_file()));
+  return atmosphere;
 }
 
-}  // namespace
+SceneLighting sky_lighting(const scene::SunLight& sun, float camera_altitude_m) {
+  return default_atmosphere().lighting(sun, camera_altitude_m);
+}
 
-SceneLighting stand_in_lighting(const scene::SunLight& sun) {
-  SceneLighting c;
-  // Day factor: civil twilight (-6 deg) to full day (+10 deg).
-  float day = smoothstep(-6.0f, 10.0f, sun.elevation_deg);
-  // Low sun: warm horizon. The sun's own reddening is in sun.radiance (scene::sun_transmittance).
-  float low = 1.0f - smoothstep(2.0f, 25.0f, sun.elevation_deg);
-  glm::vec3 night_zenith(0.004f, 0.006f, 0.015f), night_horizon(0.010f, 0.014f, 0.025f);
-  // Clear-sky colours in the renderer's units (sun radiance 3 at noon, exposure 1, ACES): a saturated
-  // blue zenith and a pale horizon, the look of the Burning Shores' daytime sky.
-  glm::vec3 day_zenith(0.10f, 0.24f, 0.62f), day_horizon(0.55f, 0.68f, 0.85f);
-  glm::vec3 sunset_horizon(0.95f, 0.55f, 0.30f);
-  glm::vec3 horizon = glm::mix(day_horizon, sunset_horizon, low * 0.8f);
-  c.sky_zenith = glm::mix(night_zenith, day_zenith * (1.0f - 0.35f * low), day);
-  c.sky_horizon = glm::mix(night_horizon, horizon, day);
-  c.ground = c.sky_horizon * 0.35f;
-  c.sun_radiance = sun.radiance * kSunRadianceScale;
-  c.ambient = glm::mix(0.15f, 1.0f, day);
-  // About 15 % extinction over 4 km at sea level (a clear coastal day); halves every ~700 m of height.
-  c.fog_density = 0.00004f;
-  c.fog_falloff = 0.001f;
-  return c;
+glm::vec3 key_light_direction(const FrameSnapshot& s) {
+  return glm::dot(s.lighting.light_direction, s.lighting.light_direction) > 0.0f ? s.lighting.light_direction
+                                                                                 : s.sun.direction;
 }
 
 shared::FrameParams make_frame_params(const FrameSnapshot& s, float exposure) {
@@ -42,7 +26,7 @@ shared::FrameParams make_frame_params(const FrameSnapshot& s, float exposure) {
   p.inv_view_proj = s.camera.inv_view_proj;
   p.camera_position = s.camera.position;
   p.time_s = static_cast<float>(s.sim_time);
-  p.sun_direction = glm::normalize(s.sun.direction);
+  p.sun_direction = glm::normalize(key_light_direction(s));
   p.ambient = c.ambient;
   p.sun_radiance = c.sun_radiance;
   p.exposure = exposure;

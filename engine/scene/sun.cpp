@@ -56,7 +56,8 @@ SunLight sun_light(const TimeOfDay& tod, const Sun& sun) {
   l.direction = p.direction;
   l.elevation_deg = p.elevation_deg;
   l.azimuth_deg = p.azimuth_deg;
-  l.radiance = sun.color * sun.illuminance * sun_transmittance(p.elevation_deg);
+  l.top_of_atmosphere = sun.color * sun.illuminance;
+  l.radiance = l.top_of_atmosphere * sun_transmittance(p.elevation_deg);
   return l;
 }
 

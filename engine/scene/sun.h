@@ -37,6 +37,7 @@ glm::vec3 sun_transmittance(float elevation_deg);
 struct SunLight {
   glm::vec3 direction{0.0f, 1.0f, 0.0f};  // toward the sun, world space, unit
   glm::vec3 radiance{1.0f};               // Sun::color * Sun::illuminance * sun_transmittance(elevation)
+  glm::vec3 top_of_atmosphere{1.0f};      // Sun::color * Sun::illuminance (before the atmosphere)
   float elevation_deg = 90.0f;
   float azimuth_deg = 0.0f;
 };

@@ -52,7 +52,7 @@ void main() {
     float dist = distance(ro + rd * t, q);
     float width = max(core, t * F.misc.x * 0.7);
     float x = dist / width;
-    float value = F.seg_a[i].w * (exp(-x * x) * (core / width) + 0.002 * exp(-dist / 25.0));
+    float value = F.seg_a[i].w * (exp(-x * x) * (core / width) + 0.0005 * exp(-dist / 15.0));
     sum += cloud_d < t ? value * cloud_t : value;
   }
   vec4 c0 = imageLoad(hdr, pixel);

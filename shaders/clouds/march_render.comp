@@ -289,10 +289,11 @@ void main() {
     if (b <= a) continue;
     uint present = 0u;
     for (uint k = 0u; k < n; ++k) present += enter[k] <= a && leave[k] >= b ? 1u : 0u;
-    // Where boxes overlap, the interval goes in pieces (64 m near the camera, an eighth of the distance
-    // beyond 512 m), each piece marched for every instance: ordering errors stay within a piece.
+    // Where boxes overlap, the interval goes in pieces (64 m near the camera, a quarter of the distance
+    // beyond 256 m), each piece marched for every instance: ordering errors stay within a piece (levels
+    // keep their assets' clouds apart, as the sample's cloudscape leaves room for the storm cloud).
     for (float p0 = a; p0 < b && px.transmittance * t_front >= P.march.z;) {
-      float p1 = present > 1u ? min(b, p0 + max(64.0, 0.125 * p0)) : b;
+      float p1 = present > 1u ? min(b, p0 + max(64.0, 0.25 * p0)) : b;
       for (uint k = 0u; k < n; ++k) {
         int i = order[k];
         if (enter[i] > a || leave[i] < b) continue;  // not in this interval

@@ -5,7 +5,8 @@
 // modulated by falling streaks: world-space columns of drops on a 1.5 m grid, each with its own phase,
 // falling at 9 m/s, so nearby rays that share a drop column see a vertical streak and far ones average
 // to a grey curtain. Eight samples per ray through the column, jittered per pixel; clipped by the scene
-// depth; behind a cloud's half-opacity depth it is seen through the cloud's transmittance.
+// depth; behind a cloud's half-opacity depth it is seen through the cloud's transmittance. Dispatched over
+// the columns' screen rectangle (CloudEffectsPush::rect).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 
@@ -56,8 +57,9 @@ vec2 ray_column(vec3 ro, vec3 rd, vec3 c, float r, float y0, float y1) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, ivec2(F.viewport.xy)))) return;
+  ivec2 pixel = pc.rect.xy + ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, uvec2(pc.rect.zw))) || any(greaterThanEqual(pixel, ivec2(F.viewport.xy))))
+    return;
   vec2 uv = (vec2(pixel) + 0.5) * F.viewport.zw;
   vec2 ndc = uv * 2.0 - 1.0;
   vec4 h = F.inv_view_proj * vec4(ndc, 0.5, 1.0);

@@ -1,7 +1,8 @@
 // Sky gradient shared by the sky pass and the geometry pass's aerial perspective, so distant terrain
-// fades into exactly the colour the sky shows behind it. A stand-in until the cloud module's atmosphere:
-// zenith -> horizon gradient over elevation (colours chosen on the CPU from the sun's elevation, see
-// render/sky_model.cpp), a darker ground colour below the horizon and a sun disc with a soft halo.
+// fades into exactly the colour the sky shows behind it: zenith -> horizon gradient over elevation (the
+// colours are the atmosphere's radiance straight up and at the horizon, computed on the CPU per frame:
+// render/atmosphere/atmosphere.h), a ground colour below the horizon and a sun disc with a soft halo.
+// (The GPU sky-view LUT of the atmosphere issue replaces the gradient's shape.)
 #ifndef CUMULO_SKY_COMMON_GLSL
 #define CUMULO_SKY_COMMON_GLSL
 #include "shared/frame_params.h"

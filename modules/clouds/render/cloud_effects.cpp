@@ -43,6 +43,26 @@ glm::ivec4 bolt_rect(const shared::CloudEffectsParams& p, uint32_t count, const 
   return {a.x, a.y, std::max(0, b.x - a.x), std::max(0, b.y - a.y)};
 }
 
+// The screen rectangle of the rain columns' bounding boxes (the whole screen when one reaches behind the
+// camera; empty when none is in view).
+glm::ivec4 rain_rect(const shared::CloudEffectsParams& p, uint32_t count, const scene::CameraView& cam, VkExtent2D size) {
+  glm::vec2 lo(1e9f), hi(-1e9f);
+  for (uint32_t i = 0; i < count; ++i) {
+    const glm::vec3 c(p.rain_column[i]);
+    const float r = p.rain_column[i].w, bottom = p.rain_params[i].y;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 corner(c.x + ((k & 1) ? r : -r), (k & 2) ? c.y : bottom, c.z + ((k & 4) ? r : -r));
+      const glm::vec4 q = cam.project(corner);
+      if (q.w <= 0.0f) return {0, 0, int(size.width), int(size.height)};
+      const glm::vec2 px = (glm::vec2(q) * 0.5f + 0.5f) * glm::vec2(size.width, size.height);
+      lo = glm::min(lo, px), hi = glm::max(hi, px);
+    }
+  }
+  const glm::ivec2 a = glm::clamp(glm::ivec2(glm::floor(lo)) - 1, glm::ivec2(0), glm::ivec2(size.width, size.height));
+  const glm::ivec2 b = glm::clamp(glm::ivec2(glm::ceil(hi)) + 1, glm::ivec2(0), glm::ivec2(size.width, size.height));
+  return {a.x, a.y, std::max(0, b.x - a.x), std::max(0, b.y - a.y)};
+}
+
 }  // namespace
 
 CloudEffects::CloudEffects(gpu::Context& ctx, gpu::PipelineLibrary& library) : ctx_(ctx) {
@@ -120,7 +140,7 @@ TextureHandle CloudEffects::add_passes(cumulo::render::RenderGraph& graph, const
         });
   };
   if (segs > 0) add("clouds.lightning_bolt", bolt_, bolt_rect(p, segs, in.camera, size));
-  if (rain > 0) add("clouds.rain", rain_, {0, 0, int(size.width), int(size.height)});
+  if (rain > 0) add("clouds.rain", rain_, rain_rect(p, rain, in.camera, size));
   return hdr;
 }
 

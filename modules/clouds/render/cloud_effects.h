@@ -5,7 +5,7 @@
 // colour and depth (so a cloud in front hides them) and add into the HDR scene colour.
 //
 //   clouds.lightning_bolt  compute  over the bolts' screen rectangle: channel core + air glow
-//   clouds.rain            compute  full screen, where a rain column is on screen: a thin streaked medium
+//   clouds.rain            compute  over the rain columns' screen rectangle: a thin streaked medium
 //
 // Without bolts or rain columns nothing is added (the frame is bit-identical).
 #include <cstdint>

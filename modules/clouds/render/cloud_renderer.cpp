@@ -17,6 +17,7 @@
 #include "engine/gpu/pipeline_library.h"
 #include "engine/gpu/sampler.h"
 #include "engine/render/history.h"
+#include "engine/render/sky_model.h"
 #include "modules/clouds/scene/density_query.h"
 #include "shaders/shared/cloud_params.h"
 
@@ -329,7 +330,7 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
   in.slot = slot;
   in.settings = settings;
   apply_budget_mode(in.settings, cumulo::render::budget_hz(snap.mode));
-  in.sun_direction = snap.sun.direction;
+  in.sun_direction = cumulo::render::key_light_direction(snap);  // the sun, or the moon at night
   in.sun_color = snap.sun.radiance * 3.14159265f;
   in.ambient_color = 0.5f * (snap.lighting.sky_zenith + snap.lighting.sky_horizon) * snap.lighting.ambient;
   return in;

@@ -268,7 +268,7 @@ TEST(Module, ModuleShadersHotReload) {
     scene::TimeOfDay tod;
     tod.hours = 12.0f;
     s.sun = scene::sun_light(tod, scene::Sun{});
-    s.lighting = render::stand_in_lighting(s.sun);
+    s.lighting = render::sky_lighting(s.sun);
     s.camera = scene::make_camera_view(scene::Transform::look_at({0, 10, 0}, {0, 60, -100}), scene::Camera{}, 64.0f / 36.0f);
     s.extensions.set(TintFrame{glm::vec4(1, 0, 0, 1), 0.0});
     auto render_once = [&] { return test::render_offscreen(ctx, renderer, s); };

@@ -1,5 +1,5 @@
 // FrameRenderer on the default device (lavapipe on CI) with validation on: the engine's frame
-// (geometry, sky, tonemap) renders with zero validation errors, empty depth shows sky only, the
+// (geometry, sky, tonemap) renders with zero validation errors, empty depth shows the atmosphere only, the
 // sample terrain shows below the horizon, and the compiled graph has the three passes.
 #include "engine/render/frame_renderer.h"
 
@@ -39,7 +39,7 @@ struct FrameRendererTest : ::testing::Test {
     scene::TimeOfDay tod;
     tod.hours = hours;
     s.sun = scene::sun_light(tod, scene::Sun{});
-    s.lighting = stand_in_lighting(s.sun);
+    s.lighting = sky_lighting(s.sun);
     return s;
   }
 
@@ -62,14 +62,17 @@ double luminance_rows(const gpu::Rgba8Image& img, uint32_t y0, uint32_t y1, int 
 
 }  // namespace
 
-TEST_F(FrameRendererTest, EmptySceneIsAllSkyBlueAboveAndDarkerBelow) {
+TEST_F(FrameRendererTest, EmptySceneIsSkyBlueAboveAndSunlitGroundBelow) {
   FrameRenderer r(ctx);
   auto img = render(r, snapshot({0, 10, 0}, {0, 10, -100}, 12.0f));  // level view at noon
   EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
   // Top rows: blue sky (blue clearly above red).
   EXPECT_GT(luminance_rows(img, 0, 10, 2), luminance_rows(img, 0, 10, 0) + 20.0);
-  // Below the horizon (no geometry): the ground colour, darker than the sky above the horizon.
-  EXPECT_LT(luminance_rows(img, 80, 90), luminance_rows(img, 30, 44));
+  // Below the horizon (no geometry): the atmosphere's sunlit ground (albedo 0.3), warmer than the sky above
+  // the horizon (less blue for its red).
+  const double ground_b = luminance_rows(img, 80, 90, 2), ground_r = luminance_rows(img, 80, 90, 0);
+  const double sky_b = luminance_rows(img, 30, 44, 2), sky_r = luminance_rows(img, 30, 44, 0);
+  EXPECT_LT(ground_b / std::max(ground_r, 1.0), sky_b / std::max(sky_r, 1.0));
   // The graph: geometry, sky, tonemap, in that order.
   const CompiledGraph& g = r.last_compiled();
   EXPECT_LT(g.position("geometry"), g.position("sky"));
@@ -137,7 +140,7 @@ TEST(SkyModel, FrameParamsCarryCameraAndSun) {
   s.height = 180;
   s.sun.direction = glm::normalize(glm::vec3(0.3f, 0.8f, -0.2f));
   s.sun.elevation_deg = 50.0f;
-  s.lighting = stand_in_lighting(s.sun);
+  s.lighting = sky_lighting(s.sun);
   s.sim_time = 2.5;
   shared::FrameParams p = make_frame_params(s, 1.5f);
   EXPECT_FLOAT_EQ(p.viewport_size.x, 320.0f);
@@ -156,5 +159,6 @@ TEST(SkyModel, FrameParamsCarryCameraAndSun) {
   EXPECT_GT(p.sky_zenith.z, p.sky_zenith.x);
   scene::SunLight night;
   night.elevation_deg = -30.0f;
-  EXPECT_LT(stand_in_lighting(night).sky_zenith.z, 0.1f * stand_in_lighting(s.sun).sky_zenith.z);
+  night.direction = glm::vec3(0.0f, -0.5f, 0.8660254f);
+  EXPECT_LT(sky_lighting(night).sky_zenith.z, 0.1f * sky_lighting(s.sun).sky_zenith.z);
 }
