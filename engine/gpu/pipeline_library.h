@@ -7,7 +7,7 @@
 //   gpu::PipelineLibrary lib(ctx);                               // shaders root <repo>/shaders, disk cache on
 //   gpu::Pipeline& march = lib.compute({.shader = "clouds/march.comp", .defines = {{"STEPS", "128"}}, .name =
 //   "march"}); gpu::Pipeline& sky = lib.graphics({.vertex = "engine/fullscreen.vert", .fragment =
-//   "engine/sky_gradient.frag",
+//   "engine/sky_atmosphere.frag",
 //                                      .color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT}, .name = "sky"});
 //   // every frame (or every few frames) in windowed runs:
 //   if (lib.poll_reload() > 0) LOG_INFO("shaders reloaded");

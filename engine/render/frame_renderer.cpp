@@ -14,6 +14,7 @@
 #include "engine/render/gpu_scene.h"
 #include "engine/render/pass_helpers.h"
 #include "engine/render/uniform_allocator.h"
+#include "engine/render/atmosphere/atmosphere_passes.h"
 #include "engine/render/sky_model.h"
 #include "engine/scene/camera.h"
 #include "shaders/shared/frame_params.h"
@@ -40,6 +41,7 @@ struct FrameRenderer::Impl {
   gpu::Pipeline* geometry_double_sided = nullptr;
   gpu::Pipeline* sky = nullptr;
   gpu::Pipeline* tonemap = nullptr;  // for tonemap_format
+  std::unique_ptr<AtmospherePasses> atmosphere;  // its LUTs (the sky pass reads the sky view)
   VkFormat tonemap_format = VK_FORMAT_UNDEFINED;
 
   Impl(gpu::Context& c, const std::filesystem::path& shader_root)
@@ -69,7 +71,7 @@ struct FrameRenderer::Impl {
   gpu::GraphicsPipelineDesc sky_desc() const {
     gpu::GraphicsPipelineDesc d;
     d.vertex = "engine/fullscreen.vert";
-    d.fragment = "engine/sky_gradient.frag";
+    d.fragment = "engine/sky_atmosphere.frag";
     d.color_formats = {kHdrFormat};
     d.depth_format = kDepthFormat;
     d.depth_test = true;
@@ -91,6 +93,7 @@ struct FrameRenderer::Impl {
     geometry = &library.graphics(geometry_desc(false));
     geometry_double_sided = &library.graphics(geometry_desc(true));
     sky = &library.graphics(sky_desc());
+    atmosphere = std::make_unique<AtmospherePasses>(ctx, library, default_atmosphere());
   }
   void ensure_tonemap(VkFormat out) {
     if (tonemap && tonemap_format == out) return;
@@ -204,16 +207,25 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         vkCmdEndRendering(c.cmd());
       });
 
+  const AtmosphereLuts luts = m.atmosphere->add_passes(graph, s, slot);
   graph.add_pass("sky", Queue::Graphics,
       [&](PassBuilder& b) {
         frame.hdr = b.read_write(frame.hdr, Usage::ColorAttachment);
         b.read(frame.depth, Usage::DepthRead);
+        b.read(luts.sky_view, Usage::Sampled);
+        b.read(luts.transmittance, Usage::Sampled);
       },
-      [&m, ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
+      [&m, ubo, luts, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
         Attachment d{depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_NONE};
         begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_LOAD}, &d);
         m.sky->bind(c.cmd());
-        gpu::DescriptorWriter().uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size).push(m.ctx, c.cmd(), *m.sky);
+        const VkSampler linear = m.ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
+        gpu::DescriptorWriter()
+            .uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size)
+            .uniform_buffer(SKY_ATMOSPHERE_PARAMS_BINDING, luts.ubo, 0, sizeof(shared::AtmosphereGpuParams))
+            .sampled_image(SKY_VIEW_BINDING, c.view(luts.sky_view), linear, c.layout(luts.sky_view))
+            .sampled_image(SKY_TRANSMITTANCE_BINDING, c.view(luts.transmittance), linear, c.layout(luts.transmittance))
+            .push(m.ctx, c.cmd(), *m.sky);
         vkCmdDraw(c.cmd(), 3, 1, 0, 0);
         vkCmdEndRendering(c.cmd());
       });

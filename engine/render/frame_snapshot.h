@@ -50,7 +50,7 @@ struct SceneLighting {
   // Toward the key light whose radiance sun_radiance is: the sun, or at night the moon; zero: the sun's
   // direction (snapshot.sun.direction).
   glm::vec3 light_direction{0.0f};
-  // The scene's exposure meter (times the renderer's exposure): 1 by day, up to 64 in a moonlit night,
+  // The scene's exposure meter (times the renderer's exposure): 1 by day, up to 32 in a moonlit night,
   // so a night reads as dark but not black (the eye adapts; the atmosphere sets it from its light level).
   float exposure = 1.0f;
 };

@@ -238,6 +238,9 @@ glm::vec3 Atmosphere::sky_radiance(float altitude_km, glm::vec3 dir, glm::vec3 s
   return L;
 }
 
+float Atmosphere::night_weight(float sun_elevation_deg) { return std::clamp((-sun_elevation_deg - 4.0f) / 8.0f, 0.0f, 1.0f); }
+float Atmosphere::moon_weight(float sun_elevation_deg) const { return night_weight(sun_elevation_deg) * p_.moon_fraction; }
+
 SceneLighting Atmosphere::lighting(const scene::SunLight& sun, float camera_altitude_m) const {
   SceneLighting c;
   c.source = "atmosphere";
@@ -248,11 +251,11 @@ SceneLighting Atmosphere::lighting(const scene::SunLight& sun, float camera_alti
   // Night: the sun well below the horizon leaves the moon (opposite the sun: a full moon) as the light,
   // a small fraction of sunlight, through the same atmosphere. In between, both add (twilight).
   const glm::vec3 moon = -key;
-  const float night = std::clamp((-sun.elevation_deg - 4.0f) / 8.0f, 0.0f, 1.0f);
+  const float night = night_weight(sun.elevation_deg);
   auto sky = [&](glm::vec3 dir) {
     glm::vec3 L = sky_radiance(h, dir, key, E);
-    if (night > 0.0f) L += night * p_.moon_tint * sky_radiance(h, dir, moon, E * p_.moon_fraction);
-    return L + glm::vec3(0.0001f, 0.00012f, 0.0002f);  // airglow and starlight: night is never black
+    if (night > 0.0f) L += sky_radiance(h, dir, moon, E * moon_weight(sun.elevation_deg));
+    return L + kAirglow * glm::vec3(1.0f, 1.2f, 2.0f);  // airglow and starlight: night is never black
   };
   c.sky_zenith = sky({0.0f, 1.0f, 0.0f});
   glm::vec3 horizon(0.0f);
@@ -275,10 +278,11 @@ SceneLighting Atmosphere::lighting(const scene::SunLight& sun, float camera_alti
   c.ground = p_.ground_albedo / kPi * (c.sun_radiance * kPi * std::max(c.light_direction.y, 0.0f) + sky_irradiance);
   c.ambient = 1.0f;
   // Exposure meter: the key light on a grey card plus the sky, held to 1 by day (the renderer's units are
-  // set for the noon sun) and at most 64x at night.
+  // set for the noon sun); the eye adapts only partly (the 0.6 power: dusk stays darker than day, night
+  // darker than dusk), at most 32x.
   const auto lum = [](glm::vec3 v) { return 0.2126f * v.r + 0.7152f * v.g + 0.0722f * v.b; };
   const float level = 0.05f * lum(c.sun_radiance) * std::max(c.light_direction.y, 0.0f) + 0.5f * lum(c.sky_zenith);
-  c.exposure = std::clamp(0.1f / std::max(level, 1e-6f), 1.0f, 64.0f);
+  c.exposure = std::clamp(std::pow(0.1f / std::max(level, 1e-6f), 0.6f), 1.0f, 32.0f);
   c.fog_density = 0.00004f;
   c.fog_falloff = 0.001f;
   return c;

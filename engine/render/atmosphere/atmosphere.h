@@ -69,6 +69,11 @@ class Atmosphere {
   // zenith and horizon colours (the horizon averaged over azimuth), ground colour, ambient 1 (the sky's
   // radiance is the ambient), and the moon as the light when the sun is below the horizon.
   SceneLighting lighting(const scene::SunLight& sun, float camera_altitude_m = 0.0f) const;
+  // 0 by day .. 1 at night (the sun 4..12 degrees below the horizon): how much the moon counts.
+  static float night_weight(float sun_elevation_deg);
+  // The moon's irradiance as a fraction of the sun's now (night_weight x the preset's fraction).
+  float moon_weight(float sun_elevation_deg) const;
+  static constexpr float kAirglow = 0.0001f;  // x (1, 1.2, 2): airglow and starlight, night is never black
 
  private:
   glm::vec3 transmittance_lut(float r, float mu) const;

@@ -73,15 +73,18 @@ TEST_F(FrameRendererTest, EmptySceneIsSkyBlueAboveAndSunlitGroundBelow) {
   const double ground_b = luminance_rows(img, 80, 90, 2), ground_r = luminance_rows(img, 80, 90, 0);
   const double sky_b = luminance_rows(img, 30, 44, 2), sky_r = luminance_rows(img, 30, 44, 0);
   EXPECT_LT(ground_b / std::max(ground_r, 1.0), sky_b / std::max(sky_r, 1.0));
-  // The graph: geometry, sky, tonemap, in that order.
+  // The graph: geometry, sky, tonemap, in that order; on the first frame the atmosphere's LUTs before the sky.
   const CompiledGraph& g = r.last_compiled();
   EXPECT_LT(g.position("geometry"), g.position("sky"));
   EXPECT_LT(g.position("sky"), g.position("tonemap"));
+  EXPECT_LT(g.position("atmosphere.transmittance"), g.position("atmosphere.multiscatter"));
+  EXPECT_LT(g.position("atmosphere.multiscatter"), g.position("atmosphere.sky_view"));
+  EXPECT_LT(g.position("atmosphere.sky_view"), g.position("sky"));
   // GPU timings: each pass clears or shades every pixel, so it takes measurable time, and together
   // they fit inside the CPU time from recording to the end of the wait.
   ASSERT_TRUE(ctx.info().timestamps) << "the test device has no timestamps";
   auto t = r.pass_timings();
-  ASSERT_EQ(t.size(), 3u);
+  ASSERT_EQ(t.size(), 6u);  // geometry, the three LUTs, sky, tonemap
   double sum_ms = 0.0;
   for (auto& [name, ms] : t) {
     EXPECT_GT(ms, 0.0) << name;
@@ -132,6 +135,34 @@ TEST_F(FrameRendererTest, PointLightLightsTheTerrainAtNight) {
   std::printf("  terrain rows at night: %.2f dark, %.2f lit\n", below_dark, below_lit);
   EXPECT_GT(below_lit, below_dark * 1.5 + 2.0);
   EXPECT_NEAR(luminance_rows(lit, 0, 10), luminance_rows(dark, 0, 10), 1.0);  // the sky rows
+}
+
+// The sky pass draws the atmosphere's sky-view LUT: looking toward a setting sun the band above the horizon
+// is redder than the sky higher up; the night sky is darker than the twilight one by at least 3x even
+// through the exposure meter; no validation errors.
+TEST_F(FrameRendererTest, AtmosphereSkyAtSunsetTwilightAndNight) {
+  FrameRenderer r(ctx);
+  auto shot = [&](float elevation_deg) {
+    FrameSnapshot s = snapshot({0, 10, 0}, {0, 10 + 46.6f, -100}, 12.0f);  // 25 degrees up, toward -z
+    const float e = glm::radians(elevation_deg);
+    s.sun.direction = glm::vec3(0.0f, std::sin(e), -std::cos(e));
+    s.sun.elevation_deg = elevation_deg;
+    s.lighting = sky_lighting(s.sun, 10.0f);
+    return render(r, s);
+  };
+  const auto sunset = shot(3.0f), twilight = shot(-3.0f), night = shot(-25.0f);
+  EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+  auto ratio = [&](const gpu::Rgba8Image& img, uint32_t y0, uint32_t y1) {
+    return luminance_rows(img, y0, y1, 0) / std::max(luminance_rows(img, y0, y1, 2), 1.0);
+  };
+  // The horizon sits 25 degrees below the centre: row ~ 45 + 25/30 x 45 = 82 of 90.
+  const double horizon = ratio(sunset, 70, 80), high = ratio(sunset, 0, 10);
+  std::printf("  sunset red/blue: %.2f above the horizon, %.2f high up\n", horizon, high);
+  EXPECT_GT(horizon, 1.3 * high);
+  const double lt = luminance_rows(twilight, 0, 80), ln = luminance_rows(night, 0, 80);
+  std::printf("  sky (8-bit mean): twilight %.1f, night %.1f\n", lt, ln);
+  EXPECT_GT(lt, 3.0 * ln);
+  EXPECT_GT(ln, 0.0);
 }
 
 TEST(SkyModel, FrameParamsCarryCameraAndSun) {
