@@ -9,6 +9,7 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pipeline_library.h"
 #include "engine/gpu/sampler.h"
+#include "engine/scene/model.h"
 #include "shaders/shared/cloud_params.h"
 
 namespace cumulo::clouds::render {
@@ -47,9 +48,16 @@ glm::ivec4 bolt_rect(const shared::CloudEffectsParams& p, uint32_t count, const 
 // camera; empty when none is in view).
 glm::ivec4 rain_rect(const shared::CloudEffectsParams& p, uint32_t count, const scene::CameraView& cam, VkExtent2D size) {
   glm::vec2 lo(1e9f), hi(-1e9f);
+  const scene::Frustum frustum = scene::Frustum::from(cam.view_proj);
+  bool visible = false;
   for (uint32_t i = 0; i < count; ++i) {
     const glm::vec3 c(p.rain_column[i]);
     const float r = p.rain_column[i].w, bottom = p.rain_params[i].y;
+    scene::Bounds box;
+    box.add({c.x - r, bottom, c.z - r});
+    box.add({c.x + r, c.y, c.z + r});
+    if (!frustum.intersects(box)) continue;  // off screen: no rain to draw for it
+    visible = true;
     for (int k = 0; k < 8; ++k) {
       const glm::vec3 corner(c.x + ((k & 1) ? r : -r), (k & 2) ? c.y : bottom, c.z + ((k & 4) ? r : -r));
       const glm::vec4 q = cam.project(corner);
@@ -58,6 +66,7 @@ glm::ivec4 rain_rect(const shared::CloudEffectsParams& p, uint32_t count, const 
       lo = glm::min(lo, px), hi = glm::max(hi, px);
     }
   }
+  if (!visible) return {0, 0, 0, 0};
   const glm::ivec2 a = glm::clamp(glm::ivec2(glm::floor(lo)) - 1, glm::ivec2(0), glm::ivec2(size.width, size.height));
   const glm::ivec2 b = glm::clamp(glm::ivec2(glm::ceil(hi)) + 1, glm::ivec2(0), glm::ivec2(size.width, size.height));
   return {a.x, a.y, std::max(0, b.x - a.x), std::max(0, b.y - a.y)};
