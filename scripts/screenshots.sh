@@ -3,7 +3,8 @@
 # and near sunset, headless, with the clouds (docs/images/<camera>_<time>.png), and the shipped weather
 # states from the mixed camera (docs/images/weather/<state>_<time>.png), and the Stormbird encounter
 # (docs/images/stormbird/: the storm cloud before, during and after stormbird_killed, a ground discharge
-# with its rain, the lair lit from inside by a flash). Builds first.
+# with its rain, the lair lit from inside by a flash), and the sky at dawn, noon, sunset and night from the
+# ground and the air (docs/images/sky/). Builds first.
 # Usage: scripts/screenshots.sh [WxH] [FRAMES]   (default 480x270, 12 frames so the temporal accumulation settles)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -47,3 +48,13 @@ run_storm bolt --camera stormbird --event storm_bolt@1.02 --start-at 1 --frames 
 run_storm bolt_night --camera stormbird --time-of-day 21.5 --event storm_bolt@1.02 --start-at 1 --frames 3
 run_storm lair --camera lair --start-at 3 --frames "$FRAMES"
 run_storm lair_flash --camera lair --event lair_flash@1 --start-at 0.95 --frames 3
+# The sky at dawn, noon, sunset and night from the ground and from the air (docs/images/sky/).
+mkdir -p docs/images/sky
+for tod in dawn:5.9 noon:12.5 sunset:18.9 night:22.5; do
+  for view in ground:ground air:mixed; do
+    "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --camera "${view##*:}" \
+      --time-of-day "${tod##*:}" --size 320x180 --frames "$FRAMES" \
+      --screenshot "docs/images/sky/${tod%%:*}_${view%%:*}.png" >/dev/null
+    echo "docs/images/sky/${tod%%:*}_${view%%:*}.png"
+  done
+done
