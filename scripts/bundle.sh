@@ -8,7 +8,7 @@
 #                           (the Vulkan loader, GLFW and X11 client libraries, libstdc++, zstd, ...)
 #   DIR/shaders/            GLSL sources (compiled at run time by the built-in glslang)
 #   DIR/content/            the sample level (terrain, cloudscape recipe; baked on first use into the cache),
-#                           the weather states and the schemas
+#                           the weather states, the atmosphere preset and the schemas
 #   DIR/README.txt          how to run it, and how to point the loader at a driver
 #
 # Usage: scripts/bundle.sh [DIR]   (default out/bundle; the build goes to build-bundle/)
@@ -45,6 +45,7 @@ cp -r shaders "$DIR/shaders"
 cp -r content/levels/sample "$DIR/content/levels/sample"
 cp -r content/schemas "$DIR/content/schemas"
 cp -r content/weather "$DIR/content/weather"
+cp -r content/atmosphere "$DIR/content/atmosphere"
 cp content/README.md "$DIR/content/README.md"
 
 cat > "$DIR/cumulo" <<'LAUNCH'
