@@ -91,11 +91,14 @@ struct CloudParams {
   vec4 light;           // x: length of each of the two marched light samples (m), y: sky (ambient) optical-depth scale, z: base light march length (256 m), w: base light samples (10)
   vec4 misc;            // x: jitter scale, y: temporal blend (weight of the new frame), z: light-grid debug slice 0..1, w: 1 = history valid
   uvec4 frame;          // x: frame index, y: instance count, z: point-light count, w: debug view
+  vec4 haze;            // aerial perspective of the composite: x fog density at sea level (1/m), y height falloff (1/m); z, w unused
+  vec4 sky_zenith;      // rgb: the sky straight up (the colour the haze tends to, with sky_horizon)
+  vec4 sky_horizon;     // rgb: the sky at the horizon
   vec4 light_pos[CLOUD_MAX_POINT_LIGHTS];    // xyz: world position; w: radius (m)
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1072)
+CUMULO_SHARED_SIZE(CloudParams, 1120)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

@@ -228,6 +228,9 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   p.misc = glm::vec4(s.jitter_scale, s.temporal_blend, s.light_grid_debug_height, history_valid ? 1.0f : 0.0f);
   p.frame = glm::uvec4(uint32_t(in.frame_index), uint32_t(in.instances.size()), uint32_t(in.lights.size()),
                        uint32_t(s.debug));
+  p.haze = glm::vec4(in.haze_density, in.haze_falloff, 0.0f, 0.0f);
+  p.sky_zenith = glm::vec4(in.sky_zenith, 0.0f);
+  p.sky_horizon = glm::vec4(in.sky_horizon, 0.0f);
   for (size_t i = 0; i < in.lights.size(); ++i) {
     p.light_pos[i] = glm::vec4(in.lights[i].position, std::max(in.lights[i].radius, 1e-3f));
     p.light_color[i] = glm::vec4(in.lights[i].color, 0.0f);
@@ -333,6 +336,10 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
   in.sun_direction = cumulo::render::key_light_direction(snap);  // the sun, or the moon at night
   in.sun_color = snap.sun.radiance * 3.14159265f;
   in.ambient_color = 0.5f * (snap.lighting.sky_zenith + snap.lighting.sky_horizon) * snap.lighting.ambient;
+  in.haze_density = snap.lighting.fog_density;
+  in.haze_falloff = snap.lighting.fog_falloff;
+  in.sky_zenith = snap.lighting.sky_zenith;
+  in.sky_horizon = snap.lighting.sky_horizon;
   return in;
 }
 

@@ -184,6 +184,10 @@ struct CloudFrameInputs {
   glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};  // unit, toward the sun
   glm::vec3 sun_color{1.0f};                  // colour x illuminance (linear)
   glm::vec3 ambient_color{0.3f, 0.4f, 0.5f};  // sky ambient (linear)
+  // Aerial perspective in the composite: the terrain's height fog (SceneLighting fog_*) toward the sky's
+  // zenith/horizon colours; density 0 leaves the clouds unhazed.
+  float haze_density = 0.0f, haze_falloff = 0.001f;
+  glm::vec3 sky_zenith{0.0f}, sky_horizon{0.0f};
   std::vector<CloudInstance> instances;       // at most kMaxInstances, of at most kMaxAssets assets
   std::vector<CloudPointLight> lights;        // at most kMaxPointLights
   bool camera_cut = false;                    // history invalid this frame

@@ -601,6 +601,50 @@ TEST_F(CloudRender, DebugViewsDrawSomethingDifferentFromTheImage) {
   EXPECT_FALSE(parse_ablation("fast", &ab));
 }
 
+// Aerial perspective in the composite: each cloud pixel is seen through the height fog at its
+// half-opacity depth, hdr = bg T + (1 - f) radiance + f (1 - T) sky with f = 1 - exp(-density x depth) (no
+// height falloff here), so the cloud fades toward the sky the farther it is; density 0 leaves the plain
+// composite.
+TEST_F(CloudRender, AerialPerspectiveHazesTheCloudTowardTheSkyWithDistance) {
+  const scene::CameraView cam = camera();
+  CloudFrameInputs in = inputs(asset(), cam);
+  in.settings.temporal = false;
+  in.haze_density = 0.0015f;
+  in.haze_falloff = 1e-7f;
+  in.sky_zenith = in.sky_horizon = glm::vec3(2.0f, 2.0f, 2.0f);
+  const Frame f = render(in);
+  size_t checked = 0, bad = 0;
+  double near_f = 0, far_f = 0;
+  size_t near_n = 0, far_n = 0;
+  float dmin = 1e9f, dmax = 0.0f;
+  for (size_t i = 0; i < f.hdr.size(); ++i)
+    if (f.color[i].a < 0.8f && f.depth[i].x < 1e5f) dmin = std::min(dmin, f.depth[i].x), dmax = std::max(dmax, f.depth[i].x);
+  const float mid = 0.5f * (dmin + dmax);
+  for (size_t i = 0; i < f.hdr.size(); ++i) {
+    const glm::vec4 c = f.color[i];
+    const float depth = f.depth[i].x;
+    if (!(c.a < 0.8f) || !(depth < 1e5f)) continue;
+    const float haze = 1.0f - std::exp(-in.haze_density * depth);
+    const glm::vec3 want = glm::vec3(background_[i]) * c.a + (1.0f - haze) * glm::vec3(c) + haze * (1.0f - c.a) * in.sky_zenith;
+    const glm::vec3 got(f.hdr[i]);
+    ++checked;
+    bad += glm::length(got - want) > 0.01f * (1.0f + glm::length(want));
+    (depth < mid ? near_f : far_f) += haze;
+    ++(depth < mid ? near_n : far_n);
+  }
+  std::printf("  %zu cloud pixels, depth %.0f..%.0f m, haze %.3f near vs %.3f far, %zu off the formula\n", checked, dmin, dmax,
+              near_f / std::max<size_t>(near_n, 1), far_f / std::max<size_t>(far_n, 1), bad);
+  ASSERT_GT(checked, 100u);
+  EXPECT_LE(bad, checked / 200);  // half-float rounding of the stored images at a few pixels
+  EXPECT_GT(far_f / std::max<size_t>(far_n, 1), near_f / std::max<size_t>(near_n, 1));
+  in.haze_density = 0.0f;
+  const Frame plain = render(in);
+  for (size_t i = 0; i < plain.hdr.size(); ++i) {
+    const glm::vec3 want = glm::vec3(background_[i]) * plain.color[i].a + glm::vec3(plain.color[i]);
+    ASSERT_LT(glm::length(glm::vec3(plain.hdr[i]) - want), 0.01f * (1.0f + glm::length(want))) << i;
+  }
+}
+
 TEST_F(CloudRender, PointLightAddsGlowInsideTheCloud) {
   const scene::CameraView cam = camera();
   CloudFrameInputs in = inputs(asset(), cam);
