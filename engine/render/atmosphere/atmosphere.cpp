@@ -6,6 +6,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/json.h"
+#include "engine/scene/serialization.h"
 
 namespace cumulo::render {
 namespace {
@@ -40,14 +41,6 @@ glm::vec3 vec3_of(const JsonView& v) {
   return x;
 }
 
-void only_keys(const JsonView& v, std::initializer_list<const char*> keys) {
-  for (const std::string& k : v.keys()) {
-    bool ok = false;
-    for (const char* a : keys) ok = ok || k == a;
-    if (!ok) v[k].fail("unknown key \"" + k + "\"");
-  }
-}
-
 }  // namespace
 
 std::filesystem::path default_atmosphere_file() { return repo_root() / "content/atmosphere/earth.json"; }
@@ -56,25 +49,25 @@ AtmosphereParams load_atmosphere(const std::filesystem::path& file) {
   const JsonDocument doc = load_json_file(file);
   const JsonView v = doc.view();
   if (!v.is_object()) v.fail("expected an object (an atmosphere preset)");
-  only_keys(v, {"$schema", "description", "bottom_radius_km", "top_radius_km", "rayleigh", "mie", "ozone", "ground_albedo",
+  scene::check_keys(v, {"$schema", "description", "bottom_radius_km", "top_radius_km", "rayleigh", "mie", "ozone", "ground_albedo",
                 "sun_angular_radius_deg", "moon"});
   AtmosphereParams p;
   p.bottom_radius_km = v["bottom_radius_km"].as_float_in(1.0f, 1e5f);
   p.top_radius_km = v["top_radius_km"].as_float_in(1.0f, 1e5f);
   if (!(p.top_radius_km > p.bottom_radius_km + 1.0f)) v["top_radius_km"].fail("expected at least 1 km above bottom_radius_km");
   const JsonView r = v["rayleigh"];
-  only_keys(r, {"scattering", "scale_height_km"});
+  scene::check_keys(r, {"scattering", "scale_height_km"});
   p.rayleigh_scattering = vec3_of(r["scattering"]);
   p.rayleigh_scale_height_km = r["scale_height_km"].as_float_in(0.01f, 100.0f);
   const JsonView m = v["mie"];
-  only_keys(m, {"scattering", "extinction", "scale_height_km", "g"});
+  scene::check_keys(m, {"scattering", "extinction", "scale_height_km", "g"});
   p.mie_scattering = m["scattering"].as_float_in(0.0f, 1.0f);
   p.mie_extinction = m["extinction"].as_float_in(0.0f, 1.0f);
   if (p.mie_extinction < p.mie_scattering) m["extinction"].fail("expected at least the scattering (extinction = scattering + absorption)");
   p.mie_scale_height_km = m["scale_height_km"].as_float_in(0.01f, 100.0f);
   p.mie_g = m["g"].as_float_in(-0.99f, 0.99f);
   const JsonView o = v["ozone"];
-  only_keys(o, {"absorption", "center_km", "width_km"});
+  scene::check_keys(o, {"absorption", "center_km", "width_km"});
   p.ozone_absorption = vec3_of(o["absorption"]);
   p.ozone_center_km = o["center_km"].as_float_in(0.0f, 1000.0f);
   p.ozone_width_km = o["width_km"].as_float_in(0.01f, 1000.0f);
@@ -82,7 +75,7 @@ AtmosphereParams load_atmosphere(const std::filesystem::path& file) {
   p.sun_angular_radius_deg = v["sun_angular_radius_deg"].as_float_in(0.01f, 10.0f);
   if (v.has("moon")) {
     const JsonView mo = v["moon"];
-    only_keys(mo, {"fraction_of_sun", "albedo_tint"});
+    scene::check_keys(mo, {"fraction_of_sun", "albedo_tint"});
     p.moon_fraction = mo["fraction_of_sun"].as_float_in(0.0f, 1.0f);
     p.moon_tint = vec3_of(mo["albedo_tint"]);
   }
