@@ -42,6 +42,7 @@ struct FrameRenderer::Impl {
   gpu::Pipeline* sky = nullptr;
   gpu::Pipeline* tonemap = nullptr;  // for tonemap_format
   std::unique_ptr<AtmospherePasses> atmosphere;  // its LUTs (the sky pass reads the sky view)
+  gpu::Image no_shadow;  // 1x1 white: the geometry's light-shadow binding when no feature casts shadows
   VkFormat tonemap_format = VK_FORMAT_UNDEFINED;
 
   Impl(gpu::Context& c, const std::filesystem::path& shader_root)
@@ -94,6 +95,10 @@ struct FrameRenderer::Impl {
     geometry_double_sided = &library.graphics(geometry_desc(true));
     sky = &library.graphics(sky_desc());
     atmosphere = std::make_unique<AtmospherePasses>(ctx, library, default_atmosphere());
+    no_shadow = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
+                                                      "no light shadow"));
+    const uint16_t one = 0x3C00;  // 1.0 in half precision
+    no_shadow.upload({{&one, sizeof one}});
   }
   void ensure_tonemap(VkFormat out) {
     if (tonemap && tonemap_format == out) return;
@@ -101,7 +106,9 @@ struct FrameRenderer::Impl {
     tonemap_format = out;
   }
 
-  void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const UniformSlice& ubo) {
+  void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const UniformSlice& ubo, VkImageView shadow,
+                   VkImageLayout shadow_layout) {
+    const VkSampler shadow_sampler = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
     scene::Frustum frustum = scene::Frustum::from(s.camera.view_proj);
     const gpu::Pipeline* bound = nullptr;
     for (const ModelDraw& draw : s.models) {
@@ -121,6 +128,7 @@ struct FrameRenderer::Impl {
         gpu::DescriptorWriter()
             .uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size)
             .sampled_image(GEOMETRY_BASE_COLOR_BINDING, mat.texture, mat.sampler)
+            .sampled_image(GEOMETRY_LIGHT_SHADOW_BINDING, shadow, shadow_sampler, shadow_layout)
             .push(ctx, cmd, *p);
         shared::DrawParams dp{};
         dp.model = world;
@@ -180,7 +188,8 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   for (const ModelDraw& d : s.models) m.scene.get(d.model);
 
   m.uniforms.begin_frame(slot);
-  const UniformSlice ubo = m.uniforms.push(make_frame_params(s, exposure_ * s.lighting.exposure));
+  const shared::FrameParams params = make_frame_params(s, exposure_ * s.lighting.exposure);
+  UniformSlice ubo = m.uniforms.push(params);
 
   RenderGraph graph(target.extent);
   TextureDesc out_desc = TextureDesc::absolute(target.format, target.extent.width, target.extent.height);
@@ -193,17 +202,30 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
     for (RenderFeature* f : features_) f->add_passes(stage, frame);
   };
   run_stage(Stage::BeforeScene);
+  // A feature's light-shadow map (cloud shadows) reaches the scene passes through the frame parameters:
+  // pushed again with the map's plane, for the geometry and every later stage.
+  const LightShadowMap shadow = frame.light_shadow;
+  if (shadow.texture.valid()) {
+    shared::FrameParams with_shadow = params;
+    with_shadow.shadow_plane = glm::vec4(shadow.origin, 1.0f / glm::max(shadow.size, glm::vec2(1e-3f)));
+    with_shadow.shadow_misc = glm::vec4(shadow.height, 1.0f, 0.0f, 0.0f);
+    ubo = frame.frame_params = m.uniforms.push(with_shadow);
+  }
 
   graph.add_pass("geometry", Queue::Graphics,
       [&](PassBuilder& b) {
         frame.hdr = b.write(frame.hdr, Usage::ColorAttachment);
         frame.depth = b.write(frame.depth, Usage::DepthWrite);
+        if (shadow.texture.valid()) b.read(shadow.texture, Usage::Sampled);
       },
-      [&m, &s, ubo, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
+      [&m, &s, ubo, shadow, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
         Attachment d{depth, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE};
         d.clear.depthStencil = {0.0f, 0};  // reversed-Z far plane
         begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_CLEAR}, &d);
-        m.draw_models(c.cmd(), s, ubo);
+        if (shadow.texture.valid())
+          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture));
+        else
+          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         vkCmdEndRendering(c.cmd());
       });
 

@@ -46,6 +46,19 @@ struct GpuServices {
 
 // One stage of one frame. Handles are the current versions; a pass that writes hdr (or output) stores
 // the new version back here so the next pass and the engine see it.
+// The key light's transmittance over the scene (cloud shadows), a texture a feature writes at
+// Stage::BeforeScene for the geometry pass: R16F (any float format), texel (u, v) = transmittance
+// along the light's ray through the point (origin.x + u * size.x, height, origin.y + v * size.y) of a
+// horizontal plane below what casts the shadow; the geometry projects each point onto that plane along
+// the light (outside the map: no shadow). Exact below the plane; above it, a point gets the shadow of
+// the whole column it projects onto.
+struct LightShadowMap {
+  TextureHandle texture;        // invalid: no map this frame
+  glm::vec2 origin{0.0f};       // world x, z of texel (0, 0)'s corner
+  glm::vec2 size{1.0f};         // m covered along x and z
+  float height = 0.0f;          // world y of the plane
+};
+
 struct StageContext {
   RenderGraph& graph;
   const FrameSnapshot& snapshot;
@@ -57,6 +70,7 @@ struct StageContext {
   TextureHandle hdr, depth;    // scene colour (R16G16B16A16F) and depth (D32F, reversed-Z)
   TextureHandle output;        // AfterTonemap only: the frame's target
   VkFormat output_format = VK_FORMAT_UNDEFINED;  // the target's format (swapchain or offscreen)
+  LightShadowMap light_shadow;  // set at Stage::BeforeScene by the feature that casts shadows (one)
 };
 
 class RenderFeature {

@@ -1,13 +1,23 @@
 #version 450
 // Geometry pass fragment stage: base colour (texture x factor) lit by the directional sun (Lambert),
-// a hemispheric ambient term from the sky and ground colours, short-lived point lights (lightning), and exponential height fog toward the sky
+// shadowed by the key light's transmittance map (cloud shadows, FrameParams shadow_*), a hemispheric ambient term from the sky and ground colours, short-lived point lights (lightning), and exponential height fog toward the sky
 // gradient (aerial perspective) so the 4 km level fades into the horizon.
 #extension GL_GOOGLE_include_directive : require
 #include "engine/sky_common.glsl"
 
 layout(set = 0, binding = FRAME_PARAMS_BINDING, std140) uniform FrameBlock { FrameParams frame; };
 layout(set = 0, binding = GEOMETRY_BASE_COLOR_BINDING) uniform sampler2D base_color_tex;
+layout(set = 0, binding = GEOMETRY_LIGHT_SHADOW_BINDING) uniform sampler2D light_shadow_tex;
 layout(push_constant, std430) uniform DrawBlock { DrawParams draw; };
+
+// Transmittance of the key light at a world point: projected along the light onto the map's plane.
+float light_visibility(vec3 p, vec3 l) {
+  if (frame.shadow_misc.y < 0.5 || l.y < 0.02) return 1.0;
+  vec3 q = p + l * ((frame.shadow_misc.x - p.y) / l.y);
+  vec2 uv = (q.xz - frame.shadow_plane.xy) * frame.shadow_plane.zw;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+  return textureLod(light_shadow_tex, uv, 0.0).r;
+}
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_normal;
@@ -20,10 +30,11 @@ void main() {
   if (!gl_FrontFacing) n = -n;
   vec3 l = frame.sun_direction;
   float ndl = max(dot(n, l), 0.0);
+  vec3 sun = frame.sun_radiance * light_visibility(in_world, l);
   // Hemisphere ambient: sky colour from above, ground bounce from below.
   float up = dot(n, kWorldUp) * 0.5 + 0.5;
   vec3 ambient = mix(frame.ground_color, mix(frame.sky_horizon, frame.sky_zenith, 0.5), up) * frame.ambient;
-  vec3 lit = base.rgb * (frame.sun_radiance * ndl + ambient);
+  vec3 lit = base.rgb * (sun * ndl + ambient);
   // Point lights (lightning): inverse square, normalized to their colour at 500 m (capped within 100 m),
   // faded to 0 at their reach.
   for (uint i = 0u; i < frame.point_light_count.x; ++i) {
@@ -44,7 +55,7 @@ void main() {
   vec3 h = normalize(l + v);
   float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(v, h), 0.0), 5.0);
   float spec = (spec_n + 8.0) / 25.1327 * pow(max(dot(n, h), 0.0), spec_n) * fresnel * ndl * (1.0 - rough);
-  lit += frame.sun_radiance * spec;
+  lit += sun * spec;
 
   vec3 dir = -v;
   float fog = fog_amount(frame, dir, dist);

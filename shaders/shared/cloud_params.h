@@ -31,6 +31,8 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_NEAR_IN 9     // sampler2D: the far march reads the near layer's transmittance (early exit)
 #define CLOUD_BINDING_MODELING_1 10 // sampler3D: the second asset's modeling NVDF (CLOUD_ASSET_SLOTS 2)
 #define CLOUD_BINDING_FIELD_1 11    // sampler3D: the second asset's signed distance
+// shadow_map.comp (reads PARAMS and LIGHT_GRID)
+#define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp
 #define CLOUD_BINDING_CURRENT 1         // sampler2D: this frame's march colour
 #define CLOUD_BINDING_CURRENT_DEPTH 2   // sampler2D: this frame's march depth
@@ -106,6 +108,13 @@ struct CloudLightGridPush {
   vec4 grid;     // x: sun march steps, y: sky march steps, z: z layers per instance, w: unused
 };
 CUMULO_SHARED_SIZE(CloudLightGridPush, 32)
+
+// Push constants of shadow_map.comp.
+struct CloudShadowPush {
+  vec4 plane;  // xy: world x, z of the map's corner; zw: its size (m)
+  vec4 light;  // xyz: unit toward the key light (world); w: the plane's height (world y)
+};
+CUMULO_SHARED_SIZE(CloudShadowPush, 32)
 
 // Push constants of march_render.comp and split_merge.comp.
 struct CloudMarchPush {

@@ -9,6 +9,7 @@
 #define FRAME_PARAMS_BINDING 0         // FrameParams uniform block (geometry, sky)
 #define GEOMETRY_BASE_COLOR_BINDING 1  // geometry: base-colour texture
 #define TONEMAP_HDR_BINDING 0          // tonemap: the HDR scene colour
+#define GEOMETRY_LIGHT_SHADOW_BINDING 2  // geometry: the key light's transmittance map (cloud shadows; white when none)
 
 CUMULO_SHARED_BEGIN
 
@@ -36,8 +37,13 @@ struct FrameParams {
   vec4 point_light_pos[FRAME_MAX_POINT_LIGHTS];
   vec4 point_light_color[FRAME_MAX_POINT_LIGHTS];
   uvec4 point_light_count;  // x: count
+  // The key light's transmittance map (render::LightShadowMap, from a module at Stage::BeforeScene):
+  // texel (u, v) holds the transmittance along the light's ray through the point
+  // (xy + u / zw.x, misc.x, ..) of a horizontal plane; a point elsewhere is projected onto the plane along the light.
+  vec4 shadow_plane;  // xy: world x, z of the map's corner; zw: 1 / its size (m)
+  vec4 shadow_misc;   // x: the plane's height (world y); y: 1 = a map is bound; z, w unused
 };
-CUMULO_SHARED_SIZE(FrameParams, 384)
+CUMULO_SHARED_SIZE(FrameParams, 416)
 CUMULO_SHARED_OFFSET(FrameParams, sun_radiance, 160)
 CUMULO_SHARED_OFFSET(FrameParams, viewport_size, 224)
 

@@ -55,6 +55,7 @@ void CloudFeature::add_run_options(ArgParser& p) {
               &light_grid_method_text_)
       .option("--cloud-light-sample-noise", "mean|sampled",
               "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_)
+      .option("--cloud-shadows", "on|off", "the clouds' shadow on the terrain and the ocean (default on)", &shadows_text_)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_);
 }
@@ -62,6 +63,7 @@ void CloudFeature::add_run_options(ArgParser& p) {
 void CloudFeature::check_run_options() {
   options_.enabled = parse_on_off("--clouds", clouds_text_);
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
+  options_.shadows = parse_on_off("--cloud-shadows", shadows_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;
   else if (reprojection_text_ == "1") options_.reprojection_block = 1;
   else if (reprojection_text_ == "4") options_.reprojection_block = 2;
@@ -194,13 +196,9 @@ void CloudFeature::destroy_gpu() {
 
 uint64_t CloudFeature::asset_gpu_bytes() const { return cache_ ? cache_->gpu_bytes() : 0; }
 
-void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::StageContext& f) {
-  if (stage != cumulo::render::Stage::AfterOpaque || !options_.enabled || !resources_) return;
-  const CloudFrame* frame = f.snapshot.extensions.find<CloudFrame>();
-  if (!frame || frame->instances.empty()) return;
+CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame) {
   const cumulo::render::FrameSnapshot& s = f.snapshot;
   const CloudFormats formats = CloudFormats::from_set(options_.formats.value_or(default_format_set(ctx_->info())));
-
   CloudSettings settings;
   settings.ablation = options_.ablation;
   settings.debug = options_.debug;
@@ -209,17 +207,18 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   settings.light_sample_noise_mean = options_.light_sample_noise_mean;
   settings.light_grid_always_update = options_.light_grid_always_update;
   settings.reprojection_block = options_.reprojection_block;
+  settings.shadows = options_.shadows;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
-  for (const CloudInstanceFrame& i : frame->instances) {
+  for (const CloudInstanceFrame& i : frame.instances) {
     CloudInstance ci;
     static_cast<CloudPlacement&>(ci) = i;
     ci.asset = cache_->cloudscape(i.folder, formats);
     in.instances.push_back(std::move(ci));
   }
-  in.lights = frame->lights;
+  in.lights = frame.lights;
   // The scheduler's weather of this frame, else the state --weather names.
-  if (frame->weather) apply_weather(*frame->weather, in);
+  if (frame.weather) apply_weather(*frame.weather, in);
   else if (options_.weather) apply_weather(*options_.weather, in);
   const bool cut = have_last_camera_ && (s.camera_name != last_camera_name_ ||
                                          glm::length(s.camera.position - last_camera_) > kCameraCutMetres);
@@ -227,6 +226,25 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   last_camera_ = s.camera.position;
   last_camera_name_ = s.camera_name;
   have_last_camera_ = true;
+  return in;
+}
+
+void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::StageContext& f) {
+  using cumulo::render::Stage;
+  if (stage == Stage::AfterTonemap || !options_.enabled || !resources_) return;
+  const CloudFrame* frame = f.snapshot.extensions.find<CloudFrame>();
+  if (!frame || frame->instances.empty()) return;
+  // Before the scene: the light grid and the shadow map (the geometry reads it); after it, the rest.
+  if (stage == Stage::BeforeScene) {
+    inputs_ = frame_inputs(f, *frame);
+    light_ = add_cloud_light_passes(*resources_, f.graph, *inputs_);
+    if (light_.shadow.texture.valid()) f.light_shadow = light_.shadow;
+    return;
+  }
+  if (!inputs_) return;  // (a renderer always runs BeforeScene first)
+  const CloudFrameInputs in = std::move(*inputs_);
+  inputs_.reset();
+  const cumulo::render::FrameSnapshot& s = f.snapshot;
   // Rain columns under precipitating clouds: below the centre of the box, 0.3 of its smaller side wide,
   // from the cloud base to sea level (the scene depth stops them at the terrain), fading with dissipation.
   CloudEffectsInputs fx;
@@ -247,7 +265,8 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   }
   const bool effects = !fx.bolts.empty() || !fx.rain.empty();
   CloudPassOutputs outputs;
-  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ || effects ? &outputs : nullptr);
+  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ || effects ? &outputs : nullptr, &light_);
+  light_ = {};
   if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
   if (effects) f.hdr = effects_->add_passes(f.graph, fx, f.hdr, f.depth, outputs);
 }

@@ -68,6 +68,7 @@ struct CloudRunOptions {
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
+  bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<weather::WeatherState> weather;  // --weather ID: applied every frame (weather_lighting.h)
   int noise_size = 128;
 };
@@ -101,11 +102,16 @@ class CloudFeature : public cumulo::render::RenderFeature {
 
  private:
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
+  // This frame's inputs from the snapshot (once per frame, at Stage::BeforeScene: the camera-cut state).
+  CloudFrameInputs frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame);
+  // Between the stages of one frame: its inputs and light passes (handles of that frame's graph).
+  std::optional<CloudFrameInputs> inputs_;
+  CloudLightOutputs light_;
   CloudRunOptions options_;
   std::optional<weather::WeatherLibrary> weather_lib_;  // loaded when the level has a WeatherScheduler
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
-      light_noise_text_ = "mean", weather_text_;
+      light_noise_text_ = "mean", weather_text_, shadows_text_ = "on";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;

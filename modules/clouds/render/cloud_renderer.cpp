@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -79,6 +80,7 @@ struct CloudResources {
   gpu::Pipeline* temporal_pipe = nullptr;
   gpu::Pipeline* merge_pipe = nullptr;
   gpu::Pipeline* composite_pipe = nullptr;
+  gpu::Pipeline* shadow_pipe = nullptr;
   std::map<MarchKey, gpu::Pipeline*> march_pipes;
   uint32_t rebuilds = 0;
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
@@ -317,6 +319,7 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
   res->composite_pipe = &library.compute({.shader = "clouds/composite_apply.comp", .name = "clouds.composite"});
+  res->shadow_pipe = &library.compute({.shader = "clouds/shadow_map.comp", .name = "clouds.shadow_map"});
   res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true, true);  // the common variant, built up front
   res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
   res->linear_repeat = ctx.samplers().get(gpu::SamplerDesc::linear_repeat());
@@ -350,6 +353,7 @@ CloudResourcesDesc CloudResourcesDesc::for_device(const gpu::DeviceInfo& device)
     // One level of the sweep per frame: on lavapipe each dispatch has a fixed cost (~0.2 ms), and at
     // 20 fps 16 frames are 0.8 s (the sweep does not follow the wind; a moving sun lags that much).
     d.light_grid_divisions = 16;
+    d.shadow_map_size = 256;  // 16 m texels over the sample box at noon: the CPU grid's 43 m voxels need no finer
   }
   return d;
 }
@@ -384,9 +388,53 @@ float nearest_instance_distance(const CloudFrameInputs& in) {
   return nearest;
 }
 
-TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
-                               TextureHandle depth, CloudPassOutputs* outputs) {
-  if (in.instances.empty()) return hdr;
+namespace {
+
+// World AABB of an instance's transformed box (conservative for a rotated box).
+void instance_world_box(const CloudInstance& inst, glm::vec3& wmin, glm::vec3& wmax) {
+  const glm::vec3 lo = inst.asset->bounds_min, hi = inst.asset->bounds_max;
+  wmin = glm::vec3(INFINITY), wmax = glm::vec3(-INFINITY);
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    const glm::vec3 w = inst.position + glm::normalize(inst.rotation) * (inst.scale * corner);
+    wmin = glm::min(wmin, w), wmax = glm::max(wmax, w);
+  }
+}
+
+}  // namespace
+
+std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInputs& in, uint32_t texels) {
+  const glm::vec3 l = glm::normalize(in.sun_direction);
+  if (!in.settings.shadows || in.instances.empty() || l.y < kShadowMinLightHeight) return std::nullopt;
+  // The plane under every box; each box's corners projected onto it along the light bound the map.
+  float height = INFINITY;
+  std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
+  for (const CloudInstance& inst : in.instances) {
+    glm::vec3 lo, hi;
+    instance_world_box(inst, lo, hi);
+    boxes.emplace_back(lo, hi);
+    height = std::min(height, lo.y);
+  }
+  glm::vec2 lo2(INFINITY), hi2(-INFINITY);
+  for (const auto& [lo, hi] : boxes)
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 w((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+      const glm::vec3 q = w + l * ((height - w.y) / l.y);
+      lo2 = glm::min(lo2, glm::vec2(q.x, q.z)), hi2 = glm::max(hi2, glm::vec2(q.x, q.z));
+    }
+  // Square texels: the longer side sets the size; one texel of margin keeps the border unshadowed.
+  const float side = std::max(hi2.x - lo2.x, hi2.y - lo2.y) * (1.0f + 2.0f / float(std::max(texels, 4u)));
+  const glm::vec2 centre = 0.5f * (lo2 + hi2);
+  cumulo::render::LightShadowMap m;
+  m.origin = centre - glm::vec2(0.5f * side);
+  m.size = glm::vec2(side);
+  m.height = height;
+  return m;
+}
+
+CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in) {
+  CloudLightOutputs out;
+  if (in.instances.empty()) return out;
   if (in.instances.size() > kMaxInstances)
     fail("clouds: %zu cloudscape instances, at most %u per frame", in.instances.size(), kMaxInstances);
   if (in.lights.size() > kMaxPointLights)
@@ -431,7 +479,6 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling));
     fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field));
   }
-  const TextureHandle modeling = modelings[0], field = fields[0];
   const TextureHandle noise = import_3d("clouds.noise", res.noise->image);
 
   const uint32_t n = uint32_t(in.instances.size());
@@ -490,40 +537,11 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   }
   // Partial updates keep the other slabs / levels: the graph carries the grid's content and state across frames.
   TextureHandle grid = graph.import_persistent(res.grid_texture);
-
-  HistoryImports history;
-  if (s.temporal) history = import_history(res, graph, in.camera_cut);
-  else res.history_on = false;
-
-  // Reprojection: the marched pixel of each BxB block this frame, in the order of a Bayer matrix (each
-  // pixel once every B*B frames, neighbours far apart in time).
-  const uint32_t block = reprojection_block(s);
-  HistoryImports recon;
-  glm::uvec2 sub_offset{0, 0};
-  if (block > 1) {
-    if (in.camera_cut || res.recon_block != block) res.recon_history.invalidate();
-    const cumulo::render::HistoryHandles h = res.recon_history.import(res.ctx, graph);
-    recon = {h.previous, h.current, h.valid};
-    static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
-    const uint32_t k = uint32_t(in.frame_index % (block * block));
-    // (B = 3 ranks the top-left 3x3 cells of the 4x4 matrix: still each pixel once per 9 frames.)
-    for (uint32_t y = 0; y < block; ++y)
-      for (uint32_t x = 0; x < block; ++x) {
-        // Bayer order of a BxB block: the 4x4 matrix's values at the block's cells, ranked.
-        const uint32_t step = 4 / block;
-        uint32_t rank = 0;
-        const uint32_t v = kBayer4[(y * step) * 4 + x * step];
-        for (uint32_t yy = 0; yy < block; ++yy)
-          for (uint32_t xx = 0; xx < block; ++xx) rank += kBayer4[(yy * step) * 4 + xx * step] < v ? 1u : 0u;
-        if (rank == k) sub_offset = {x, y};
-      }
-  }
-  res.recon_block = block > 1 ? block : 0;
-
+  // The light passes read the instances of this frame's parameters; add_cloud_passes writes the block
+  // again (history, reprojection) before the frame is submitted, with the same instances.
   const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
-  const shared::CloudParams params = make_params(res, in, size, history.valid, slots);
+  const shared::CloudParams params = make_params(res, in, size, false, slots);
   std::memcpy(ubo.mapped(), &params, sizeof params);
-  res.prev_view_proj = in.camera.view_proj;
   const VkBuffer ubo_handle = ubo.handle();
   constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
 
@@ -600,6 +618,96 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
         }
       });
 
+
+  // ---- 1b. The clouds' shadow on the scene (shadow_map.comp) ----
+  if (const std::optional<cumulo::render::LightShadowMap> plane = shadow_plane(in, res.desc.shadow_map_size)) {
+    const uint32_t sm = res.desc.shadow_map_size;
+    TextureHandle shadow = graph.create_texture("clouds.shadow_map", TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, sm, sm));
+    gpu::Pipeline* pipe = res.shadow_pipe;
+    shared::CloudShadowPush pc{};
+    pc.plane = glm::vec4(plane->origin, plane->size);
+    pc.light = glm::vec4(sun_world, plane->height);
+    graph.add_pass("clouds.shadow_map", Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(grid, Usage::Sampled);
+          shadow = b.write(shadow, Usage::StorageWrite);
+        },
+        [r, pipe, grid, shadow, ubo_handle, pc](PassContext& c) {
+          Bindings(*pipe)
+              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+              .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
+              .storage(CLOUD_BINDING_SHADOW_OUT, c.view(shadow))
+              .push(r->ctx, c.cmd());
+          pipe->push_constants(c.cmd(), pc);
+          const VkExtent3D e = c.extent(shadow);
+          pipe->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+    out.shadow = *plane;
+    out.shadow.texture = shadow;
+  }
+  out.grid = grid;
+  out.modelings = std::move(modelings);
+  out.fields = std::move(fields);
+  out.noise = noise;
+  out.slots = std::move(slots);
+  out.asset_slots = asset_slots;
+  out.bc1 = bc1;
+  return out;
+}
+
+TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
+                               TextureHandle depth, CloudPassOutputs* outputs, const CloudLightOutputs* light) {
+  if (in.instances.empty()) return hdr;
+  CloudLightOutputs own;
+  if (!light) {
+    own = add_cloud_light_passes(res, graph, in);
+    light = &own;
+  }
+  const std::vector<TextureHandle>& modelings = light->modelings;
+  const std::vector<TextureHandle>& fields = light->fields;
+  const TextureHandle modeling = modelings[0], field = fields[0], noise = light->noise, grid = light->grid;
+  const std::vector<uint32_t>& slots = light->slots;
+  const int asset_slots = light->asset_slots;
+  const bool bc1 = light->bc1;
+  const CloudSettings& s = in.settings;
+  const VkExtent2D size = graph.output_size();
+  CloudResources* r = &res;
+
+  HistoryImports history;
+  if (s.temporal) history = import_history(res, graph, in.camera_cut);
+  else res.history_on = false;
+
+  // Reprojection: the marched pixel of each BxB block this frame, in the order of a Bayer matrix (each
+  // pixel once every B*B frames, neighbours far apart in time).
+  const uint32_t block = reprojection_block(s);
+  HistoryImports recon;
+  glm::uvec2 sub_offset{0, 0};
+  if (block > 1) {
+    if (in.camera_cut || res.recon_block != block) res.recon_history.invalidate();
+    const cumulo::render::HistoryHandles h = res.recon_history.import(res.ctx, graph);
+    recon = {h.previous, h.current, h.valid};
+    static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+    const uint32_t k = uint32_t(in.frame_index % (block * block));
+    // (B = 3 ranks the top-left 3x3 cells of the 4x4 matrix: still each pixel once per 9 frames.)
+    for (uint32_t y = 0; y < block; ++y)
+      for (uint32_t x = 0; x < block; ++x) {
+        // Bayer order of a BxB block: the 4x4 matrix's values at the block's cells, ranked.
+        const uint32_t step = 4 / block;
+        uint32_t rank = 0;
+        const uint32_t v = kBayer4[(y * step) * 4 + x * step];
+        for (uint32_t yy = 0; yy < block; ++yy)
+          for (uint32_t xx = 0; xx < block; ++xx) rank += kBayer4[(yy * step) * 4 + xx * step] < v ? 1u : 0u;
+        if (rank == k) sub_offset = {x, y};
+      }
+  }
+  res.recon_block = block > 1 ? block : 0;
+
+  const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
+  const shared::CloudParams params = make_params(res, in, size, history.valid, slots);
+  std::memcpy(ubo.mapped(), &params, sizeof params);
+  res.prev_view_proj = in.camera.view_proj;
+  const VkBuffer ubo_handle = ubo.handle();
+  constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
   // ---- 2. March (one pass, or near/far + merge) ----
   // `front` (far segment only): the near layer, read for its transmittance (early exit).
   auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,

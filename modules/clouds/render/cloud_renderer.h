@@ -52,6 +52,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,6 +64,7 @@
 #include "engine/gpu/frames.h"
 #include "engine/gpu/image.h"
 #include "engine/render/frame_snapshot.h"
+#include "engine/render/render_feature.h"
 #include "engine/render/graph/render_graph.h"
 #include "engine/scene/camera.h"
 #include "modules/clouds/render/cloud_assets.h"
@@ -145,6 +147,7 @@ struct CloudSettings {
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   // Sweep: keep the level-by-level updates going while the sun is still (as when it moves; for measuring).
   bool light_grid_always_update = false;
+  bool shadows = true;  // the clouds' shadow on the scene (clouds.shadow_map -> render::LightShadowMap)
 };
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
@@ -226,6 +229,10 @@ struct CloudResourcesDesc {
   // Sweep: at most this many density samples along one voxel's stretch to the next level (a low sun's
   // stretch is up to 20 levels long; samples are spaced at least a voxel apart below this bound).
   uint32_t light_grid_sweep_samples = 8;
+  // The clouds' shadow map on the scene (clouds.shadow_map): texels per side over the boxes' footprint
+  // along the light (the sample's 4 km box at noon: 8 m texels at 512, as the light grid's own 16 m
+  // voxels need no finer).
+  uint32_t shadow_map_size = 512;
 };
 
 struct CloudResources;  // defined in cloud_renderer.cpp
@@ -248,8 +255,28 @@ struct CloudPassOutputs {
   TextureHandle color;  // RGBA16F: rgb in-scattered radiance, a transmittance
   TextureHandle depth;  // RGBA32F: x distance where opacity reached 0.5 (else first cloud sample, else 1e6), y steps, z segment end
 };
+// The light passes alone (the light grid and the clouds' shadow map), for Stage::BeforeScene, so the
+// geometry can read the shadow; add_cloud_passes then takes them instead of adding its own. The
+// handles are of this graph only.
+struct CloudLightOutputs {
+  TextureHandle grid;                      // the light grid after this frame's update
+  cumulo::render::LightShadowMap shadow;   // texture invalid: no shadow this frame (light too low, off)
+  std::vector<TextureHandle> modelings, fields;  // the assets' imports, by slot
+  TextureHandle noise;
+  std::vector<uint32_t> slots;  // asset slot of each instance
+  int asset_slots = 1;
+  bool bc1 = false;
+};
+CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
 TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
-                               TextureHandle depth, CloudPassOutputs* outputs = nullptr);
+                               TextureHandle depth, CloudPassOutputs* outputs = nullptr,
+                               const CloudLightOutputs* light = nullptr);
+
+// The shadow map's plane (at the lowest box's bottom) and extent (every box's footprint along the
+// light), or none: shadows off, no instance, or the light lower than kShadowMinLightHeight (sin of
+// its elevation: below ~3 degrees the footprint grows past 20 km for a 1 km-deep layer).
+inline constexpr float kShadowMinLightHeight = 0.05f;
+std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInputs& in, uint32_t texels);
 
 // For tests and `cumulo bench`: GPU memory of the persistent cloud resources (light grids, history)
 // and how many full light-grid rebuilds happened.
