@@ -14,6 +14,14 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO
 #include <stb/stb_image_write.h>
+// A private stb_image for PNG reading (static: the glTF loader has its own for textures).
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_NO_STDIO
+#define STBI_ONLY_PNG
+#define STBI_FAILURE_USERMSG
+#define STBI_MAX_DIMENSIONS 16384
+#include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
 namespace cumulo {
@@ -53,6 +61,20 @@ void write_png(const std::filesystem::path& path, const uint8_t* pixels, uint32_
                int channels) {
   // write_file_atomic's own errors already name the path.
   write_file_atomic(path, encode(pixels, width, height, channels, path.c_str()));
+}
+
+ImageRgba8 read_png_rgba8(const std::filesystem::path& path) {
+  const std::vector<uint8_t> bytes = read_file_bytes(path);
+  if (bytes.size() > size_t(INT_MAX)) fail("%s: too large for the PNG decoder", path.string().c_str());
+  int w = 0, h = 0, comp = 0;
+  stbi_uc* px = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &comp, 4);
+  if (!px) fail("%s: not a readable PNG (%s)", path.string().c_str(), stbi_failure_reason());
+  ImageRgba8 img;
+  img.width = uint32_t(w);
+  img.height = uint32_t(h);
+  img.rgba.assign(px, px + size_t(w) * size_t(h) * 4);
+  stbi_image_free(px);
+  return img;
 }
 
 }  // namespace cumulo

@@ -16,4 +16,12 @@ std::vector<uint8_t> encode_png(const uint8_t* pixels, uint32_t width, uint32_t 
 void write_png(const std::filesystem::path& path, const uint8_t* pixels, uint32_t width, uint32_t height,
                int channels);
 
+// Reads a PNG (any bit depth / colour type stb_image decodes) as RGBA8, top row first. Throws
+// cumulo::Error naming the path for a missing, unreadable or malformed file.
+struct ImageRgba8 {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+ImageRgba8 read_png_rgba8(const std::filesystem::path& path);
+
 }  // namespace cumulo

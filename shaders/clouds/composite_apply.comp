@@ -10,6 +10,10 @@
 // the march's step count (depth image y) to a blue..red heat map over P.march.w steps; light-grid shows
 // a horizontal slice of instance 0's grid at height P.misc.z (0..1): red = sun transmittance
 // exp(-extinction * summed density), green = the same toward the sky.
+// SKY_LAYER 1: the 2.5D sky (sky_layer.comp, half resolution, bilinear) is composited too, each layer
+// hazed at its own half-opacity depth, the nearer one over the farther (the voxel clouds stand in front
+// of the shell's clouds from the ground; from above, the shell's may be nearer). Where the scene's
+// geometry is nearer than the sky's depth, the upsampled sky is dropped (no halo around terrain).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 
@@ -20,6 +24,14 @@ layout(set = 0, binding = CLOUD_BINDING_HDR, rgba16f) uniform image2D hdr;
 layout(set = 0, binding = CLOUD_BINDING_DEBUG_GRID) uniform sampler3D debug_grid;
 layout(set = 0, binding = CLOUD_BINDING_CLOUD_DEPTH) uniform sampler2D cloud_depth;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
+#ifndef SKY_LAYER
+#define SKY_LAYER 0
+#endif
+#if SKY_LAYER
+layout(set = 0, binding = CLOUD_BINDING_SKY_COLOR) uniform sampler2D sky_tex;
+layout(set = 0, binding = CLOUD_BINDING_SKY_DEPTH) uniform sampler2D sky_depth_tex;
+layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH_COMPOSITE) uniform sampler2D scene_depth_tex;
+#endif
 
 vec3 heat(float x) {
   x = clamp(x, 0.0, 1.0);
@@ -43,15 +55,36 @@ void main() {
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec4 c = texelFetch(clouds_tex, pixel, 0);
   vec4 scene = imageLoad(hdr, pixel);
-  vec3 rgb = scene.rgb * c.a + c.rgb;
+  vec4 h = P.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
+  vec3 ro = P.camera_pos.xyz;
+  vec3 dir = normalize(h.xyz / h.w - ro);
   float depth50 = texelFetch(cloud_depth, pixel, 0).x;
+  // Each layer as (radiance after haze, transmittance): hazed toward the sky's colour at its depth.
+  vec3 voxel_rgb = c.rgb;
   if (c.a < 1.0 && depth50 < 1e5 && P.haze.x > 0.0) {
-    vec4 h = P.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
-    vec3 ro = P.camera_pos.xyz;
-    vec3 dir = normalize(h.xyz / h.w - ro);
     float f = haze_amount(ro, dir, depth50);
-    rgb = scene.rgb * c.a + (1.0 - f) * c.rgb + f * (1.0 - c.a) * haze_colour(dir);
+    voxel_rgb = (1.0 - f) * c.rgb + f * (1.0 - c.a) * haze_colour(dir);
   }
+  vec3 rgb = scene.rgb * c.a + voxel_rgb;
+#if SKY_LAYER
+  vec4 s = textureLod(sky_tex, uv, 0.0);
+  float sky50 = textureLod(sky_depth_tex, uv, 0.0).x;
+  float d = textureLod(scene_depth_tex, uv, 0.0).r;
+  float t_scene = 1e30;
+  if (d > 0.0) {
+    vec4 w = P.inv_view_proj * vec4(uv * 2.0 - 1.0, d, 1.0);
+    t_scene = distance(w.xyz / w.w, ro);
+  }
+  if (s.a < 1.0 && sky50 < t_scene) {
+    vec3 sky_rgb = s.rgb;
+    if (P.haze.x > 0.0) {
+      float f = haze_amount(ro, dir, min(sky50, 1e5));
+      sky_rgb = (1.0 - f) * s.rgb + f * (1.0 - s.a) * haze_colour(dir);
+    }
+    if (sky50 >= depth50) rgb = (scene.rgb * s.a + sky_rgb) * c.a + voxel_rgb;  // the shell behind the voxel clouds
+    else rgb = (scene.rgb * c.a + voxel_rgb) * s.a + sky_rgb;
+  }
+#endif
   uint view = P.frame.w;
   if (view == CLOUD_DEBUG_STEPS) {
     rgb = heat(texelFetch(cloud_depth, pixel, 0).y / max(P.march.w, 1.0));

@@ -50,6 +50,9 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_HDR 2         // image2D rgba16f: scene colour, read-modify-write
 #define CLOUD_BINDING_DEBUG_GRID 3  // sampler3D: the light grid (debug view shows instance 0)
 #define CLOUD_BINDING_CLOUD_DEPTH 4 // sampler2D: cloud depth/steps (steps debug view)
+#define CLOUD_BINDING_SKY_COLOR 5   // sampler2D (SKY_LAYER 1): the 2.5D sky at half resolution (rgb radiance, a transmittance)
+#define CLOUD_BINDING_SKY_DEPTH 6   // sampler2D (SKY_LAYER 1): its depth (x opacity-0.5 distance)
+#define CLOUD_BINDING_SCENE_DEPTH_COMPOSITE 7  // sampler2D (SKY_LAYER 1): the scene depth (the upsample stops at geometry)
 
 // Debug views (CloudParams::frame.w).
 #define CLOUD_DEBUG_NONE 0

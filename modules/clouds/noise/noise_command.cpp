@@ -38,11 +38,6 @@ namespace cumulo::clouds {
 
 namespace {
 
-const std::vector<NoiseChannelInfo> kVoxelChannels = {
-    {"curly_alligator_low"}, {"curly_alligator_high"}, {"alligator_low"}, {"alligator_high"}};
-const std::vector<NoiseChannelInfo> kSkyBaseChannels = {
-    {"perlin_worley"}, {"worley_low"}, {"worley_mid"}, {"worley_high"}};
-const std::vector<NoiseChannelInfo> kSkyDetailChannels = {{"worley_low"}, {"worley_mid"}, {"worley_high"}};
 
 NoiseFileInfo save(FileSet& files, const std::filesystem::path& path, const Volume& v) {
   const std::vector<uint8_t> bytes = serialize_volume(v);
@@ -126,8 +121,7 @@ NoiseSetReport write_noise_set(const NoiseSetOptions& o) {
       save(files, o.out_dir / "sky_noise_detail.nvdf", noise_to_volume(detail, VolumeEncoding::RGBA8, kSkyDetailChannels)));
   // generate_curl_2d stores c / max|c| * 0.5 + 0.5; the decode range maps it back to curl units.
   const float cr = curl2d.signed_range;
-  const std::vector<NoiseChannelInfo> curl_channels = {{"curl_x", -cr, cr}, {"curl_y", -cr, cr}, {"curl_z", -cr, cr}};
-  report.files.push_back(save(files, o.out_dir / "curl_noise.nvdf", noise_to_volume(curl2d, VolumeEncoding::RGBA8, curl_channels)));
+  report.files.push_back(save(files, o.out_dir / "curl_noise.nvdf", noise_to_volume(curl2d, VolumeEncoding::RGBA8, curl_channels(cr))));
 
   if (o.previews) {
     files.add(o.out_dir / "voxel_noise_preview.png", encode_noise_preview(voxel));

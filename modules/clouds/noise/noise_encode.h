@@ -35,6 +35,17 @@ struct NoiseChannelInfo {
 Volume noise_to_volume(const NoiseTexture& tex, VolumeEncoding encoding, const std::vector<NoiseChannelInfo>& channels,
                        float tile_metres = 100.0f);
 
+// The channels of the noise files (`cumulo noise`, the renderer's caches), in the order the shaders read.
+inline const std::vector<NoiseChannelInfo> kVoxelChannels = {
+    {"curly_alligator_low"}, {"curly_alligator_high"}, {"alligator_low"}, {"alligator_high"}};
+inline const std::vector<NoiseChannelInfo> kSkyBaseChannels = {
+    {"perlin_worley"}, {"worley_low"}, {"worley_mid"}, {"worley_high"}};
+inline const std::vector<NoiseChannelInfo> kSkyDetailChannels = {{"worley_low"}, {"worley_mid"}, {"worley_high"}};
+// The 2D curl texture's channels: signed, decoded over +-signed_range.
+inline std::vector<NoiseChannelInfo> curl_channels(float signed_range) {
+  return {{"curl_x", -signed_range, signed_range}, {"curl_y", -signed_range, signed_range}, {"curl_z", -signed_range, signed_range}};
+}
+
 // Per-channel error of storing level `level` of `tex` in `encoding`, against the float texels.
 struct ChannelError {
   double max_abs = 0.0;

@@ -49,6 +49,14 @@ void check_sampleable(gpu::Context& ctx, VkFormat format, const fs::path& file) 
          file.string().c_str(), ctx.info().name.c_str(), int(format));
 }
 
+
+bool same_box(const Volume& a, const Volume& b) {
+  auto close = [](glm::vec3 x, glm::vec3 y) { return glm::all(glm::lessThan(glm::abs(x - y), glm::vec3(1e-3f))); };
+  return a.size == b.size && close(a.bounds_min, b.bounds_min) && close(a.bounds_max, b.bounds_max);
+}
+
+}  // namespace
+
 gpu::Image upload_volume(gpu::Context& ctx, const Volume& v, VkFormat format, const fs::path& file) {
   check_sampleable(ctx, format, file);
   const std::string name = file.filename().string();
@@ -59,13 +67,6 @@ gpu::Image upload_volume(gpu::Context& ctx, const Volume& v, VkFormat format, co
   image.upload(std::span<const gpu::MipData>(mips.data(), mips.size()));
   return image;
 }
-
-bool same_box(const Volume& a, const Volume& b) {
-  auto close = [](glm::vec3 x, glm::vec3 y) { return glm::all(glm::lessThan(glm::abs(x - y), glm::vec3(1e-3f))); };
-  return a.size == b.size && close(a.bounds_min, b.bounds_min) && close(a.bounds_max, b.bounds_max);
-}
-
-}  // namespace
 
 const char* format_set_name(CloudFormatSet s) { return s == CloudFormatSet::Compressed ? "compressed" : "uncompressed"; }
 

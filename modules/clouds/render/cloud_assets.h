@@ -26,6 +26,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/gpu/image.h"
+#include "modules/clouds/volume/volume.h"
 
 namespace cumulo::gpu {
 class Context;
@@ -78,6 +79,8 @@ struct CloudNoise {
 std::shared_ptr<CloudAsset> load_cloud_asset(gpu::Context& ctx, const std::filesystem::path& folder,
                                              const CloudFormats& formats);
 std::shared_ptr<CloudNoise> load_cloud_noise(gpu::Context& ctx, const std::filesystem::path& file);
+// A volume's texels and mips into a sampled 3D image of `format` (checked sampleable with linear filtering).
+gpu::Image upload_volume(gpu::Context& ctx, const Volume& v, VkFormat format, const std::filesystem::path& file);
 
 // One GPU copy per canonical path (and formats). Entries live as long as the cache.
 class CloudAssetCache {

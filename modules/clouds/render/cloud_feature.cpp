@@ -56,6 +56,9 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-light-sample-noise", "mean|sampled",
               "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_)
       .option("--cloud-shadows", "on|off", "the clouds' shadow on the terrain and the ocean (default on)", &shadows_text_)
+      .option("--cloud-sky", "auto|on|off",
+              "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
+              &sky_text_)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_);
 }
@@ -64,6 +67,8 @@ void CloudFeature::check_run_options() {
   options_.enabled = parse_on_off("--clouds", clouds_text_);
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
   options_.shadows = parse_on_off("--cloud-shadows", shadows_text_);
+  options_.sky.reset();
+  if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;
   else if (reprojection_text_ == "1") options_.reprojection_block = 1;
   else if (reprojection_text_ == "4") options_.reprojection_block = 2;
@@ -115,10 +120,13 @@ void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
     const auto* n = world.try_get<ecs::Name>(e);
     return level.file.string() + ": entity \"" + (n ? n->value : "?") + "\": " + component;
   };
+  bool scheduler = false;
   world.view<weather::WeatherScheduler>().each([&](ecs::Entity e, weather::WeatherScheduler& w) {
+    scheduler = true;
     if (options_.weather) w.start = options_.weather->id;
     check_scheduler_states(w, library(), where(e, "WeatherScheduler"));
   });
+  sky_enabled_ = any && options_.sky.value_or(scheduler);
   world.view<weather::WeatherZone>().each([&](ecs::Entity e, weather::WeatherZone& z) {
     if (const auto* n = world.try_get<ecs::Name>(e); z.name.empty() && n) z.name = n->value;
     for (const weather::ScheduleEntry& s : z.states) library().require(s.state, where(e, "WeatherZone"));
@@ -171,6 +179,9 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
     world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) {
       if (!frame.weather) frame.weather = weather::weather_now(w, *weather_lib_).state;  // the first one counts
     });
+  frame.sky.enabled = sky_enabled_;
+  if (frame.weather) apply_weather(*frame.weather, frame.sky);
+  else if (options_.weather) apply_weather(*options_.weather, frame.sky);
   snapshot.extensions.set(std::move(frame));
 }
 
@@ -183,11 +194,13 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
   effects_ = std::make_unique<CloudEffects>(g.ctx, g.library);
+  if (sky_enabled_) sky_ = std::make_unique<SkyLayer>(g.ctx, g.library, prepare_sky_noise());
 }
 
 void CloudFeature::destroy_gpu() {
   steps_buffer_.reset();
   steps_pixels_ = 0;
+  sky_.reset();
   resources_.reset();
   effects_.reset();
   cache_.reset();
@@ -242,8 +255,13 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     return;
   }
   if (!inputs_) return;  // (a renderer always runs BeforeScene first)
-  const CloudFrameInputs in = std::move(*inputs_);
+  CloudFrameInputs in = std::move(*inputs_);
   inputs_.reset();
+  if (sky_) {
+    const SkyLayer::Outputs o = sky_->add_passes(f.graph, frame->sky, in, f.depth);
+    in.sky_color = o.color;
+    in.sky_depth = o.depth;
+  }
   const cumulo::render::FrameSnapshot& s = f.snapshot;
   // Rain columns under precipitating clouds: below the centre of the box, 0.3 of its smaller side wide,
   // from the cloud base to sea level (the scene depth stops them at the terrain), fading with dissipation.

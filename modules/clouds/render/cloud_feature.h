@@ -15,6 +15,9 @@
 //                              the 40/60 Hz far segment)
 //   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
 //                              (default: 96x96x16 on CPU devices, the talk's elsewhere)
+//   --cloud-shadows on|off     the clouds' shadow on the terrain and the ocean (default on)
+//   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
+//                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -31,6 +34,7 @@
 #include "engine/render/render_feature.h"
 #include "modules/clouds/render/cloud_effects.h"
 #include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/render/sky_layer.h"
 #include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_state.h"
 
@@ -55,6 +59,7 @@ struct CloudFrame {
   std::vector<CloudPointLight> lights;
   std::vector<BoltFrame> bolts;  // ground discharges live this frame (their visible channels)
   std::optional<weather::WeatherState> weather;  // the WeatherScheduler's blend this frame (none: no scheduler)
+  SkyLayerFrame sky;  // the 2.5D sky's parameters (enabled by --cloud-sky; driven by `weather`)
 };
 
 struct CloudRunOptions {
@@ -69,6 +74,7 @@ struct CloudRunOptions {
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
+  std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
   std::optional<weather::WeatherState> weather;  // --weather ID: applied every frame (weather_lighting.h)
   int noise_size = 128;
 };
@@ -80,6 +86,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   CloudRunOptions& options() { return options_; }
   // The weather states, loaded when the level has a WeatherScheduler or WeatherZone (else null).
   const weather::WeatherLibrary* weather_library() const { return weather_lib_ ? &*weather_lib_ : nullptr; }
+  const SkyLayer* sky_layer() const { return sky_.get(); }
 
   // Resolves every Cloudscape's asset (bakes recipes into the cache) and the noise. Throws naming the
   // level file and entity for a bad asset or a non-uniform scale.
@@ -111,12 +118,14 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::optional<weather::WeatherLibrary> weather_lib_;  // loaded when the level has a WeatherScheduler
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
-      light_noise_text_ = "mean", weather_text_, shadows_text_ = "on";
+      light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
   CloudResourcesPtr resources_;
   std::unique_ptr<CloudEffects> effects_;
+  std::unique_ptr<SkyLayer> sky_;
+  bool sky_enabled_ = false;  // resolved at on_level_loaded
   glm::vec3 last_camera_{0.0f};
   std::string last_camera_name_;
   bool have_last_camera_ = false;

@@ -80,6 +80,7 @@ struct CloudResources {
   gpu::Pipeline* temporal_pipe = nullptr;
   gpu::Pipeline* merge_pipe = nullptr;
   gpu::Pipeline* composite_pipe = nullptr;
+  gpu::Pipeline* composite_sky_pipe = nullptr;  // with the 2.5D sky (SKY_LAYER 1)
   gpu::Pipeline* shadow_pipe = nullptr;
   std::map<MarchKey, gpu::Pipeline*> march_pipes;
   uint32_t rebuilds = 0;
@@ -319,6 +320,8 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
   res->composite_pipe = &library.compute({.shader = "clouds/composite_apply.comp", .name = "clouds.composite"});
+  res->composite_sky_pipe = &library.compute(
+      {.shader = "clouds/composite_apply.comp", .defines = {{"SKY_LAYER", "1"}}, .name = "clouds.composite (2.5D sky)"});
   res->shadow_pipe = &library.compute({.shader = "clouds/shadow_map.comp", .name = "clouds.shadow_map"});
   res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true, true);  // the common variant, built up front
   res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
@@ -374,24 +377,15 @@ uint32_t light_grid_rebuilds(const CloudResources& res) { return res.rebuilds; }
 float nearest_instance_distance(const CloudFrameInputs& in) {
   float nearest = INFINITY;
   for (const CloudInstance& inst : in.instances) {
-    // World AABB of the transformed asset box (conservative for a rotated box).
-    const glm::vec3 lo = inst.asset->bounds_min, hi = inst.asset->bounds_max;
-    glm::vec3 wmin(INFINITY), wmax(-INFINITY);
-    for (int c = 0; c < 8; ++c) {
-      const glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-      const glm::vec3 w = inst.position + glm::normalize(inst.rotation) * (inst.scale * corner);
-      wmin = glm::min(wmin, w), wmax = glm::max(wmax, w);
-    }
+    glm::vec3 wmin, wmax;
+    instance_world_bounds(inst, wmin, wmax);
     const glm::vec3 p = in.camera.position;
     nearest = std::min(nearest, glm::distance(p, glm::clamp(p, wmin, wmax)));
   }
   return nearest;
 }
 
-namespace {
-
-// World AABB of an instance's transformed box (conservative for a rotated box).
-void instance_world_box(const CloudInstance& inst, glm::vec3& wmin, glm::vec3& wmax) {
+void instance_world_bounds(const CloudInstance& inst, glm::vec3& wmin, glm::vec3& wmax) {
   const glm::vec3 lo = inst.asset->bounds_min, hi = inst.asset->bounds_max;
   wmin = glm::vec3(INFINITY), wmax = glm::vec3(-INFINITY);
   for (int c = 0; c < 8; ++c) {
@@ -401,8 +395,6 @@ void instance_world_box(const CloudInstance& inst, glm::vec3& wmin, glm::vec3& w
   }
 }
 
-}  // namespace
-
 std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInputs& in, uint32_t texels) {
   const glm::vec3 l = glm::normalize(in.sun_direction);
   if (!in.settings.shadows || in.instances.empty() || l.y < kShadowMinLightHeight) return std::nullopt;
@@ -411,7 +403,7 @@ std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInput
   std::vector<std::pair<glm::vec3, glm::vec3>> boxes;
   for (const CloudInstance& inst : in.instances) {
     glm::vec3 lo, hi;
-    instance_world_box(inst, lo, hi);
+    instance_world_bounds(inst, lo, hi);
     boxes.emplace_back(lo, hi);
     height = std::min(height, lo.y);
   }
@@ -866,22 +858,33 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   }
 
   // ---- 4. Composite over the scene colour ----
-  gpu::Pipeline* comp = res.composite_pipe;
+  const bool sky = in.sky_color.valid() && in.sky_depth.valid();
+  gpu::Pipeline* comp = sky ? res.composite_sky_pipe : res.composite_pipe;
+  const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth;
   graph.add_pass("clouds.composite", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(final_color, Usage::Sampled);
         b.read(cdepth, Usage::Sampled);
         b.read(grid, Usage::Sampled);
+        if (sky) {
+          b.read(sky_color, Usage::Sampled);
+          b.read(sky_depth, Usage::Sampled);
+          b.read(depth, Usage::Sampled);
+        }
         hdr = b.read_write(hdr, Usage::StorageWrite);
       },
-      [r, comp, final_color, cdepth, grid, hdr, ubo_handle](PassContext& c) {
-        Bindings(*comp)
-            .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+      [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth](PassContext& c) {
+        Bindings bind(*comp);
+        bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
             .sampled(CLOUD_BINDING_CLOUDS, c.view(final_color), r->nearest_clamp, c.layout(final_color))
             .sampled(CLOUD_BINDING_CLOUD_DEPTH, c.view(cdepth), r->nearest_clamp, c.layout(cdepth))
             .sampled(CLOUD_BINDING_DEBUG_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
-            .storage(CLOUD_BINDING_HDR, c.view(hdr))
-            .push(r->ctx, c.cmd());
+            .storage(CLOUD_BINDING_HDR, c.view(hdr));
+        if (sky)
+          bind.sampled(CLOUD_BINDING_SKY_COLOR, c.view(sky_color), r->linear_clamp, c.layout(sky_color))
+              .sampled(CLOUD_BINDING_SKY_DEPTH, c.view(sky_depth), r->nearest_clamp, c.layout(sky_depth))
+              .sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
+        bind.push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(hdr);
         comp->push_constants(c.cmd(), target_push(e));
         comp->dispatch_threads(c.cmd(), e.width, e.height);

@@ -172,6 +172,8 @@ struct CloudInstance : CloudPlacement {
 // Its block of CloudParams (transform, box, sun and sky in asset space, density, dissipation, wind
 // scroll) for a frame at `time` with the sun toward `sun_direction`.
 shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun_direction, double time);
+// World AABB of an instance's transformed box (conservative for a rotated box).
+void instance_world_bounds(const CloudInstance& inst, glm::vec3& lo, glm::vec3& hi);
 
 struct CloudPointLight {  // secondary sources (lightning): the talk's potential-energy field
   glm::vec3 position{0.0f};
@@ -193,6 +195,9 @@ struct CloudFrameInputs {
   glm::vec3 sky_zenith{0.0f}, sky_horizon{0.0f};
   std::vector<CloudInstance> instances;       // at most kMaxInstances, of at most kMaxAssets assets
   std::vector<CloudPointLight> lights;        // at most kMaxPointLights
+  // The 2.5D sky's half-resolution result (SkyLayer::add_passes), composited with the voxel clouds in
+  // the order of their depths; invalid: no 2.5D sky.
+  TextureHandle sky_color, sky_depth;
   bool camera_cut = false;                    // history invalid this frame
   bool rebuild_light_grid = false;            // force a full light-grid rebuild
   CloudSettings settings;

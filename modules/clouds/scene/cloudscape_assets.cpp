@@ -139,4 +139,31 @@ fs::path prepare_voxel_noise(int size, uint64_t seed) {
   return file;
 }
 
+fs::path prepare_sky_noise(int size, uint64_t seed) {
+  const fs::path dir = gpu::default_cache_dir() / "noise" / ("sky_noise-" + std::to_string(size) + "-s" + std::to_string(seed));
+  std::error_code ec;
+  auto complete = [&] { return fs::is_regular_file(dir / "curl_noise.nvdf", ec); };  // written last
+  if (complete()) return dir;
+  fs::create_directories(dir);
+  FileLock lock(dir.string() + ".lock");
+  if (complete()) return dir;
+  std::printf("cumulo: generating the 2.5D sky's noises (%d^3 Perlin-Worley + Worley, %d^3 Worley, %d^2 curl) into %s (first use)\n",
+              size, std::max(4, size / 4), size, dir.string().c_str());
+  std::fflush(stdout);
+  SkyNoiseParams p;
+  p.seed = seed;
+  p.base_size = size;
+  p.detail_size = std::max(4, size / 4);
+  p.curl_size = size;
+  Progress progress("sky noise", double(size) * size * size);
+  const NoiseTexture base = generate_sky_base(p, &progress);
+  progress.finish();
+  const NoiseTexture detail = generate_sky_detail(p);
+  const NoiseTexture curl = generate_curl_2d(p);
+  save_volume(dir / "sky_noise_base.nvdf", noise_to_volume(base, VolumeEncoding::RGBA8, kSkyBaseChannels));
+  save_volume(dir / "sky_noise_detail.nvdf", noise_to_volume(detail, VolumeEncoding::RGBA8, kSkyDetailChannels));
+  save_volume(dir / "curl_noise.nvdf", noise_to_volume(curl, VolumeEncoding::RGBA8, curl_channels(curl.signed_range)));
+  return dir;
+}
+
 }  // namespace cumulo::clouds

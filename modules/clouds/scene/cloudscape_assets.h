@@ -19,6 +19,9 @@ inline constexpr const char* kBakeCacheVersion = "bake-1";
 
 std::filesystem::path prepare_cloudscape_asset(const std::filesystem::path& asset, const std::string& where);
 std::filesystem::path prepare_voxel_noise(int size = 128, uint64_t seed = 1);
+// The 2015 sky noises for the 2.5D sky (sky_noise_base.nvdf, sky_noise_detail.nvdf, curl_noise.nvdf, as
+// `cumulo noise` writes them), generated into the cache on first use; returns their folder.
+std::filesystem::path prepare_sky_noise(int size = 128, uint64_t seed = 1);
 // The bake-cache folder a recipe would use (for tests and messages).
 std::filesystem::path bake_cache_folder(const std::filesystem::path& recipe);
 

@@ -1,0 +1,317 @@
+#include "modules/clouds/render/sky_layer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "engine/core/error.h"
+#include "engine/core/png.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/descriptors.h"
+#include "engine/gpu/frames.h"
+#include "engine/gpu/image.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/gpu/pipeline_library.h"
+#include "engine/gpu/sampler.h"
+#include "engine/render/history.h"
+#include "modules/clouds/noise/noise.h"
+#include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/volume/volume_file.h"
+#include "shaders/shared/cloud_params.h"
+#include "shaders/shared/sky_layer_params.h"
+
+namespace cumulo::clouds::render {
+namespace fs = std::filesystem;
+using cumulo::render::PassBuilder;
+using cumulo::render::PassContext;
+using cumulo::render::Queue;
+using cumulo::render::TextureDesc;
+using cumulo::render::TextureHandle;
+using cumulo::render::Usage;
+
+namespace {
+
+TextureDesc texture_desc_3d(const gpu::Image& img) {
+  const VkExtent3D e = img.extent();
+  TextureDesc d = TextureDesc::absolute(img.format(), e.width, e.height, e.depth);
+  d.type = cumulo::render::ImageType::Image3D;
+  d.mips = img.mips();
+  return d;
+}
+
+}  // namespace
+
+void apply_weather(const weather::WeatherState& w, SkyLayerFrame& sky) {
+  sky.coverage = w.coverage;
+  sky.cloud_type = w.cloud_type;
+  sky.precipitation = std::max(w.precipitation, w.rain_intensity);
+  sky.wind_direction = w.wind_direction;
+  sky.wind_speed = w.wind_speed;
+  sky.height_skew = w.height_skew;
+  sky.anvil_bias = w.anvil_bias;
+  sky.map = w.cloud_map;
+  // Fewer high clouds under a closing low deck (they would not be seen) and in clear weather.
+  sky.high_coverage = 0.2f + 0.3f * std::clamp(w.coverage, 0.0f, 1.0f) * (1.0f - std::clamp(w.precipitation, 0.0f, 1.0f));
+}
+
+CloudMapImage make_cloud_map(const weather::CloudMapSource& src, uint32_t n) {
+  CloudMapImage m;
+  // The largest features are scale_km across; a tile holds 4 of them (period 4 of the fBm).
+  m.tile_m = 4.0f * std::max(src.scale_km, 0.1f) * 1000.0f;
+  if (!src.png.empty()) {
+    ImageRgba8 img = read_png_rgba8(src.png);
+    m.width = img.width, m.height = img.height;
+    m.rgba = std::move(img.rgba);
+    return m;
+  }
+  m.width = m.height = n;
+  m.rgba.resize(size_t(n) * n * 4);
+  const uint32_t seed = derive_seed(src.seed, 0x5c1a0u);
+  const int octaves = int(std::clamp(src.octaves, 1u, 8u));
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      const glm::vec3 p(4.0f * float(x) / float(n), 4.0f * float(y) / float(n), 0.5f);
+      // Coverage varies most; precipitation gathers in a few cells; type drifts slowly.
+      const float c = perlin_fbm(p, 4, octaves, seed);
+      const float r = perlin_fbm(p + glm::vec3(1.7f, 9.2f, 0.0f), 4, octaves, seed + 1);
+      const float t = perlin_fbm(p + glm::vec3(5.3f, 2.1f, 0.0f), 4, std::max(1, octaves - 1), seed + 2);
+      auto u8 = [](float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+      uint8_t* px = &m.rgba[(size_t(y) * n + x) * 4];
+      px[0] = u8(0.5f + 0.9f * c);
+      px[1] = u8(0.5f + 1.2f * r);
+      px[2] = u8(0.5f + 0.6f * t);
+      px[3] = 255;
+    }
+  return m;
+}
+
+struct SkyLayer::Impl {
+  gpu::Context& ctx;
+  gpu::Image base, detail, curl;
+  gpu::Image map_image;
+  weather::CloudMapSource map_source;
+  bool map_loaded = false;
+  float map_tile_m = 32000.0f;
+  gpu::Pipeline* march = nullptr;
+  gpu::Pipeline* reconstruct = nullptr;
+  gpu::Buffer ubo[gpu::kFramesInFlight];
+  gpu::Buffer recon_ubo[gpu::kFramesInFlight];  // reconstruct.comp reads CloudParams' camera fields
+  cumulo::render::GpuHistory history{"clouds.sky_layer.history", VK_FORMAT_R16G16B16A16_SFLOAT, 0.5f,
+                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  glm::mat4 prev_view_proj{1.0f};
+  glm::vec3 last_camera{0.0f};
+  bool have_last = false;
+  VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
+
+  explicit Impl(gpu::Context& c) : ctx(c) {}
+
+  gpu::Image load(const fs::path& file) {
+    const Volume v = load_volume(file);
+    if (v.encoding != VolumeEncoding::RGBA8)
+      fail("%s: encoding %s; the 2.5D sky samples RGBA8 noise", file.string().c_str(), encoding_name(v.encoding));
+    return upload_volume(ctx, v, VK_FORMAT_R8G8B8A8_UNORM, file);
+  }
+
+  // The weather's map on the GPU; re-made when the source changes. A PNG that fails keeps the last map.
+  void ensure_map(const weather::CloudMapSource& src) {
+    if (map_loaded && src == map_source) return;
+    CloudMapImage m;
+    try {
+      m = make_cloud_map(src);
+    } catch (const Error& e) {
+      if (map_loaded) {
+        std::fprintf(stderr, "cumulo: the 2.5D sky keeps its last cloud map: %s\n", e.what());
+        map_source = src;  // do not retry every frame
+        return;
+      }
+      throw;
+    }
+    if (map_loaded) ctx.wait_idle();  // frames in flight may sample the old map
+    map_image = gpu::Image(ctx, gpu::ImageDesc::tex2d(m.width, m.height, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT,
+                                                      1, "clouds.sky_layer.cloud_map"));
+    map_image.upload({{m.rgba.data(), m.rgba.size()}});
+    map_tile_m = m.tile_m;
+    map_source = src;
+    map_loaded = true;
+  }
+};
+
+SkyLayer::SkyLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const fs::path& dir)
+    : impl_(std::make_unique<Impl>(ctx)) {
+  Impl& m = *impl_;
+  m.base = m.load(dir / "sky_noise_base.nvdf");
+  m.detail = m.load(dir / "sky_noise_detail.nvdf");
+  m.curl = m.load(dir / "curl_noise.nvdf");
+  m.march = &library.compute({.shader = "clouds/sky_layer.comp", .name = "clouds.sky_layer"});
+  m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.sky_layer_reconstruct"});
+  for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i) {
+    m.ubo[i] = gpu::Buffer(ctx, {sizeof(shared::SkyLayerParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
+                                 "clouds.sky_layer.params"});
+    m.recon_ubo[i] = gpu::Buffer(ctx, {sizeof(shared::CloudParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                       gpu::MemoryUsage::Dynamic, "clouds.sky_layer.camera"});
+  }
+  m.linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
+  m.linear_repeat = ctx.samplers().get(gpu::SamplerDesc::linear_repeat());
+  m.nearest_clamp = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
+}
+
+SkyLayer::~SkyLayer() {
+  if (impl_) impl_->ctx.wait_idle();
+}
+
+uint64_t SkyLayer::gpu_bytes() const {
+  auto bytes = [](const gpu::Image& i) {
+    return i ? uint64_t(i.extent().width) * i.extent().height * i.extent().depth * 4 : 0ull;
+  };
+  return bytes(impl_->base) + bytes(impl_->detail) + bytes(impl_->curl) + bytes(impl_->map_image);
+}
+
+SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky,
+                                       const CloudFrameInputs& in, TextureHandle scene_depth) {
+  if (!sky.enabled) return {};
+  Impl& m = *impl_;
+  m.ensure_map(sky.map);
+  const CloudSettings& s = in.settings;
+  const double t = in.time;
+
+  shared::SkyLayerParams p{};
+  p.inv_view_proj = in.camera.inv_view_proj;
+  p.camera_pos = glm::vec4(in.camera.position, float(t));
+  p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
+  p.sun_color = glm::vec4(in.sun_color, 0.0f);
+  p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
+  p.shell = glm::vec4(sky.bottom_m, std::max(sky.top_m, sky.bottom_m + 1.0f), sky.planet_radius_m, sky.draw_distance_m);
+  p.weather = glm::vec4(std::clamp(sky.coverage, 0.0f, 1.0f), std::clamp(sky.cloud_type, 0.0f, 1.0f),
+                        std::clamp(sky.precipitation, 0.0f, 1.0f), std::clamp(sky.anvil_bias, 0.0f, 1.0f));
+  const float wl = glm::length(sky.wind_direction);
+  const glm::vec3 wind = wl > 0.0f ? sky.wind_direction / wl : glm::vec3(1.0f, 0.0f, 0.0f);
+  // Drift and scroll wrap at a multiple of their tiles, so float precision holds over hours.
+  const double travelled = double(sky.wind_speed) * t;
+  const float drift = float(std::fmod(travelled, double(m.map_tile_m) * 64.0));
+  p.wind = glm::vec4(wind.x * drift, wind.z * drift, std::clamp(sky.height_skew, 0.0f, 1.0f),
+                     float(std::fmod(travelled * 0.5, 6000.0 * 64.0)));
+  p.wind_dir = glm::vec4(wind, m.map_tile_m);
+  p.shape = glm::vec4(6000.0f, 700.0f, 180.0f, 0.35f);
+  p.horizon = glm::vec4(sky.horizon_bias_start_m, sky.draw_distance_m, sky.horizon_coverage, 1.0f);
+  p.march = glm::vec4(s.extinction * sky.extinction_scale, 64.0f, 128.0f, 120.0f);  // 2015: 64 up .. 128 at the horizon
+  p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
+  p.high = glm::vec4(std::clamp(sky.high_coverage, 0.0f, 1.0f), sky.high_altitude_m, 24000.0f, 0.8f);
+  const float cirrus = float(std::fmod(travelled * 3.0, 24000.0 * 64.0)), alto = float(std::fmod(travelled * 1.5, 24000.0 * 64.0));
+  p.high_scroll = glm::vec4(wind.x * cirrus, wind.z * cirrus, -wind.z * alto, wind.x * alto);  // alto at right angles
+  uint32_t boxes = 0;
+  for (const CloudInstance& inst : in.instances) {
+    if (boxes == SKY_MAX_YIELD_BOXES) break;
+    glm::vec3 lo, hi;
+    instance_world_bounds(inst, lo, hi);
+    p.yield_min[boxes] = glm::vec4(lo, 0.0f);
+    p.yield_max[boxes] = glm::vec4(hi, 0.0f);
+    ++boxes;
+  }
+  p.misc = glm::vec4(std::max(sky.yield_fade_m, 1.0f), float(boxes), float(in.frame_index % 64), 0.0f);
+  const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight];
+  std::memcpy(ubo.mapped(), &p, sizeof p);
+
+  shared::CloudParams cp{};
+  cp.inv_view_proj = in.camera.inv_view_proj;
+  cp.view_proj = in.camera.view_proj;
+  cp.prev_view_proj = m.prev_view_proj;
+  cp.camera_pos = glm::vec4(in.camera.position, float(t));
+  const gpu::Buffer& recon_ubo = m.recon_ubo[in.slot % gpu::kFramesInFlight];
+  std::memcpy(recon_ubo.mapped(), &cp, sizeof cp);
+  m.prev_view_proj = in.camera.view_proj;
+
+  if (in.camera_cut || !s.temporal) m.history.invalidate();
+  const cumulo::render::HistoryHandles h = m.history.import(m.ctx, graph);
+
+  // One pixel of each 4x4 block of the half-resolution target per frame, in Bayer order.
+  constexpr uint32_t kBlock = 4;
+  static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+  const uint32_t k = s.temporal ? uint32_t(in.frame_index % 16) : 0u;
+  glm::uvec2 offset{0, 0};
+  for (uint32_t i = 0; i < 16; ++i)
+    if (kBayer4[i] == k) offset = {i % 4, i / 4};
+  const VkExtent2D full = graph.output_size();
+  const uint32_t hw = std::max(1u, (full.width + 1) / 2), hh = std::max(1u, (full.height + 1) / 2);
+  const uint32_t sw = (hw + kBlock - 1) / kBlock, sh = (hh + kBlock - 1) / kBlock;
+  TextureHandle sub_c = graph.create_texture("clouds.sky_layer.sub_color", TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, sw, sh));
+  TextureHandle sub_d = graph.create_texture("clouds.sky_layer.sub_depth", TextureDesc::absolute(VK_FORMAT_R32G32B32A32_SFLOAT, sw, sh));
+  TextureHandle out_d = graph.create_texture("clouds.sky_layer.depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, 0.5f));
+  TextureHandle base = graph.import_texture("clouds.sky_layer.base_noise", texture_desc_3d(m.base), m.base.handle(), m.base.view(),
+                                            cumulo::render::ResourceState::shader_read_only());
+  TextureHandle detail = graph.import_texture("clouds.sky_layer.detail_noise", texture_desc_3d(m.detail), m.detail.handle(),
+                                              m.detail.view(), cumulo::render::ResourceState::shader_read_only());
+  TextureHandle curl = graph.import_texture("clouds.sky_layer.curl", texture_desc_3d(m.curl), m.curl.handle(), m.curl.view(),
+                                            cumulo::render::ResourceState::shader_read_only());
+  const VkExtent3D me = m.map_image.extent();
+  TextureHandle map = graph.import_texture("clouds.sky_layer.cloud_map",
+                                           TextureDesc::absolute(VK_FORMAT_R8G8B8A8_UNORM, me.width, me.height),
+                                           m.map_image.handle(), m.map_image.view(),
+                                           cumulo::render::ResourceState::shader_read_only());
+  Impl* mp = &m;
+  const VkBuffer ubo_h = ubo.handle(), recon_h = recon_ubo.handle();
+  graph.add_pass("clouds.sky_layer", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(map, Usage::Sampled);
+        b.read(base, Usage::Sampled);
+        b.read(detail, Usage::Sampled);
+        b.read(curl, Usage::Sampled);
+        b.read(scene_depth, Usage::Sampled);
+        sub_c = b.write(sub_c, Usage::StorageWrite);
+        sub_d = b.write(sub_d, Usage::StorageWrite);
+      },
+      [mp, ubo_h, map, base, detail, curl, scene_depth, sub_c, sub_d, hw, hh, offset](PassContext& c) {
+        gpu::Pipeline& pipe = *mp->march;
+        pipe.bind(c.cmd());
+        gpu::DescriptorWriter()
+            .uniform_buffer(SKY_BINDING_PARAMS, ubo_h, 0, sizeof(shared::SkyLayerParams))
+            .sampled_image(SKY_BINDING_CLOUD_MAP, c.view(map), mp->linear_repeat, c.layout(map))
+            .sampled_image(SKY_BINDING_BASE_NOISE, c.view(base), mp->linear_repeat, c.layout(base))
+            .sampled_image(SKY_BINDING_DETAIL_NOISE, c.view(detail), mp->linear_repeat, c.layout(detail))
+            .sampled_image(SKY_BINDING_CURL, c.view(curl), mp->linear_repeat, c.layout(curl))
+            .sampled_image(SKY_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
+            .storage_image(SKY_BINDING_OUT_COLOR, c.view(sub_c))
+            .storage_image(SKY_BINDING_OUT_DEPTH, c.view(sub_d))
+            .push(mp->ctx, c.cmd(), pipe);
+        shared::CloudMarchPush pc{};
+        pc.target = glm::vec4(float(hw), float(hh), 1.0f / float(hw), 1.0f / float(hh));
+        pc.sub = glm::vec4(float(kBlock), float(offset.x), float(offset.y), 0.0f);
+        pipe.push_constants(c.cmd(), pc);
+        const VkExtent3D e = c.extent(sub_c);
+        pipe.dispatch_threads(c.cmd(), e.width, e.height);
+      });
+  TextureHandle prev = h.previous, next = h.current;
+  const bool valid = h.valid;
+  graph.add_pass("clouds.sky_layer_reconstruct", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(sub_c, Usage::Sampled);
+        b.read(sub_d, Usage::Sampled);
+        b.read(prev, Usage::Sampled);
+        b.read(scene_depth, Usage::Sampled);
+        next = b.write(next, Usage::StorageWrite);
+        out_d = b.write(out_d, Usage::StorageWrite);
+      },
+      [mp, recon_h, sub_c, sub_d, prev, next, scene_depth, out_d, offset, valid](PassContext& c) {
+        gpu::Pipeline& pipe = *mp->reconstruct;
+        pipe.bind(c.cmd());
+        gpu::DescriptorWriter()
+            .uniform_buffer(CLOUD_BINDING_PARAMS, recon_h, 0, sizeof(shared::CloudParams))
+            .sampled_image(CLOUD_BINDING_CURRENT, c.view(sub_c), mp->nearest_clamp, c.layout(sub_c))
+            .sampled_image(CLOUD_BINDING_CURRENT_DEPTH, c.view(sub_d), mp->nearest_clamp, c.layout(sub_d))
+            .sampled_image(CLOUD_BINDING_HISTORY, c.view(prev), mp->linear_clamp, c.layout(prev))
+            .sampled_image(CLOUD_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
+            .storage_image(CLOUD_BINDING_ACCUM_OUT, c.view(next))
+            .storage_image(CLOUD_BINDING_OUT_DEPTH, c.view(out_d))
+            .push(mp->ctx, c.cmd(), pipe);
+        const VkExtent3D e = c.extent(next);
+        shared::CloudMarchPush pc{};
+        pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+        pc.sub = glm::vec4(float(kBlock), float(offset.x), float(offset.y), valid ? 1.0f : 0.0f);
+        pipe.push_constants(c.cmd(), pc);
+        pipe.dispatch_threads(c.cmd(), e.width, e.height);
+      });
+  return {next, out_d};
+}
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,92 @@
+#pragma once
+// The weather-driven 2.5D sky beyond and above the voxel cloudscape (issue 10; the 2023 talk's
+// "Vertical Profile Method", i.e. the 2015 talk's spherical shell with cloud types and 2D high layers
+// and the 2017 talk's weather map). shaders/clouds/sky_layer.comp has the density model and its sources.
+//
+//   SkyLayer sky(ctx, library, prepare_sky_noise());
+//   SkyLayerFrame p;                              // defaults, or from the weather: apply_weather(state, p)
+//   SkyLayer::Outputs o = sky.add_passes(graph, p, cloud_inputs, scene_depth);
+//   cloud_inputs.sky_color = o.color; cloud_inputs.sky_depth = o.depth;   // composited with the voxel clouds
+//
+// Passes: clouds.sky_layer (the march, one pixel of each 4x4 block of a half-resolution target per
+// frame: 2015's "1 out of 16 pixels for each 4x4 pixel block") and clouds.sky_layer_reconstruct
+// (reconstruct.comp: the other 15 reprojected from the last frame's, the history in the graph); the
+// composite upsamples it to full resolution and orders it against the voxel clouds by depth.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/render/graph/render_graph.h"
+#include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/weather/weather_state.h"
+
+namespace cumulo::gpu {
+class Context;
+class PipelineLibrary;
+}  // namespace cumulo::gpu
+
+namespace cumulo::clouds::render {
+
+// The 2.5D sky's parameters: a plain struct of the frame (CloudFrame::sky) with defaults; the weather
+// state drives the first group (apply_weather).
+struct SkyLayerFrame {
+  bool enabled = false;
+  // From the weather state.
+  float coverage = 0.4f;       // 0..1: scales the map's R (0.5 in the map = this coverage)
+  float cloud_type = 1.0f;     // 0 stratus .. 0.5 stratocumulus .. 1 cumulus (the map's B shifts it)
+  float precipitation = 0.0f;  // 0..1: scales the map's G; grows cumulonimbus at 70 % coverage
+  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
+  float wind_speed = 4.0f;     // m/s: the map drifts, the noise scrolls
+  float height_skew = 0.1f;    // tops lean downwind by this fraction of the shell's thickness
+  float anvil_bias = 0.0f;
+  weather::CloudMapSource map;
+  // The layer itself (2015: "between 1500 and 4000 meters", "within a 35,000 meter radius", cumulus
+  // toward the horizon from 15 km at about 50 % coverage).
+  float bottom_m = 1500.0f, top_m = 4000.0f;
+  float planet_radius_m = 6360e3f;
+  float draw_distance_m = 35000.0f;
+  float horizon_bias_start_m = 15000.0f, horizon_coverage = 0.5f;
+  float high_coverage = 0.35f;  // the 2D cirrus / alto layers
+  float high_altitude_m = 7000.0f;
+  float yield_fade_m = 1500.0f;  // the density fades in over this distance outside a voxel box's footprint
+  float extinction_scale = 0.4f; // x the voxel clouds' extinction: the shell's densities are per 10 m, not per 1 m of voxel
+};
+void apply_weather(const weather::WeatherState& w, SkyLayerFrame& sky);
+
+// A cloud map for the GPU: RGBA8, R coverage, G precipitation, B type, 0.5 = the state's value; tiles.
+struct CloudMapImage {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+  float tile_m = 32000.0f;  // one tile's extent on the ground
+};
+// Procedural (tiling fBm at the source's seed, octaves and feature scale) or the painted PNG (its tile
+// is 4 x scale_km). Throws cumulo::Error naming the PNG for a bad one.
+CloudMapImage make_cloud_map(const weather::CloudMapSource& source, uint32_t texels = 256);
+
+class SkyLayer {
+ public:
+  // `noise_dir`: prepare_sky_noise()'s folder. Throws cumulo::Error for a missing or malformed noise file.
+  SkyLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const std::filesystem::path& noise_dir);
+  ~SkyLayer();
+  SkyLayer(const SkyLayer&) = delete;
+  SkyLayer& operator=(const SkyLayer&) = delete;
+
+  struct Outputs {
+    cumulo::render::TextureHandle color;  // half resolution RGBA16F: rgb radiance, a transmittance
+    cumulo::render::TextureHandle depth;  // half resolution RGBA32F: x opacity-0.5 distance (1e6: none), y steps
+  };
+  // The frame's passes (camera, sun, ambient, extinction and phase from `in`; the yield boxes are its
+  // instances). Nothing (invalid outputs) when !sky.enabled.
+  Outputs add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky, const CloudFrameInputs& in,
+                     cumulo::render::TextureHandle scene_depth);
+  uint64_t gpu_bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,243 @@
+#version 450
+// The weather-driven 2.5D sky beyond and above the voxel cloudscape (issue 10; the "Vertical Profile"
+// method of the 2023 talk's table, i.e. the 2015 talk, seed 004, and the 2017 talk, seed 001).
+//
+// A spherical shell (S.shell: 1500-4000 m above sea level on a planet of radius S.shell.z centred under
+// the world origin, so clouds descend into the horizon) is ray-marched within S.shell.w (35 km, 2015:
+// "within a 35,000 meter radius around the player"):
+//   cloud map (R coverage, G precipitation, B type; 0.5 = the weather state's value, 0 R = a hole):
+//     coverage = saturate(2 R x state coverage), type = saturate(state type + B - 0.5),
+//     precipitation = saturate(2 G x state precipitation) (2015: "transitions the map ... to cumulonimbus
+//     clouds at 70% coverage"), cumulus bias toward the horizon (2015: "Starting at a distance of
+//     15,000 meters we start transitioning to cumulus clouds at around 50% coverage");
+//   height gradient by type (stratus, stratocumulus, cumulus; cumulonimbus with precipitation);
+//   base = Remap(PerlinWorley, -(1 - Worley fBm), 1, 0, 1) x gradient (2015);
+//   coverage as erosion: Remap(base, 1 - coverage, 1, 0, 1) x coverage, coverage raised to
+//     Remap(height, 0.7, 0.8, 1, lerp(1, 0.5, anvil bias)) first (2017's anvil bias);
+//   detail: Worley fBm distorted by curl noise, inverted toward the bottoms (2015: "If you invert the
+//     Worley noise at the base of the clouds you get some nice whispy shapes"), eroding the edges;
+//   wind: the map drifts, the noise scrolls, tops lean downwind by the height skew.
+// Yield: the density fades to 0 over S.misc.x metres outside the footprint of every voxel cloudscape
+// box (S.yield_*), so the voxel clouds stand alone where they are and the layer shows no edge.
+// Lighting, as the voxel clouds: dual-lobe HG x Beer-Lambert over 5 cone samples toward the sun and a
+// far one (2015: "we sample 6 times in a cone toward the sun ... The last sample is placed far away"),
+// a multiple-scattering term, ambient growing with height (2015: "Ambient sky contribution increases
+// over height"); energy-conserving integration. Then the 2D high layers (cirrus, alto) at S.high.y,
+// scrolling (2015: "tiling and scrolling at different speeds and directions above the volumetric clouds").
+// Steps: 64 looking up to 128 at the horizon (2015). Run on one pixel of each 4x4 block of a
+// half-resolution target per frame and reprojected (reconstruct.comp): 2015's 1 of 16.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/sky_layer_params.h"
+#include "shared/cloud_params.h"
+
+layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
+layout(set = 0, binding = SKY_BINDING_PARAMS, std140) uniform SkyBlock { SkyLayerParams S; };
+layout(set = 0, binding = SKY_BINDING_CLOUD_MAP) uniform sampler2D cloud_map;
+layout(set = 0, binding = SKY_BINDING_BASE_NOISE) uniform sampler3D base_noise;
+layout(set = 0, binding = SKY_BINDING_DETAIL_NOISE) uniform sampler3D detail_noise;
+layout(set = 0, binding = SKY_BINDING_CURL) uniform sampler3D curl_noise;
+layout(set = 0, binding = SKY_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
+layout(set = 0, binding = SKY_BINDING_OUT_COLOR, rgba16f) uniform writeonly image2D out_color;
+layout(set = 0, binding = SKY_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
+layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+const float kPi = 3.14159265;
+
+float saturate(float x) { return clamp(x, 0.0, 1.0); }
+float remap(float v, float a, float b, float c, float d) { return c + (v - a) / (b - a) * (d - c); }
+float remap01(float v, float a, float b, float c, float d) { return mix(c, d, saturate((v - a) / (b - a))); }
+float hg(float mu, float g) {
+  float g2 = g * g;
+  return (1.0 - g2) / (4.0 * kPi * pow(max(1.0 + g2 - 2.0 * g * mu, 1e-4), 1.5));
+}
+
+// The planet's centre is under the world origin; altitude above sea level of a world point.
+vec3 planet_centre() { return vec3(0.0, -S.shell.z, 0.0); }
+float altitude(vec3 p) { return length(p - planet_centre()) - S.shell.z; }
+
+// Entry and exit of the ray in the sphere of radius r (x > y: a miss).
+vec2 ray_sphere(vec3 ro, vec3 rd, float r) {
+  vec3 oc = ro - planet_centre();
+  float b = dot(oc, rd), c = dot(oc, oc) - r * r;
+  float disc = b * b - c;
+  if (disc < 0.0) return vec2(1e30, -1e30);
+  float s = sqrt(disc);
+  return vec2(-b - s, -b + s);
+}
+
+// The ray's first stretch inside the shell (inner..outer radius), clipped to [0, t_max]; x >= y: none.
+vec2 shell_segment(vec3 ro, vec3 rd, float t_max) {
+  vec2 outer = ray_sphere(ro, rd, S.shell.z + S.shell.y);
+  vec2 inner = ray_sphere(ro, rd, S.shell.z + S.shell.x);
+  float t0 = max(outer.x, 0.0), t1 = min(outer.y, t_max);
+  if (t0 >= t1) return vec2(1.0, 0.0);
+  if (inner.x < inner.y) {
+    if (inner.x <= t0 && inner.y > t0) t0 = inner.y;          // starts inside the inner sphere: leave it first
+    else if (inner.x > t0 && inner.x < t1) t1 = inner.x;      // enters the inner sphere: the stretch ends there
+  }
+  return vec2(t0, t1);
+}
+
+// Density scale of the voxel cloudscape's presence: 0 in a box's footprint, 1 beyond the fade.
+float yield_mask(vec3 p) {
+  float m = 1.0;
+  for (int i = 0; i < int(S.misc.y); ++i) {
+    vec2 outside = max(max(S.yield_min[i].xz - p.xz, p.xz - S.yield_max[i].xz), vec2(0.0));
+    m *= smoothstep(0.0, S.misc.x, length(outside));
+  }
+  return m;
+}
+
+// Height gradient of a cloud type (0 stratus, 0.5 stratocumulus, 1 cumulus) at height fraction h,
+// grown toward a cumulonimbus tower by precipitation.
+float height_gradient(float h, float type, float precip) {
+  float stratus = remap01(h, 0.0, 0.08, 0.0, 1.0) * remap01(h, 0.15, 0.25, 1.0, 0.0);
+  float stratocumulus = remap01(h, 0.0, 0.15, 0.0, 1.0) * remap01(h, 0.35, 0.55, 1.0, 0.0);
+  float cumulus = remap01(h, 0.0, 0.15, 0.0, 1.0) * remap01(h, 0.6, 0.9, 1.0, 0.0);
+  float g = type < 0.5 ? mix(stratus, stratocumulus, type * 2.0) : mix(stratocumulus, cumulus, type * 2.0 - 1.0);
+  float cumulonimbus = remap01(h, 0.0, 0.1, 0.0, 1.0) * remap01(h, 0.9, 1.0, 1.0, 0.0);
+  return mix(g, cumulonimbus, precip);
+}
+
+struct Weather {
+  float coverage, type, precip;
+};
+
+Weather weather_at(vec3 p) {
+  vec4 m = textureLod(cloud_map, (p.xz - S.wind.xy) / S.wind_dir.w, 0.0);
+  Weather w;
+  w.coverage = saturate(2.0 * m.r * S.weather.x);
+  w.type = saturate(S.weather.y + m.b - 0.5);
+  w.precip = saturate(2.0 * m.g * S.weather.z);
+  w.coverage = mix(w.coverage, max(w.coverage, 0.7), w.precip);
+  float k = smoothstep(S.horizon.x, S.horizon.y, length(p.xz - S.camera_pos.xz));
+  w.coverage = mix(w.coverage, max(w.coverage, S.horizon.z), k);
+  w.type = mix(w.type, S.horizon.w, k);
+  return w;
+}
+
+// Density at a world point; `cheap` leaves out the detail erosion (light samples, empty space).
+float density(vec3 p, bool cheap) {
+  float h = saturate((altitude(p) - S.shell.x) / (S.shell.y - S.shell.x));
+  float yield_m = yield_mask(p);
+  if (yield_m <= 0.0) return 0.0;
+  Weather w = weather_at(p);
+  if (w.coverage <= 0.0) return 0.0;
+  float thickness = S.shell.y - S.shell.x;
+  vec3 q = p - S.wind_dir.xyz * (S.wind.w + h * S.wind.z * thickness);
+  vec4 b = textureLod(base_noise, q / S.shape.x, 0.0);
+  float wfbm = b.g * 0.625 + b.b * 0.25 + b.a * 0.125;
+  float base = remap(b.r, -(1.0 - wfbm), 1.0, 0.0, 1.0);
+  base = saturate(base * height_gradient(h, w.type, w.precip));
+  float cov = pow(w.coverage, remap01(h, 0.7, 0.8, 1.0, mix(1.0, 0.5, S.weather.w)));
+  float d = saturate(remap(base, 1.0 - cov, 1.0, 0.0, 1.0)) * cov;
+  if (d <= 0.0 || cheap) return d * yield_m;
+  vec3 curl = (textureLod(curl_noise, vec3(q.xz / S.shape.x * 4.0, 0.5), 0.0).rgb * 2.0 - 1.0) * S.shape.z;
+  vec3 dn = textureLod(detail_noise, (q + curl * (1.0 - h)) / S.shape.y, 0.0).rgb;
+  float dfbm = dn.r * 0.625 + dn.g * 0.25 + dn.b * 0.125;
+  float modifier = mix(1.0 - dfbm, dfbm, saturate(h * 10.0));
+  d = saturate(remap(d, modifier * S.shape.w, 1.0, 0.0, 1.0));
+  return d * yield_m;
+}
+
+float pixel_hash(vec2 pixel, uint frame) {
+  pixel += 5.588238 * float(frame % 64u);
+  return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
+}
+
+// A fixed cone of 5 unit offsets around the light direction (2015: "6 times in a cone toward the sun").
+const vec3 kCone[5] = vec3[](vec3(0.38, -0.60, 0.24), vec3(-0.55, 0.16, -0.41), vec3(0.12, 0.73, -0.28),
+                             vec3(-0.25, -0.34, 0.69), vec3(0.67, 0.21, 0.45));
+
+float light_optical_depth(vec3 p, vec3 l) {
+  float seg = S.march.w, sum = 0.0, t = 0.0;
+  for (int k = 0; k < 5; ++k) {
+    float len = seg * float(k + 1);
+    vec3 q = p + l * (t + 0.5 * len) + kCone[k] * (0.3 * float(k + 1) * seg);
+    sum += density(q, true) * len;
+    t += len;
+  }
+  sum += density(p + l * (t + 6.0 * seg), true) * 3.0 * seg;  // far: shadows of distant clouds
+  return sum * S.march.x;
+}
+
+// The 2D high layers: cirrus (streaks) and alto (patches), tiling and scrolling at their own drift.
+vec4 high_layers(vec3 ro, vec3 rd, float t_max) {
+  vec2 hit = ray_sphere(ro, rd, S.shell.z + S.high.y);
+  float t = hit.x > 0.0 ? hit.x : hit.y;
+  if (S.high.x <= 0.0 || t <= 0.0 || t > t_max) return vec4(0.0, 0.0, 0.0, 1e6);
+  vec3 p = ro + rd * t;
+  vec2 uv_c = (p.xz + S.high_scroll.xy) / S.high.z;
+  vec2 uv_a = (p.xz + S.high_scroll.zw) / (S.high.z * 0.5);
+  float cirrus = textureLod(base_noise, vec3(uv_c.x, 0.37, uv_c.y * 0.25), 0.0).g;  // stretched: streaks
+  float alto = textureLod(base_noise, vec3(uv_a.x, 0.71, uv_a.y), 0.0).r;
+  float c = saturate(remap(cirrus, 1.0 - S.high.x, 1.0, 0.0, 1.0));
+  float a = saturate(remap(alto, 1.0 - 0.6 * S.high.x, 1.0, 0.0, 1.0)) * 0.6;
+  float alpha = saturate((c + a) * S.high.w) * smoothstep(0.0, 0.08, rd.y);
+  return vec4(alpha, 0.0, 0.0, t);
+}
+
+void main() {
+  ivec2 block = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(pc.target.xy);
+  int B = max(int(pc.sub.x), 1);
+  if (any(greaterThanEqual(block * B, size))) return;
+  ivec2 pixel = min(block * B + ivec2(pc.sub.yz), size - 1);
+  vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
+  vec2 ndc = uv * 2.0 - 1.0;
+  vec4 h = S.inv_view_proj * vec4(ndc, 0.5, 1.0);
+  vec3 ro = S.camera_pos.xyz;
+  vec3 rd = normalize(h.xyz / h.w - ro);
+  float d = textureLod(scene_depth, uv, 0.0).r;
+  float t_max = S.shell.w;
+  if (d > 0.0) {
+    vec4 w = S.inv_view_proj * vec4(ndc, d, 1.0);
+    t_max = min(t_max, distance(w.xyz / w.w, ro));
+  }
+
+  vec3 radiance = vec3(0.0);
+  float transmittance = 1.0, depth50 = 1e6, steps = 0.0;
+  vec3 l = normalize(S.sun_dir.xyz);
+  float mu = dot(rd, l);
+  float phase = mix(hg(mu, S.phase.y), hg(mu, S.phase.x), S.phase.z);
+  vec2 seg = shell_segment(ro, rd, t_max);
+  if (seg.x < seg.y) {
+    float n = mix(S.march.z, S.march.y, saturate(abs(rd.y)));
+    float dt = (seg.y - seg.x) / n;
+    float t = seg.x + dt * pixel_hash(vec2(pixel), uint(S.misc.z));
+    for (int i = 0; i < int(n); ++i) {
+      if (t >= seg.y || transmittance < 0.01) break;
+      steps += 1.0;
+      vec3 p = ro + rd * t;
+      float cheap = density(p, true);
+      if (cheap > 0.0) {
+        float dens = density(p, false);
+        if (dens > 0.0) {
+          float hf = saturate((altitude(p) - S.shell.x) / (S.shell.y - S.shell.x));
+          float od = light_optical_depth(p, l);
+          vec3 light_in = S.sun_color.rgb * (exp(-od) * phase + S.phase.w * exp(-od * 0.25) * 0.5 / (4.0 * kPi));
+          light_in += S.ambient_color.rgb * mix(0.35, 1.0, hf);
+          float sigma_t = max(dens * S.march.x, 1e-7);
+          float tr = exp(-sigma_t * dt);
+          vec3 s_in = light_in * sigma_t;
+          radiance += transmittance * (s_in - s_in * tr) / sigma_t;
+          float before = transmittance;
+          transmittance *= tr;
+          if (before >= 0.5 && transmittance < 0.5) depth50 = t;
+        }
+      }
+      t += dt;
+    }
+  }
+  vec4 hl = high_layers(ro, rd, t_max);
+  if (hl.x > 0.0) {
+    vec3 c = S.sun_color.rgb * hg(mu, 0.6) * 0.6 + S.ambient_color.rgb;
+    radiance += transmittance * hl.x * c;
+    float before = transmittance;
+    transmittance *= 1.0 - hl.x;
+    if (before >= 0.5 && transmittance < 0.5) depth50 = hl.w;
+  }
+  if (depth50 > 1e5 && transmittance < 1.0) depth50 = seg.x < seg.y ? 0.5 * (seg.x + seg.y) : hl.w;
+  imageStore(out_color, block, vec4(radiance, transmittance));
+  imageStore(out_depth, block, vec4(depth50, steps, 0.0, 0.0));
+}
