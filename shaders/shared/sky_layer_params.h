@@ -17,6 +17,8 @@ CUMULO_SHARED_BEGIN
 #define SKY_BINDING_OUT_COLOR 6    // image2D rgba16f: rgb radiance, a transmittance
 #define SKY_BINDING_OUT_DEPTH 7    // image2D rgba32f: x opacity-0.5 distance (1e6: none), y steps
 #define SKY_MAX_YIELD_BOXES 4      // voxel cloudscape boxes the layer yields to
+#define SKY_BINDING_PROBE_POINTS 8 // sky_layer_probe.comp: vec4 world points
+#define SKY_BINDING_PROBE_OUT 9    // sky_layer_probe.comp: float densities
 
 struct SkyLayerParams {
   mat4 inv_view_proj;

@@ -7,6 +7,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/png.h"
+#include "engine/gpu/barrier.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/descriptors.h"
@@ -53,7 +54,8 @@ void apply_weather(const weather::WeatherState& w, SkyLayerFrame& sky) {
   sky.anvil_bias = w.anvil_bias;
   sky.map = w.cloud_map;
   // Fewer high clouds under a closing low deck (they would not be seen) and in clear weather.
-  sky.high_coverage = 0.2f + 0.3f * std::clamp(w.coverage, 0.0f, 1.0f) * (1.0f - std::clamp(w.precipitation, 0.0f, 1.0f));
+  sky.high_coverage =
+      0.2f + 0.3f * std::clamp(w.coverage, 0.0f, 1.0f) * (1.0f - std::clamp(w.precipitation, 0.0f, 1.0f));
 }
 
 CloudMapImage make_cloud_map(const weather::CloudMapSource& src, uint32_t n) {
@@ -96,6 +98,8 @@ struct SkyLayer::Impl {
   float map_tile_m = 32000.0f;
   gpu::Pipeline* march = nullptr;
   gpu::Pipeline* reconstruct = nullptr;
+  gpu::Pipeline* probe = nullptr;  // built on first use
+  gpu::PipelineLibrary& library;
   gpu::Buffer ubo[gpu::kFramesInFlight];
   gpu::Buffer recon_ubo[gpu::kFramesInFlight];  // reconstruct.comp reads CloudParams' camera fields
   cumulo::render::GpuHistory history{"clouds.sky_layer.history", VK_FORMAT_R16G16B16A16_SFLOAT, 0.5f,
@@ -105,7 +109,52 @@ struct SkyLayer::Impl {
   bool have_last = false;
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
 
-  explicit Impl(gpu::Context& c) : ctx(c) {}
+  Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
+
+  // This frame's parameter block (camera, sun, weather, wind, the yield boxes of `in`'s instances).
+  shared::SkyLayerParams params(const SkyLayerFrame& sky, const CloudFrameInputs& in) const {
+    const CloudSettings& s = in.settings;
+    const double t = in.time;
+
+    shared::SkyLayerParams p{};
+    p.inv_view_proj = in.camera.inv_view_proj;
+    p.camera_pos = glm::vec4(in.camera.position, float(t));
+    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
+    p.sun_color = glm::vec4(in.sun_color, 0.0f);
+    p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
+    p.shell =
+        glm::vec4(sky.bottom_m, std::max(sky.top_m, sky.bottom_m + 1.0f), sky.planet_radius_m, sky.draw_distance_m);
+    p.weather = glm::vec4(std::clamp(sky.coverage, 0.0f, 1.0f), std::clamp(sky.cloud_type, 0.0f, 1.0f),
+                          std::clamp(sky.precipitation, 0.0f, 1.0f), std::clamp(sky.anvil_bias, 0.0f, 1.0f));
+    const float wl = glm::length(sky.wind_direction);
+    const glm::vec3 wind = wl > 0.0f ? sky.wind_direction / wl : glm::vec3(1.0f, 0.0f, 0.0f);
+    // Drift and scroll wrap at a multiple of their tiles, so float precision holds over hours.
+    const double travelled = double(sky.wind_speed) * t;
+    const float drift = float(std::fmod(travelled, double(map_tile_m) * 64.0));
+    p.wind = glm::vec4(wind.x * drift, wind.z * drift, std::clamp(sky.height_skew, 0.0f, 1.0f),
+                       float(std::fmod(travelled * 0.5, 6000.0 * 64.0)));
+    p.wind_dir = glm::vec4(wind, map_tile_m);
+    p.shape = glm::vec4(6000.0f, 700.0f, 180.0f, 0.35f);
+    p.horizon = glm::vec4(sky.horizon_bias_start_m, sky.draw_distance_m, sky.horizon_coverage, 1.0f);
+    p.march =
+        glm::vec4(s.extinction * sky.extinction_scale, 64.0f, 128.0f, 120.0f);  // 2015: 64 up .. 128 at the horizon
+    p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
+    p.high = glm::vec4(std::clamp(sky.high_coverage, 0.0f, 1.0f), sky.high_altitude_m, 24000.0f, 0.8f);
+    const float cirrus = float(std::fmod(travelled * 3.0, 24000.0 * 64.0)),
+                alto = float(std::fmod(travelled * 1.5, 24000.0 * 64.0));
+    p.high_scroll = glm::vec4(wind.x * cirrus, wind.z * cirrus, -wind.z * alto, wind.x * alto);  // alto at right angles
+    uint32_t boxes = 0;
+    for (const CloudInstance& inst : in.instances) {
+      if (boxes == SKY_MAX_YIELD_BOXES) break;
+      glm::vec3 lo, hi;
+      instance_world_bounds(inst, lo, hi);
+      p.yield_min[boxes] = glm::vec4(lo, 0.0f);
+      p.yield_max[boxes] = glm::vec4(hi, 0.0f);
+      ++boxes;
+    }
+    p.misc = glm::vec4(std::max(sky.yield_fade_m, 1.0f), float(boxes), float(in.frame_index % 64), 0.0f);
+    return p;
+  }
 
   gpu::Image load(const fs::path& file) {
     const Volume v = load_volume(file);
@@ -129,8 +178,8 @@ struct SkyLayer::Impl {
       throw;
     }
     if (map_loaded) ctx.wait_idle();  // frames in flight may sample the old map
-    map_image = gpu::Image(ctx, gpu::ImageDesc::tex2d(m.width, m.height, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT,
-                                                      1, "clouds.sky_layer.cloud_map"));
+    map_image = gpu::Image(ctx, gpu::ImageDesc::tex2d(m.width, m.height, VK_FORMAT_R8G8B8A8_UNORM,
+                                                      VK_IMAGE_USAGE_SAMPLED_BIT, 1, "clouds.sky_layer.cloud_map"));
     map_image.upload({{m.rgba.data(), m.rgba.size()}});
     map_tile_m = m.tile_m;
     map_source = src;
@@ -139,7 +188,7 @@ struct SkyLayer::Impl {
 };
 
 SkyLayer::SkyLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const fs::path& dir)
-    : impl_(std::make_unique<Impl>(ctx)) {
+    : impl_(std::make_unique<Impl>(ctx, library)) {
   Impl& m = *impl_;
   m.base = m.load(dir / "sky_noise_base.nvdf");
   m.detail = m.load(dir / "sky_noise_detail.nvdf");
@@ -147,8 +196,8 @@ SkyLayer::SkyLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const fs::p
   m.march = &library.compute({.shader = "clouds/sky_layer.comp", .name = "clouds.sky_layer"});
   m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.sky_layer_reconstruct"});
   for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i) {
-    m.ubo[i] = gpu::Buffer(ctx, {sizeof(shared::SkyLayerParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
-                                 "clouds.sky_layer.params"});
+    m.ubo[i] = gpu::Buffer(ctx, {sizeof(shared::SkyLayerParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                 gpu::MemoryUsage::Dynamic, "clouds.sky_layer.params"});
     m.recon_ubo[i] = gpu::Buffer(ctx, {sizeof(shared::CloudParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                        gpu::MemoryUsage::Dynamic, "clouds.sky_layer.camera"});
   }
@@ -168,6 +217,46 @@ uint64_t SkyLayer::gpu_bytes() const {
   return bytes(impl_->base) + bytes(impl_->detail) + bytes(impl_->curl) + bytes(impl_->map_image);
 }
 
+std::vector<float> SkyLayer::probe_density(const SkyLayerFrame& sky, const CloudFrameInputs& in,
+                                           const std::vector<glm::vec3>& points) {
+  Impl& m = *impl_;
+  if (points.empty()) return {};
+  m.ensure_map(sky.map);
+  if (!m.probe)
+    m.probe = &m.library.compute({.shader = "clouds/sky_layer_probe.comp", .name = "clouds.sky_layer_probe"});
+  const shared::SkyLayerParams p = m.params(sky, in);
+  const uint32_t n = uint32_t(points.size());
+  gpu::Buffer ubo(m.ctx, {sizeof p, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic, "sky probe params"});
+  std::memcpy(ubo.mapped(), &p, sizeof p);
+  gpu::Buffer in_buf(m.ctx, {n * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
+                             "sky probe points"});
+  std::vector<glm::vec4> pts(n);
+  for (uint32_t i = 0; i < n; ++i) pts[i] = glm::vec4(points[i], 1.0f);
+  std::memcpy(in_buf.mapped(), pts.data(), n * sizeof(glm::vec4));
+  gpu::Buffer out_buf(
+      m.ctx, {n * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Readback, "sky probe out"});
+  m.ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+    m.probe->bind(cmd);
+    gpu::DescriptorWriter()
+        .uniform_buffer(SKY_BINDING_PARAMS, ubo.handle(), 0, sizeof p)
+        .sampled_image(SKY_BINDING_CLOUD_MAP, m.map_image.view(), m.linear_repeat)
+        .sampled_image(SKY_BINDING_BASE_NOISE, m.base.view(), m.linear_repeat)
+        .sampled_image(SKY_BINDING_DETAIL_NOISE, m.detail.view(), m.linear_repeat)
+        .sampled_image(SKY_BINDING_CURL, m.curl.view(), m.linear_repeat)
+        .storage_buffer(SKY_BINDING_PROBE_POINTS, in_buf.handle())
+        .storage_buffer(SKY_BINDING_PROBE_OUT, out_buf.handle())
+        .push(m.ctx, cmd, *m.probe);
+    const glm::uvec4 count(n, 0, 0, 0);
+    m.probe->push_constants(cmd, count);
+    m.probe->dispatch_threads(cmd, n, 1, 1);
+    gpu::cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                            VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  });
+  std::vector<float> out(n);
+  out_buf.download(out.data(), n * sizeof(float));
+  return out;
+}
+
 SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky,
                                        const CloudFrameInputs& in, TextureHandle scene_depth) {
   if (!sky.enabled) return {};
@@ -175,41 +264,7 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
   m.ensure_map(sky.map);
   const CloudSettings& s = in.settings;
   const double t = in.time;
-
-  shared::SkyLayerParams p{};
-  p.inv_view_proj = in.camera.inv_view_proj;
-  p.camera_pos = glm::vec4(in.camera.position, float(t));
-  p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
-  p.sun_color = glm::vec4(in.sun_color, 0.0f);
-  p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
-  p.shell = glm::vec4(sky.bottom_m, std::max(sky.top_m, sky.bottom_m + 1.0f), sky.planet_radius_m, sky.draw_distance_m);
-  p.weather = glm::vec4(std::clamp(sky.coverage, 0.0f, 1.0f), std::clamp(sky.cloud_type, 0.0f, 1.0f),
-                        std::clamp(sky.precipitation, 0.0f, 1.0f), std::clamp(sky.anvil_bias, 0.0f, 1.0f));
-  const float wl = glm::length(sky.wind_direction);
-  const glm::vec3 wind = wl > 0.0f ? sky.wind_direction / wl : glm::vec3(1.0f, 0.0f, 0.0f);
-  // Drift and scroll wrap at a multiple of their tiles, so float precision holds over hours.
-  const double travelled = double(sky.wind_speed) * t;
-  const float drift = float(std::fmod(travelled, double(m.map_tile_m) * 64.0));
-  p.wind = glm::vec4(wind.x * drift, wind.z * drift, std::clamp(sky.height_skew, 0.0f, 1.0f),
-                     float(std::fmod(travelled * 0.5, 6000.0 * 64.0)));
-  p.wind_dir = glm::vec4(wind, m.map_tile_m);
-  p.shape = glm::vec4(6000.0f, 700.0f, 180.0f, 0.35f);
-  p.horizon = glm::vec4(sky.horizon_bias_start_m, sky.draw_distance_m, sky.horizon_coverage, 1.0f);
-  p.march = glm::vec4(s.extinction * sky.extinction_scale, 64.0f, 128.0f, 120.0f);  // 2015: 64 up .. 128 at the horizon
-  p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
-  p.high = glm::vec4(std::clamp(sky.high_coverage, 0.0f, 1.0f), sky.high_altitude_m, 24000.0f, 0.8f);
-  const float cirrus = float(std::fmod(travelled * 3.0, 24000.0 * 64.0)), alto = float(std::fmod(travelled * 1.5, 24000.0 * 64.0));
-  p.high_scroll = glm::vec4(wind.x * cirrus, wind.z * cirrus, -wind.z * alto, wind.x * alto);  // alto at right angles
-  uint32_t boxes = 0;
-  for (const CloudInstance& inst : in.instances) {
-    if (boxes == SKY_MAX_YIELD_BOXES) break;
-    glm::vec3 lo, hi;
-    instance_world_bounds(inst, lo, hi);
-    p.yield_min[boxes] = glm::vec4(lo, 0.0f);
-    p.yield_max[boxes] = glm::vec4(hi, 0.0f);
-    ++boxes;
-  }
-  p.misc = glm::vec4(std::max(sky.yield_fade_m, 1.0f), float(boxes), float(in.frame_index % 64), 0.0f);
+  const shared::SkyLayerParams p = m.params(sky, in);
   const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight];
   std::memcpy(ubo.mapped(), &p, sizeof p);
 
@@ -235,23 +290,27 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
   const VkExtent2D full = graph.output_size();
   const uint32_t hw = std::max(1u, (full.width + 1) / 2), hh = std::max(1u, (full.height + 1) / 2);
   const uint32_t sw = (hw + kBlock - 1) / kBlock, sh = (hh + kBlock - 1) / kBlock;
-  TextureHandle sub_c = graph.create_texture("clouds.sky_layer.sub_color", TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, sw, sh));
-  TextureHandle sub_d = graph.create_texture("clouds.sky_layer.sub_depth", TextureDesc::absolute(VK_FORMAT_R32G32B32A32_SFLOAT, sw, sh));
-  TextureHandle out_d = graph.create_texture("clouds.sky_layer.depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, 0.5f));
-  TextureHandle base = graph.import_texture("clouds.sky_layer.base_noise", texture_desc_3d(m.base), m.base.handle(), m.base.view(),
-                                            cumulo::render::ResourceState::shader_read_only());
-  TextureHandle detail = graph.import_texture("clouds.sky_layer.detail_noise", texture_desc_3d(m.detail), m.detail.handle(),
-                                              m.detail.view(), cumulo::render::ResourceState::shader_read_only());
-  TextureHandle curl = graph.import_texture("clouds.sky_layer.curl", texture_desc_3d(m.curl), m.curl.handle(), m.curl.view(),
-                                            cumulo::render::ResourceState::shader_read_only());
+  TextureHandle sub_c =
+      graph.create_texture("clouds.sky_layer.sub_color", TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, sw, sh));
+  TextureHandle sub_d =
+      graph.create_texture("clouds.sky_layer.sub_depth", TextureDesc::absolute(VK_FORMAT_R32G32B32A32_SFLOAT, sw, sh));
+  TextureHandle out_d =
+      graph.create_texture("clouds.sky_layer.depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, 0.5f));
+  TextureHandle base = graph.import_texture("clouds.sky_layer.base_noise", texture_desc_3d(m.base), m.base.handle(),
+                                            m.base.view(), cumulo::render::ResourceState::shader_read_only());
+  TextureHandle detail =
+      graph.import_texture("clouds.sky_layer.detail_noise", texture_desc_3d(m.detail), m.detail.handle(),
+                           m.detail.view(), cumulo::render::ResourceState::shader_read_only());
+  TextureHandle curl = graph.import_texture("clouds.sky_layer.curl", texture_desc_3d(m.curl), m.curl.handle(),
+                                            m.curl.view(), cumulo::render::ResourceState::shader_read_only());
   const VkExtent3D me = m.map_image.extent();
-  TextureHandle map = graph.import_texture("clouds.sky_layer.cloud_map",
-                                           TextureDesc::absolute(VK_FORMAT_R8G8B8A8_UNORM, me.width, me.height),
-                                           m.map_image.handle(), m.map_image.view(),
-                                           cumulo::render::ResourceState::shader_read_only());
+  TextureHandle map = graph.import_texture(
+      "clouds.sky_layer.cloud_map", TextureDesc::absolute(VK_FORMAT_R8G8B8A8_UNORM, me.width, me.height),
+      m.map_image.handle(), m.map_image.view(), cumulo::render::ResourceState::shader_read_only());
   Impl* mp = &m;
   const VkBuffer ubo_h = ubo.handle(), recon_h = recon_ubo.handle();
-  graph.add_pass("clouds.sky_layer", Queue::Compute,
+  graph.add_pass(
+      "clouds.sky_layer", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(map, Usage::Sampled);
         b.read(base, Usage::Sampled);
@@ -283,7 +342,8 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
       });
   TextureHandle prev = h.previous, next = h.current;
   const bool valid = h.valid;
-  graph.add_pass("clouds.sky_layer_reconstruct", Queue::Compute,
+  graph.add_pass(
+      "clouds.sky_layer_reconstruct", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(sub_c, Usage::Sampled);
         b.read(sub_d, Usage::Sampled);

@@ -83,6 +83,9 @@ class SkyLayer {
   Outputs add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky, const CloudFrameInputs& in,
                      cumulo::render::TextureHandle scene_depth);
   uint64_t gpu_bytes() const;
+  // The layer's density (full detail) at world points with these parameters (sky_layer_probe.comp):
+  // for tests and debugging; waits for the device.
+  std::vector<float> probe_density(const SkyLayerFrame& sky, const CloudFrameInputs& in, const std::vector<glm::vec3>& points);
 
  private:
   struct Impl;

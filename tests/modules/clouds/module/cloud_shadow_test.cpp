@@ -16,10 +16,8 @@ namespace {
 using test::CloudsRun;
 using test::Png;
 using test::load_png;
+using test::luminance;
 
-double luminance(const Png& p, int x, int y) {
-  return 0.2126 * p.at(x, y, 0) + 0.7152 * p.at(x, y, 1) + 0.0722 * p.at(x, y, 2);
-}
 
 // The sample terrain from above at 14:00, the test's small cloud (scaled 2x) 1 km up west of the main
 // island: its shadow falls on the island's north-west slope.

@@ -18,6 +18,11 @@ namespace cumulo::test {
 
 namespace fs = std::filesystem;
 
+// Rec. 709 luminance of an 8-bit pixel.
+inline double luminance(const Png& p, int x, int y) {
+  return 0.2126 * p.at(x, y, 0) + 0.7152 * p.at(x, y, 1) + 0.0722 * p.at(x, y, 2);
+}
+
 class CloudsRun : public ::testing::Test {
  protected:
   void SetUp() override {
