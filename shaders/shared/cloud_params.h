@@ -156,6 +156,28 @@ struct CloudEffectsPush {
 };
 CUMULO_SHARED_SIZE(CloudEffectsPush, 16)
 
+// ---- Light shafts (light_shafts.comp, light_shafts_apply.comp) -------------------------------------
+#define SHAFT_BINDING_PARAMS 0      // uniform CloudShaftParams
+#define SHAFT_BINDING_DEPTH 1       // sampler2D: scene depth (reversed-Z)
+#define SHAFT_BINDING_CLOUDS 2      // sampler2D: voxel cloud colour (a: transmittance)
+#define SHAFT_BINDING_SKY 3         // sampler2D: the 2.5D sky's colour (a: transmittance), or a white 1x1
+#define SHAFT_BINDING_OUT 4         // image2D r16f: shaft intensity (light_shafts.comp)
+#define SHAFT_BINDING_SHAFTS 5      // sampler2D: shaft intensity (light_shafts_apply.comp)
+#define SHAFT_BINDING_HDR 6         // image2D rgba16f: scene colour, read-modify-write
+#define SHAFT_BINDING_CLOUD_DEPTH 7 // sampler2D: voxel cloud depth (x: opacity-0.5 distance)
+
+struct CloudShaftParams {
+  mat4 inv_view_proj;
+  mat4 view_proj;
+  vec4 camera_pos;  // xyz; w unused
+  vec4 sun_dir;     // xyz toward the sun; w: cos of the highlight's angular radius
+  vec4 sun_screen;  // xy: the sun's uv on screen (may lie outside 0..1); z: 1 = in front of the camera; w: samples
+  vec4 mie;         // x: Mie g, y: strength, z: haze density (1/m at sea level), w: haze falloff (1/m)
+  vec4 sun_color;   // rgb: sun illuminance (pi x radiance); w: decay per sample
+  vec4 misc;        // x: sky distance (m), y: darkest fraction kept, z: blur length (fraction of the way to the sun), w unused
+};
+CUMULO_SHARED_SIZE(CloudShaftParams, 224)
+
 CUMULO_SHARED_END
 
 #endif

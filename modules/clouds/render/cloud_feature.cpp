@@ -56,6 +56,7 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-light-sample-noise", "mean|sampled",
               "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_)
       .option("--cloud-shadows", "on|off", "the clouds' shadow on the terrain and the ocean (default on)", &shadows_text_)
+      .option("--cloud-light-shafts", "on|off", "light shafts through gaps in the clouds (default on)", &shafts_text_)
       .option("--cloud-sky", "auto|on|off",
               "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
               &sky_text_)
@@ -67,6 +68,7 @@ void CloudFeature::check_run_options() {
   options_.enabled = parse_on_off("--clouds", clouds_text_);
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
   options_.shadows = parse_on_off("--cloud-shadows", shadows_text_);
+  options_.light_shafts = parse_on_off("--cloud-light-shafts", shafts_text_);
   options_.sky.reset();
   if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;
@@ -195,12 +197,14 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
   effects_ = std::make_unique<CloudEffects>(g.ctx, g.library);
   if (sky_enabled_) sky_ = std::make_unique<SkyLayer>(g.ctx, g.library, prepare_sky_noise());
+  if (options_.light_shafts) shafts_ = std::make_unique<LightShafts>(g.ctx, g.library);
 }
 
 void CloudFeature::destroy_gpu() {
   steps_buffer_.reset();
   steps_pixels_ = 0;
   sky_.reset();
+  shafts_.reset();
   resources_.reset();
   effects_.reset();
   cache_.reset();
@@ -283,10 +287,20 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   }
   const bool effects = !fx.bolts.empty() || !fx.rain.empty();
   CloudPassOutputs outputs;
-  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, measure_steps_ || effects ? &outputs : nullptr, &light_);
+  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_);
   light_ = {};
   if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
   if (effects) f.hdr = effects_->add_passes(f.graph, fx, f.hdr, f.depth, outputs);
+  if (shafts_) {
+    LightShaftInputs li;
+    li.camera = s.camera;
+    li.slot = f.slot;
+    li.sun_direction = in.sun_direction;
+    li.sun_color = in.sun_color;
+    li.haze_density = in.haze_density;
+    li.haze_falloff = in.haze_falloff;
+    f.hdr = shafts_->add_passes(f.graph, li, f.hdr, f.depth, outputs, in.sky_color);
+  }
 }
 
 void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth) {

@@ -16,6 +16,7 @@
 //   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
 //                              (default: 96x96x16 on CPU devices, the talk's elsewhere)
 //   --cloud-shadows on|off     the clouds' shadow on the terrain and the ocean (default on)
+//   --cloud-light-shafts on|off  light shafts through gaps in the clouds (light_shafts.h; default on)
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
 #include <filesystem>
@@ -34,6 +35,7 @@
 #include "engine/render/render_feature.h"
 #include "modules/clouds/render/cloud_effects.h"
 #include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/render/light_shafts.h"
 #include "modules/clouds/render/sky_layer.h"
 #include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_state.h"
@@ -75,6 +77,7 @@ struct CloudRunOptions {
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
+  bool light_shafts = true;  // --cloud-light-shafts
   std::optional<weather::WeatherState> weather;  // --weather ID: applied every frame (weather_lighting.h)
   int noise_size = 128;
 };
@@ -118,13 +121,15 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::optional<weather::WeatherLibrary> weather_lib_;  // loaded when the level has a WeatherScheduler
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
-      light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto";
+      light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
+      shafts_text_ = "on";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
   CloudResourcesPtr resources_;
   std::unique_ptr<CloudEffects> effects_;
   std::unique_ptr<SkyLayer> sky_;
+  std::unique_ptr<LightShafts> shafts_;
   bool sky_enabled_ = false;  // resolved at on_level_loaded
   glm::vec3 last_camera_{0.0f};
   std::string last_camera_name_;

@@ -1,4 +1,4 @@
-// The clouds' shadow on the scene (issue 10): a cloud over the sample terrain darkens the ground where
+// The clouds' shadow on the scene and their light shafts (issue 10): a cloud over the sample terrain darkens the ground where
 // the sun's ray through it lands, and nowhere with `--clouds off`, `--cloud-shadows off` or once the
 // cloud has dissipated. Headless on lavapipe with validation (run() fails on a validation error).
 #include <gtest/gtest.h>
@@ -87,4 +87,41 @@ TEST_F(CloudsRun, ACloudShadowsTheTerrainUnderItAndNothingWithoutIt) {
   EXPECT_EQ(shadow_stats(off, off, off).pixels, 0);
   // A dissipated cloud casts none: its frame is the cloudless one.
   EXPECT_EQ(gone.rgba, gone_off.rgba);
+}
+
+// Light shafts (2017 talk): with the sun straight behind the test cloud, the sky around the cloud loses
+// some of its Mie glow (the shadowed air), and with the cloud beside the sun almost nothing changes.
+TEST_F(CloudsRun, LightShaftsDarkenTheHazeBehindACloudInFrontOfTheSun) {
+  // 17:00: the sun toward (-0.953, 0.301, 0.01); the camera 900 m from the cloud's centre, away from the sun.
+  auto write_level = [&](const std::string& name, const std::string& cloud_position) {
+    const fs::path file = dir_ / (name + ".json");
+    write_file_atomic(file, R"({"version": 1, "name": "shafts", "entities": [
+      {"name": "sun", "components": {"TimeOfDay": {"hours": 17}}},
+      {"name": "cloud", "components": {"Transform": {"position": )" + cloud_position + R"(}, "Cloudscape": {"asset": "small_cloud.json"}}},
+      {"name": "cam", "components": {"Transform": {"position": [858, 357, -9], "look_at": [0, 628, 0]}, "Camera": {}}}]})");
+    return file;
+  };
+  const fs::path behind = write_level("behind", "[0, 500, 0]"), beside = write_level("beside", "[0, 500, 700]");
+  ASSERT_EQ(run(behind, "on.png", {}, 8), 0);
+  ASSERT_EQ(run(behind, "off.png", {"--cloud-light-shafts", "off"}, 8), 0);
+  ASSERT_EQ(run(beside, "beside_on.png", {}, 8), 0);
+  ASSERT_EQ(run(beside, "beside_off.png", {"--cloud-light-shafts", "off"}, 8), 0);
+  const Png on = load_png(dir_ / "on.png"), off = load_png(dir_ / "off.png");
+  const Png beside_on = load_png(dir_ / "beside_on.png"), beside_off = load_png(dir_ / "beside_off.png");
+  // The sky within 30 px of the view's centre (the sun), where the cloud itself is not (same in both runs
+  // of the beside level, which has no cloud there).
+  auto ratio = [&](const Png& a, const Png& b) {
+    double sa = 0, sb = 0;
+    for (int y = 0; y < a.h; ++y)
+      for (int x = 0; x < a.w; ++x) {
+        const double r = std::hypot(x + 0.5 - a.w / 2.0, y + 0.5 - a.h / 2.0);
+        if (r < 30.0) sa += luminance(a, x, y), sb += luminance(b, x, y);
+      }
+    return sa / sb;
+  };
+  const double behind_ratio = ratio(on, off), beside_ratio = ratio(beside_on, beside_off);
+  std::printf("  luminance within 30 px of the sun, shafts on / off: cloud in front %.3f, cloud beside %.3f\n",
+              behind_ratio, beside_ratio);
+  EXPECT_LT(behind_ratio, 0.98);
+  EXPECT_GT(beside_ratio, 0.995);
 }
