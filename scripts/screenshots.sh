@@ -4,12 +4,14 @@
 # states from the mixed camera (docs/images/weather/<state>_<time>.png), and the Stormbird encounter
 # (docs/images/stormbird/: the storm cloud before, during and after stormbird_killed, a ground discharge
 # with its rain, the lair lit from inside by a flash), and the sky at dawn, noon, sunset and night from the
-# ground and the air (docs/images/sky/). Builds first.
-# Usage: scripts/screenshots.sh [WxH] [FRAMES]   (default 480x270, 12 frames so the temporal accumulation settles)
+# ground and the air (docs/images/sky/, with the 2.5D sky beyond the voxel clouds), the clouds' shadows and
+# light shafts with and without them (docs/images/sky/{shadows,shafts}_{on,off}.png). Builds first.
+# Usage: scripts/screenshots.sh [WxH] [FRAMES]   (default 480x270, 16 frames: the temporal accumulation
+# settles and the 2.5D sky's 1-in-16 reprojection has marched every pixel)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SIZE=${1:-480x270}
-FRAMES=${2:-12}
+FRAMES=${2:-16}
 scripts/build.sh >/dev/null
 BUILD_DIR=${CUMULO_BUILD_DIR:-build}
 mkdir -p docs/images
@@ -57,4 +59,13 @@ for tod in dawn:5.9 noon:12.5 sunset:18.9 night:22.5; do
       --screenshot "docs/images/sky/${tod%%:*}_${view%%:*}.png" >/dev/null
     echo "docs/images/sky/${tod%%:*}_${view%%:*}.png"
   done
+done
+# The clouds' shadows on the terrain and the ocean, and light shafts through gaps toward a low sun.
+for m in on off; do
+  "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --camera mixed --time-of-day 12.5 \
+    --size "$SIZE" --frames "$FRAMES" --cloud-shadows "$m" --screenshot "docs/images/sky/shadows_$m.png" >/dev/null
+  echo "docs/images/sky/shadows_$m.png"
+  "$BUILD_DIR/cumulo" run content/levels/sample/level.json --headless --camera shafts --time-of-day 17 \
+    --size "$SIZE" --frames "$FRAMES" --cloud-light-shafts "$m" --screenshot "docs/images/sky/shafts_$m.png" >/dev/null
+  echo "docs/images/sky/shafts_$m.png"
 done

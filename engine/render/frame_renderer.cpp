@@ -12,6 +12,7 @@
 #include "engine/gpu/sampler.h"
 #include "engine/render/graph/executor.h"
 #include "engine/render/gpu_scene.h"
+#include "engine/render/light_depth.h"
 #include "engine/render/pass_helpers.h"
 #include "engine/render/uniform_allocator.h"
 #include "engine/render/atmosphere/atmosphere_passes.h"
@@ -43,6 +44,7 @@ struct FrameRenderer::Impl {
   gpu::Pipeline* tonemap = nullptr;  // for tonemap_format
   std::unique_ptr<AtmospherePasses> atmosphere;  // its LUTs (the sky pass reads the sky view)
   gpu::Image no_shadow;  // 1x1 white: the geometry's light-shadow binding when no feature casts shadows
+  std::unique_ptr<LightDepthMap> light_depth;  // the geometry from the key light (modules read it)
   VkFormat tonemap_format = VK_FORMAT_UNDEFINED;
 
   Impl(gpu::Context& c, const std::filesystem::path& shader_root)
@@ -99,6 +101,9 @@ struct FrameRenderer::Impl {
                                                       "no light shadow"));
     const uint16_t one = 0x3C00;  // 1.0 in half precision
     no_shadow.upload({{&one, sizeof one}});
+    // 4 m texels over the 4 km sample level at 1024 (8 m at 512 on CPU devices, where the map's rare
+    // re-renders cost more).
+    light_depth = std::make_unique<LightDepthMap>(ctx, library, scene, ctx.info().is_cpu() ? 512u : 1024u);
   }
   void ensure_tonemap(VkFormat out) {
     if (tonemap && tonemap_format == out) return;
@@ -201,6 +206,7 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   auto run_stage = [&](Stage stage) {
     for (RenderFeature* f : features_) f->add_passes(stage, frame);
   };
+  if (!features_.empty()) frame.light_depth = m.light_depth->add_pass(graph, s);
   run_stage(Stage::BeforeScene);
   // A feature's light-shadow map (cloud shadows) reaches the scene passes through the frame parameters:
   // pushed again with the map's plane, for the geometry and every later stage.

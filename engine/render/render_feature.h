@@ -25,6 +25,7 @@
 
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/graph/render_graph.h"
+#include "engine/render/light_depth.h"
 #include "engine/render/uniform_allocator.h"
 
 namespace cumulo::gpu {
@@ -71,6 +72,7 @@ struct StageContext {
   TextureHandle output;        // AfterTonemap only: the frame's target
   VkFormat output_format = VK_FORMAT_UNDEFINED;  // the target's format (swapchain or offscreen)
   LightShadowMap light_shadow;  // set at Stage::BeforeScene by the feature that casts shadows (one)
+  LightDepth light_depth;       // the geometry's depth from the key light (every stage; invalid: none)
 };
 
 class RenderFeature {

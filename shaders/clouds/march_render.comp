@@ -76,6 +76,26 @@ struct PixelData {
 
 #include "clouds/light_grid_lookup.glsl"
 
+// The terrain between a cloud sample and the key light (issue 10: "the sun behind a mountain darkens
+// the cloud base near it"): the geometry's depth map from the light (render/light_depth.h), with the
+// shadow's edge softened over 40 m of depth.
+#ifndef TERRAIN_SHADOW
+#define TERRAIN_SHADOW 0
+#endif
+#if TERRAIN_SHADOW
+layout(set = 0, binding = CLOUD_BINDING_TERRAIN_DEPTH) uniform sampler2D terrain_depth_tex;
+float terrain_visibility(vec3 world) {
+  vec4 c = P.light_depth * vec4(world, 1.0);
+  vec3 n = c.xyz / c.w;
+  vec2 uv = n.xy * 0.5 + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || n.z <= 0.0) return 1.0;
+  float occluder = textureLod(terrain_depth_tex, uv, 0.0).r;
+  return saturate(1.0 - (n.z - occluder) * P.haze.w / 40.0);
+}
+#else
+float terrain_visibility(vec3 world) { return 1.0; }
+#endif
+
 // Optical depth toward the sun from an asset-space point (world metres of density x extinction).
 float sun_optical_depth(sampler3D modeling, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
   vec3 sun = inst.sun_dir.xyz;
@@ -159,9 +179,9 @@ void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd
         float od_sun = sun_optical_depth(modeling, i, inst, q, ts, mip, mean_noise);
         float od_sky = light_grid(i, q).y * ext * P.light.y;
         float ms = ds.profile * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
-        vec3 light_in = P.sun_color.rgb * (exp(-od_sun) * phase + ms * P.phase.w / (4.0 * kPi));
-        light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
         vec3 world_q = ro + rd * ts;
+        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * P.phase.w / (4.0 * kPi)));
+        light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
         for (uint l = 0u; l < P.frame.z; ++l) {
           float d1 = distance(world_q, P.light_pos[l].xyz);
           float potential = pow(saturate(1.0 - d1 / P.light_pos[l].w), 12.0);

@@ -31,6 +31,7 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_NEAR_IN 9     // sampler2D: the far march reads the near layer's transmittance (early exit)
 #define CLOUD_BINDING_MODELING_1 10 // sampler3D: the second asset's modeling NVDF (CLOUD_ASSET_SLOTS 2)
 #define CLOUD_BINDING_FIELD_1 11    // sampler3D: the second asset's signed distance
+#define CLOUD_BINDING_TERRAIN_DEPTH 13  // sampler2D (TERRAIN_SHADOW 1): the geometry's depth from the key light
 // shadow_map.comp (reads PARAMS and LIGHT_GRID)
 #define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp
@@ -96,14 +97,16 @@ struct CloudParams {
   vec4 light;           // x: length of each of the two marched light samples (m), y: sky (ambient) optical-depth scale, z: base light march length (256 m), w: base light samples (10)
   vec4 misc;            // x: jitter scale, y: temporal blend (weight of the new frame), z: light-grid debug slice 0..1, w: 1 = history valid
   uvec4 frame;          // x: frame index, y: instance count, z: point-light count, w: debug view
-  vec4 haze;            // aerial perspective of the composite: x fog density at sea level (1/m), y height falloff (1/m); z, w unused
+  vec4 haze;            // aerial perspective of the composite: x fog density at sea level (1/m), y height falloff (1/m);
+                        // z: 1 = the terrain's light depth map is bound (TERRAIN_SHADOW), w: its metres per unit depth
   vec4 sky_zenith;      // rgb: the sky straight up (the colour the haze tends to, with sky_horizon)
   vec4 sky_horizon;     // rgb: the sky at the horizon
   vec4 light_pos[CLOUD_MAX_POINT_LIGHTS];    // xyz: world position; w: radius (m)
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
+  mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1120)
+CUMULO_SHARED_SIZE(CloudParams, 1184)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

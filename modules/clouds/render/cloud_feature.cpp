@@ -56,6 +56,7 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-light-sample-noise", "mean|sampled",
               "noise in the two marched light samples: its mean (default), or sampled as in the talk", &light_noise_text_)
       .option("--cloud-shadows", "on|off", "the clouds' shadow on the terrain and the ocean (default on)", &shadows_text_)
+      .option("--cloud-terrain-shadow", "on|off", "the terrain's shadow on the clouds (default on)", &terrain_shadow_text_)
       .option("--cloud-light-shafts", "on|off", "light shafts through gaps in the clouds (default on)", &shafts_text_)
       .option("--cloud-sky", "auto|on|off",
               "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
@@ -69,6 +70,7 @@ void CloudFeature::check_run_options() {
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
   options_.shadows = parse_on_off("--cloud-shadows", shadows_text_);
   options_.light_shafts = parse_on_off("--cloud-light-shafts", shafts_text_);
+  options_.terrain_shadow = parse_on_off("--cloud-terrain-shadow", terrain_shadow_text_);
   options_.sky.reset();
   if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;
@@ -225,6 +227,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   settings.light_grid_always_update = options_.light_grid_always_update;
   settings.reprojection_block = options_.reprojection_block;
   settings.shadows = options_.shadows;
+  settings.terrain_shadow = options_.terrain_shadow;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {
@@ -234,6 +237,9 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
     in.instances.push_back(std::move(ci));
   }
   in.lights = frame.lights;
+  in.terrain_depth = f.light_depth.texture;
+  in.terrain_depth_matrix = f.light_depth.world_to_light;
+  in.terrain_depth_range_m = f.light_depth.depth_range_m;
   // The scheduler's weather of this frame, else the state --weather names.
   if (frame.weather) apply_weather(*frame.weather, in);
   else if (options_.weather) apply_weather(*options_.weather, in);

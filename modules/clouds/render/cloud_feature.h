@@ -16,6 +16,7 @@
 //   --cloud-light-grid talk|device   the talk's 256x256x32 light grid, or one sized for the device
 //                              (default: 96x96x16 on CPU devices, the talk's elsewhere)
 //   --cloud-shadows on|off     the clouds' shadow on the terrain and the ocean (default on)
+//   --cloud-terrain-shadow on|off  the terrain's shadow on the clouds (the key light's depth map; default on)
 //   --cloud-light-shafts on|off  light shafts through gaps in the clouds (light_shafts.h; default on)
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
@@ -78,6 +79,7 @@ struct CloudRunOptions {
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
   bool light_shafts = true;  // --cloud-light-shafts
+  bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   std::optional<weather::WeatherState> weather;  // --weather ID: applied every frame (weather_lighting.h)
   int noise_size = 128;
 };
@@ -122,7 +124,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
-      shafts_text_ = "on";
+      shafts_text_ = "on", terrain_shadow_text_ = "on";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;

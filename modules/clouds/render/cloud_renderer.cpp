@@ -53,7 +53,8 @@ struct CloudResources {
     glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
     uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
   };
-  using MarchKey = std::tuple<int, int, bool, bool, bool, int>;  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots
+  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow
+  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool>;
 
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
@@ -89,8 +90,8 @@ struct CloudResources {
   CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
 
   gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise,
-                       int asset_slots = 1) {
-    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots};
+                       int asset_slots = 1, bool terrain_shadow = false) {
+    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     static const char* kSegments[] = {"all", "near", "far"};
@@ -101,16 +102,17 @@ struct CloudResources {
                  {"SDF_BC1", bc1 ? "1" : "0"},
                  {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"},
                  {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"},
-                 {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)}};
+                 {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)},
+                 {"TERRAIN_SHADOW", terrain_shadow ? "1" : "0"}};
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
              (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
-             (asset_slots > 1 ? ", 2 assets" : "") + ")";
+             (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") + ")";
     gpu::Pipeline& p = library.compute(d);
     march_pipes[key] = &p;
     return p;
   }
   gpu::Pipeline& sweep(bool bc1) {
-    MarchKey key{-2, 0, bc1, true, true, 1};
+    MarchKey key{-2, 0, bc1, true, true, 1, false};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
@@ -121,7 +123,7 @@ struct CloudResources {
   }
   gpu::Pipeline& grid(bool bc1) {
     // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true, true, 1};
+    MarchKey key{-1, 0, bc1, true, true, 1, false};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
@@ -231,7 +233,9 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   p.misc = glm::vec4(s.jitter_scale, s.temporal_blend, s.light_grid_debug_height, history_valid ? 1.0f : 0.0f);
   p.frame = glm::uvec4(uint32_t(in.frame_index), uint32_t(in.instances.size()), uint32_t(in.lights.size()),
                        uint32_t(s.debug));
-  p.haze = glm::vec4(in.haze_density, in.haze_falloff, 0.0f, 0.0f);
+  const bool terrain = in.settings.terrain_shadow && in.terrain_depth.valid();
+  p.haze = glm::vec4(in.haze_density, in.haze_falloff, terrain ? 1.0f : 0.0f, in.terrain_depth_range_m);
+  p.light_depth = in.terrain_depth_matrix;
   p.sky_zenith = glm::vec4(in.sky_zenith, 0.0f);
   p.sky_horizon = glm::vec4(in.sky_horizon, 0.0f);
   for (size_t i = 0; i < in.lights.size(); ++i) {
@@ -664,6 +668,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   const CloudSettings& s = in.settings;
   const VkExtent2D size = graph.output_size();
   CloudResources* r = &res;
+  const bool terrain = s.terrain_shadow && in.terrain_depth.valid();
+  const TextureHandle terrain_depth = in.terrain_depth;
 
   HistoryImports history;
   if (s.temporal) history = import_history(res, graph, in.camera_cut);
@@ -704,7 +710,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   // `front` (far segment only): the near layer, read for its transmittance (early exit).
   auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
                        TextureHandle front = {}, uint32_t sub_block = 1) {
-    gpu::Pipeline* pipe = &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean, asset_slots);
+    gpu::Pipeline* pipe =
+        &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean, asset_slots, terrain);
     graph.add_pass(name, Queue::Compute,
         [&](PassBuilder& b) {
           for (size_t a = 0; a < modelings.size(); ++a) {
@@ -715,11 +722,12 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           b.read(grid, Usage::Sampled);
           b.read(depth, Usage::Sampled);
           if (front.valid()) b.read(front, Usage::Sampled);
+          if (terrain) b.read(terrain_depth, Usage::Sampled);
           color = b.write(color, Usage::StorageWrite);
           cdepth = b.write(cdepth, Usage::StorageWrite);
         },
         [r, pipe, grid, modeling, field, modelings, fields, noise, depth, color, cdepth, front, ubo_handle, sub_block,
-         sub_offset, size](PassContext& c) {
+         sub_offset, size, terrain, terrain_depth](PassContext& c) {
           Bindings bind(*pipe);
           bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
               .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
@@ -730,6 +738,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
               .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
               .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
           if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
+          if (terrain)
+            bind.sampled(CLOUD_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), r->nearest_clamp, c.layout(terrain_depth));
           if (modelings.size() > 1)
             bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), r->linear_clamp, c.layout(modelings[1]))
                 .sampled(CLOUD_BINDING_FIELD_1, c.view(fields[1]), r->linear_clamp, c.layout(fields[1]));

@@ -148,6 +148,7 @@ struct CloudSettings {
   // Sweep: keep the level-by-level updates going while the sun is still (as when it moves; for measuring).
   bool light_grid_always_update = false;
   bool shadows = true;  // the clouds' shadow on the scene (clouds.shadow_map -> render::LightShadowMap)
+  bool terrain_shadow = true;  // the terrain's shadow on the clouds (CloudFrameInputs::terrain_depth)
 };
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
@@ -198,6 +199,11 @@ struct CloudFrameInputs {
   // The 2.5D sky's half-resolution result (SkyLayer::add_passes), composited with the voxel clouds in
   // the order of their depths; invalid: no 2.5D sky.
   TextureHandle sky_color, sky_depth;
+  // The geometry's depth from the key light (render::LightDepth): where the terrain hides the sun from
+  // a cloud sample, its direct light goes (TERRAIN_SHADOW march variant); invalid: no terrain shadow.
+  TextureHandle terrain_depth;
+  glm::mat4 terrain_depth_matrix{1.0f};
+  float terrain_depth_range_m = 1.0f;
   bool camera_cut = false;                    // history invalid this frame
   bool rebuild_light_grid = false;            // force a full light-grid rebuild
   CloudSettings settings;

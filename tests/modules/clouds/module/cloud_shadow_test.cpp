@@ -6,6 +6,9 @@
 #include <cstdio>
 
 #include "engine/core/file_io.h"
+#include "engine/scene/components.h"
+#include "engine/scene/gltf.h"
+#include "engine/scene/sun.h"
 #include "tests/modules/clouds/module/clouds_run_fixture.h"
 
 namespace fs = std::filesystem;
@@ -124,4 +127,61 @@ TEST_F(CloudsRun, LightShaftsDarkenTheHazeBehindACloudInFrontOfTheSun) {
               behind_ratio, beside_ratio);
   EXPECT_LT(behind_ratio, 0.98);
   EXPECT_GT(beside_ratio, 0.995);
+}
+
+// The terrain's shadow on the clouds (issue 10: "the sun behind a mountain darkens the cloud base near
+// it"): the test cloud just behind the main island's peak from a 17:36 sun, its sun ray through the
+// mountain, is darker than with --cloud-terrain-shadow off; lifted above the peak's shadow, the same.
+TEST_F(CloudsRun, TheSunBehindAMountainDarkensTheCloudBehindIt) {
+  const fs::path terrain = fs::absolute("content/levels/sample/terrain.glb");
+  const scene::Model model = scene::load_gltf(terrain);
+  glm::vec3 peak(0.0f, -1e9f, 0.0f);
+  for (const scene::MeshInstance& inst : model.instances)
+    for (const scene::Vertex& v : model.meshes[inst.mesh].vertices) {
+      const glm::vec3 p = glm::vec3(inst.world * glm::vec4(v.position, 1.0f));
+      if (p.y > peak.y) peak = p;
+    }
+  scene::TimeOfDay tod;
+  tod.hours = 17.6f;
+  const glm::vec3 l = scene::sun_direction(tod);
+  // 700 m behind the peak along the light, its light ray 60 m below the summit where it passes it.
+  const glm::vec3 centre = peak - l * 700.0f - glm::vec3(0.0f, 60.0f, 0.0f);
+  const glm::vec3 side = glm::normalize(glm::cross(l, glm::vec3(0, 1, 0)));
+  auto write_level = [&](const std::string& name, float lift) {
+    const glm::vec3 c = centre + glm::vec3(0.0f, lift, 0.0f);
+    const glm::vec3 cam = c + side * 700.0f - glm::vec3(0.0f, 120.0f, 0.0f);
+    auto v3 = [](glm::vec3 v) { return "[" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + "]"; };
+    const fs::path file = dir_ / (name + ".json");
+    write_file_atomic(file, R"({"version": 1, "name": "terrain-shadow", "entities": [
+      {"name": "sun", "components": {"TimeOfDay": {"hours": 17.6}}},
+      {"name": "ground", "components": {"Transform": {"position": [0, 0, 0]}, "ModelRef": {"path": ")" + terrain.string() + R"("}}},
+      {"name": "cloud", "components": {"Transform": {"position": )" + v3(c - glm::vec3(0, 128, 0)) + R"(}, "Cloudscape": {"asset": "small_cloud.json"}}},
+      {"name": "cam", "components": {"Transform": {"position": )" + v3(cam) + R"(, "look_at": )" + v3(c) + R"(}, "Camera": {}}}]})");
+    return file;
+  };
+  // Mean luminance where the cloud is (its pixels differ from the frame without clouds), shadow on / off.
+  auto ratio = [&](const fs::path& level, const std::string& name) {
+    EXPECT_EQ(run(level, name + "_on.png", {}, 6), 0);
+    EXPECT_EQ(run(level, name + "_off.png", {"--cloud-terrain-shadow", "off"}, 6), 0);
+    EXPECT_EQ(run(level, name + "_none.png", {"--clouds", "off"}, 6), 0);
+    const Png on = load_png(dir_ / (name + "_on.png")), off = load_png(dir_ / (name + "_off.png"));
+    const Png none = load_png(dir_ / (name + "_none.png"));
+    double a = 0, b = 0;
+    int n = 0;
+    for (int y = 0; y < on.h; ++y)
+      for (int x = 0; x < on.w; ++x) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c) d += std::abs(off.at(x, y, c) - none.at(x, y, c));
+        if (d <= 12) continue;
+        a += luminance(on, x, y), b += luminance(off, x, y), ++n;
+      }
+    EXPECT_GT(n, 100) << name;
+    return n ? a / b : 1.0;
+  };
+  const double behind = ratio(write_level("behind", 0.0f), "behind");
+  const double above = ratio(write_level("above", 700.0f), "above");
+  std::printf("  peak (%.0f, %.0f, %.0f); cloud luminance, terrain shadow on / off: behind the peak %.3f, lifted 700 m %.3f\n",
+              peak.x, peak.y, peak.z, behind, above);
+  EXPECT_LT(behind, 0.98);  // a low sun: its direct light is a small part of the cloud's (ambient, multiple scattering)
+  EXPECT_GT(above, 0.995);
 }
