@@ -30,6 +30,7 @@ int run_headless(RunContext& rc) {
   gpu::Context ctx(gpu::ContextDesc{});
   LOG_INFO("device: %s (%s)", ctx.info().name.c_str(), ctx.info().driver_info.c_str());
   render::FrameRenderer renderer(ctx);
+  renderer.set_aerial_perspective_lut(rc.opt.aerial_lut);
   detail::add_module_features(rc, renderer);
   OffscreenOutput output(ctx, o.width, o.height);
   gpu::FrameRing ring(ctx, 1);

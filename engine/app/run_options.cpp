@@ -25,7 +25,7 @@ void parse_size(const std::string& text, uint32_t& width, uint32_t& height) {
 
 std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules) {
   RunOptions o;
-  std::string mode = "30", size;
+  std::string mode = "30", size, aerial = "lut";
   float tod = -1.0f;
   ArgParser p("cumulo run",
               "Run a level: a fixed-step simulation (ECS systems in phases) and the renderer (render graph:\n"
@@ -52,11 +52,16 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
       .option("--replay", "FILE",
               "run from a recording: its seed, step rate, camera path and events (headless: as many frames as it "
               "lasts unless --frames)",
-              &o.replay);
+              &o.replay)
+      .option("--aerial-perspective", "lut|fog",
+              "aerial perspective of terrain and clouds: the atmosphere's froxels (default) or the exponential height fog",
+              &aerial);
   for (const auto& m : modules) m->add_run_options(p);
   if (!p.parse(argc, argv)) return std::nullopt;
   for (const auto& m : modules) m->check_run_options();
   o.mode = render::parse_budget_mode(mode);
+  if (aerial != "lut" && aerial != "fog") fail("--aerial-perspective: expected lut or fog, got \"%s\"", aerial.c_str());
+  o.aerial_lut = aerial == "lut";
   if (!size.empty()) {
     parse_size(size, o.width, o.height);
     o.size_set = true;

@@ -30,6 +30,7 @@ struct RunOptions {
   std::vector<ScheduledEvent> events;  // --event NAME@SECONDS (repeatable)
   std::string record;                // --record FILE: write the run's inputs (engine/app/recording.h)
   std::string replay;                // --replay FILE: drive the run from a recording
+  bool aerial_lut = true;            // --aerial-perspective lut|fog: the atmosphere's froxels or the height fog
 };
 
 // Frames a headless run renders when --frames is not given.

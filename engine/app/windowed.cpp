@@ -58,6 +58,7 @@ int run_windowed(RunContext& rc) {
   window->wait_while_minimized();
   gpu::Swapchain swapchain(ctx, window_extent(*window), gpu::SwapchainDesc{});
   render::FrameRenderer renderer(ctx);
+  renderer.set_aerial_perspective_lut(rc.opt.aerial_lut);
   add_module_features(rc, renderer);
   gpu::FrameRing frames(ctx);
 

@@ -112,7 +112,7 @@ struct FrameRenderer::Impl {
   }
 
   void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const UniformSlice& ubo, VkImageView shadow,
-                   VkImageLayout shadow_layout) {
+                   VkImageLayout shadow_layout, VkImageView aerial, VkImageLayout aerial_layout) {
     const VkSampler shadow_sampler = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
     scene::Frustum frustum = scene::Frustum::from(s.camera.view_proj);
     const gpu::Pipeline* bound = nullptr;
@@ -134,6 +134,7 @@ struct FrameRenderer::Impl {
             .uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size)
             .sampled_image(GEOMETRY_BASE_COLOR_BINDING, mat.texture, mat.sampler)
             .sampled_image(GEOMETRY_LIGHT_SHADOW_BINDING, shadow, shadow_sampler, shadow_layout)
+            .sampled_image(GEOMETRY_AERIAL_BINDING, aerial, shadow_sampler, aerial_layout)
             .push(ctx, cmd, *p);
         shared::DrawParams dp{};
         dp.model = world;
@@ -193,7 +194,8 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   for (const ModelDraw& d : s.models) m.scene.get(d.model);
 
   m.uniforms.begin_frame(slot);
-  const shared::FrameParams params = make_frame_params(s, exposure_ * s.lighting.exposure);
+  shared::FrameParams params = make_frame_params(s, exposure_ * s.lighting.exposure);
+  params.aerial = glm::vec4(aerial_lut_ ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
   UniformSlice ubo = m.uniforms.push(params);
 
   RenderGraph graph(target.extent);
@@ -218,24 +220,29 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
     ubo = frame.frame_params = m.uniforms.push(with_shadow);
   }
 
+  // The atmosphere's LUTs (the sky view for the sky pass, the aerial perspective for the geometry).
+  const AtmosphereLuts luts = m.atmosphere->add_passes(graph, s, slot);
+  if (aerial_lut_) frame.aerial_perspective = luts.aerial;
   graph.add_pass("geometry", Queue::Graphics,
       [&](PassBuilder& b) {
         frame.hdr = b.write(frame.hdr, Usage::ColorAttachment);
         frame.depth = b.write(frame.depth, Usage::DepthWrite);
         if (shadow.texture.valid()) b.read(shadow.texture, Usage::Sampled);
+        b.read(luts.aerial, Usage::Sampled);
       },
-      [&m, &s, ubo, shadow, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
+      [&m, &s, ubo, shadow, luts, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
         Attachment d{depth, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE};
         d.clear.depthStencil = {0.0f, 0};  // reversed-Z far plane
         begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_CLEAR}, &d);
+        const VkImageView aerial = c.view(luts.aerial);
+        const VkImageLayout aerial_layout = c.layout(luts.aerial);
         if (shadow.texture.valid())
-          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture));
+          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture), aerial, aerial_layout);
         else
-          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, aerial, aerial_layout);
         vkCmdEndRendering(c.cmd());
       });
 
-  const AtmosphereLuts luts = m.atmosphere->add_passes(graph, s, slot);
   graph.add_pass("sky", Queue::Graphics,
       [&](PassBuilder& b) {
         frame.hdr = b.read_write(frame.hdr, Usage::ColorAttachment);

@@ -70,6 +70,8 @@ class FrameRenderer {
   // device and calls destroy_gpu() on every feature.
   void add_feature(RenderFeature& feature);
   void set_exposure(float exposure) { exposure_ = exposure; }
+  // Aerial perspective from the atmosphere's froxels (default), or the SceneLighting height fog.
+  void set_aerial_perspective_lut(bool lut) { aerial_lut_ = lut; }
   gpu::PipelineLibrary& pipeline_library();
 
  private:
@@ -77,6 +79,7 @@ class FrameRenderer {
   std::unique_ptr<Impl> impl_;
   std::vector<RenderFeature*> features_;
   float exposure_ = 1.0f;
+  bool aerial_lut_ = true;
 };
 
 }  // namespace cumulo::render

@@ -73,6 +73,10 @@ struct StageContext {
   VkFormat output_format = VK_FORMAT_UNDEFINED;  // the target's format (swapchain or offscreen)
   LightShadowMap light_shadow;  // set at Stage::BeforeScene by the feature that casts shadows (one)
   LightDepth light_depth;       // the geometry's depth from the key light (every stage; invalid: none)
+  // The atmosphere's aerial-perspective froxels (3D RGBA16F, atmosphere_params.h ATMOSPHERE_AERIAL_*;
+  // sample with atmosphere_common.glsl's atm_aerial_lookup) from Stage::AfterOpaque; invalid with
+  // --aerial-perspective fog (use the SceneLighting height fog then).
+  TextureHandle aerial_perspective;
 };
 
 class RenderFeature {

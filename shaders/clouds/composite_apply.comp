@@ -2,9 +2,9 @@
 // Cloud composite over the scene colour, before tonemap (issue 8 pass 5; DESIGN.md "composite"):
 // hdr = hdr * transmittance + in-scattered radiance. With no cloud (transmittance exactly 1, radiance
 // exactly 0) the scene is left bit-exact. The sun and ambient colours were already applied by the
-// march (CloudFrameInputs). Aerial perspective (2017 talk: the clouds blend into the distance): the
-// cloud is seen through the same height fog as the terrain (sky_common.glsl's fog_amount) at its
-// half-opacity depth, fading toward the sky's gradient colour in its direction:
+// march (CloudFrameInputs). Aerial perspective (2017 talk: the clouds blend into the distance) at the
+// cloud's half-opacity depth (hazed() below): the atmosphere's froxels when bound (AERIAL 1), else the
+// terrain's height fog (sky_common.glsl's fog_amount) toward the sky's gradient colour:
 //   hdr = hdr * T + (1 - f) * radiance + f * (1 - T) * sky.
 // Debug views (P.frame.w): profile and split arrive opaque from the march/merge (alpha 0); steps maps
 // the march's step count (depth image y) to a blue..red heat map over P.march.w steps; light-grid shows
@@ -27,6 +27,13 @@ layout(push_constant) uniform Push { CloudMarchPush pc; };
 #ifndef SKY_LAYER
 #define SKY_LAYER 0
 #endif
+#ifndef AERIAL
+#define AERIAL 0
+#endif
+#if AERIAL
+#include "engine/atmosphere_common.glsl"
+layout(set = 0, binding = CLOUD_BINDING_AERIAL) uniform sampler3D aerial_tex;
+#endif
 #if SKY_LAYER
 layout(set = 0, binding = CLOUD_BINDING_SKY_COLOR) uniform sampler2D sky_tex;
 layout(set = 0, binding = CLOUD_BINDING_SKY_DEPTH) uniform sampler2D sky_depth_tex;
@@ -48,6 +55,21 @@ float haze_amount(vec3 ro, vec3 dir, float dist) {
 }
 vec3 haze_colour(vec3 dir) { return mix(P.sky_horizon.rgb, P.sky_zenith.rgb, pow(clamp(dir.y, 0.0, 1.0), 0.5)); }
 
+// A cloud layer (radiance, transmittance) seen through the air in front of it, at its half-opacity depth:
+// AERIAL 1, the atmosphere's froxels (Hillaire 2020: radiance x the air's transmittance + the air's
+// in-scattering where the cloud hides what lies behind); else the terrain's height fog toward the sky.
+vec3 hazed(vec4 layer, float depth, vec3 ro, vec3 dir, vec2 uv) {
+  if (layer.a >= 1.0 || depth >= 1e5) return layer.rgb;
+#if AERIAL
+  vec4 ap = atm_aerial_lookup(aerial_tex, uv, depth * 0.001);
+  return layer.rgb * ap.a + ap.rgb * (1.0 - layer.a);
+#else
+  if (P.haze.x <= 0.0) return layer.rgb;
+  float f = haze_amount(ro, dir, depth);
+  return (1.0 - f) * layer.rgb + f * (1.0 - layer.a) * haze_colour(dir);
+#endif
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(pc.target.xy);
@@ -59,12 +81,8 @@ void main() {
   vec3 ro = P.camera_pos.xyz;
   vec3 dir = normalize(h.xyz / h.w - ro);
   float depth50 = texelFetch(cloud_depth, pixel, 0).x;
-  // Each layer as (radiance after haze, transmittance): hazed toward the sky's colour at its depth.
-  vec3 voxel_rgb = c.rgb;
-  if (c.a < 1.0 && depth50 < 1e5 && P.haze.x > 0.0) {
-    float f = haze_amount(ro, dir, depth50);
-    voxel_rgb = (1.0 - f) * c.rgb + f * (1.0 - c.a) * haze_colour(dir);
-  }
+  // Each layer as (radiance after haze, transmittance), hazed at its own depth.
+  vec3 voxel_rgb = hazed(c, depth50, ro, dir, uv);
   vec3 rgb = scene.rgb * c.a + voxel_rgb;
 #if SKY_LAYER
   vec4 s = textureLod(sky_tex, uv, 0.0);
@@ -76,11 +94,7 @@ void main() {
     t_scene = distance(w.xyz / w.w, ro);
   }
   if (s.a < 1.0 && sky50 < t_scene) {
-    vec3 sky_rgb = s.rgb;
-    if (P.haze.x > 0.0) {
-      float f = haze_amount(ro, dir, min(sky50, 1e5));
-      sky_rgb = (1.0 - f) * s.rgb + f * (1.0 - s.a) * haze_colour(dir);
-    }
+    vec3 sky_rgb = hazed(s, min(sky50, 9e4), ro, dir, uv);
     if (sky50 >= depth50) rgb = (scene.rgb * s.a + sky_rgb) * c.a + voxel_rgb;  // the shell behind the voxel clouds
     else rgb = (scene.rgb * c.a + voxel_rgb) * s.a + sky_rgb;
   }

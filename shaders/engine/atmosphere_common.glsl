@@ -77,4 +77,20 @@ vec3 atm_sky_view_dir(vec2 uv, vec3 sun) {
   return vec3(cos(e) * cos(az), sin(e), cos(e) * sin(az));
 }
 
+// Aerial-perspective volume coordinates of a view distance (km) and screen uv: z = sqrt(d / D) with
+// slice k's texel centre at its far end, so z = (k + 1) / N lands on texel k; nearer than slice 0's end,
+// the caller blends from no haze (aerial_lookup).
+vec3 atm_aerial_uvw(vec2 uv, float d_km) {
+  float w = sqrt(clamp(d_km / ATMOSPHERE_AERIAL_KM, 0.0, 1.0));
+  float n = float(ATMOSPHERE_AERIAL_SIZE);
+  return vec3(uv, clamp(w - 0.5 / n, 0.5 / n, 1.0 - 0.5 / n));
+}
+// (in-scattered radiance, transmittance) from the camera to d_km along the pixel's ray.
+vec4 atm_aerial_lookup(sampler3D ap, vec2 uv, float d_km) {
+  vec4 v = textureLod(ap, atm_aerial_uvw(uv, d_km), 0.0);
+  float first = ATMOSPHERE_AERIAL_KM / float(ATMOSPHERE_AERIAL_SIZE * ATMOSPHERE_AERIAL_SIZE);
+  float f = clamp(d_km / first, 0.0, 1.0);
+  return vec4(v.rgb * f, mix(1.0, v.a, f));
+}
+
 #endif

@@ -1,13 +1,16 @@
 #version 450
 // Geometry pass fragment stage: base colour (texture x factor) lit by the directional sun (Lambert),
-// shadowed by the key light's transmittance map (cloud shadows, FrameParams shadow_*), a hemispheric ambient term from the sky and ground colours, short-lived point lights (lightning), and exponential height fog toward the sky
-// gradient (aerial perspective) so the 4 km level fades into the horizon.
+// shadowed by the key light's transmittance map (cloud shadows, FrameParams shadow_*), a hemispheric ambient term from the sky and ground colours, short-lived point lights (lightning), and aerial perspective
+// (the atmosphere's froxels, or with --aerial-perspective fog exponential height fog toward the sky gradient)
+// so the 4 km level fades into the horizon.
 #extension GL_GOOGLE_include_directive : require
 #include "engine/sky_common.glsl"
+#include "engine/atmosphere_common.glsl"
 
 layout(set = 0, binding = FRAME_PARAMS_BINDING, std140) uniform FrameBlock { FrameParams frame; };
 layout(set = 0, binding = GEOMETRY_BASE_COLOR_BINDING) uniform sampler2D base_color_tex;
 layout(set = 0, binding = GEOMETRY_LIGHT_SHADOW_BINDING) uniform sampler2D light_shadow_tex;
+layout(set = 0, binding = GEOMETRY_AERIAL_BINDING) uniform sampler3D aerial_tex;
 layout(push_constant, std430) uniform DrawBlock { DrawParams draw; };
 
 // Transmittance of the key light at a world point: projected along the light onto the map's plane.
@@ -58,6 +61,12 @@ void main() {
   lit += sun * spec;
 
   vec3 dir = -v;
-  float fog = fog_amount(frame, dir, dist);
-  out_color = vec4(mix(lit, sky_gradient(frame, dir), fog), 1.0);
+  if (frame.aerial.x > 0.5) {
+    // Aerial perspective (Hillaire 2020): seen through the air's transmittance, plus its in-scattering.
+    vec4 ap = atm_aerial_lookup(aerial_tex, gl_FragCoord.xy * frame.inv_viewport_size, dist * 0.001);
+    out_color = vec4(lit * ap.a + ap.rgb, 1.0);
+  } else {
+    float fog = fog_amount(frame, dir, dist);
+    out_color = vec4(mix(lit, sky_gradient(frame, dir), fog), 1.0);
+  }
 }

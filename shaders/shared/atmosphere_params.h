@@ -17,6 +17,12 @@
 #define ATMOSPHERE_MS_SIZE 32
 #define ATMOSPHERE_SKY_VIEW_W 192
 #define ATMOSPHERE_SKY_VIEW_H 108
+// Aerial perspective (Hillaire 2020 section 5.4): a camera froxel volume, 32x32 over the screen, 32 slices
+// along the view ray to ATMOSPHERE_AERIAL_KM, slice k ending at (k + 1)^2 / 32^2 of it (dense near the
+// viewer, where the terrain is); rgb in-scattered radiance from the camera to the slice's end, a the
+// mean transmittance.
+#define ATMOSPHERE_AERIAL_SIZE 32
+#define ATMOSPHERE_AERIAL_KM 32.0
 
 CUMULO_SHARED_BEGIN
 
@@ -31,6 +37,13 @@ struct AtmosphereGpuParams {
   vec4 view;      // x: camera altitude (km); y: sun angular radius (rad); z, w: unused
 };
 CUMULO_SHARED_SIZE(AtmosphereGpuParams, 128)
+
+// Push constants of atmosphere_aerial.comp.
+struct AtmosphereAerialPush {
+  mat4 inv_view_proj;  // clip -> world (the camera's rays)
+  vec4 camera;         // xyz: world position (m); w unused
+};
+CUMULO_SHARED_SIZE(AtmosphereAerialPush, 80)
 
 CUMULO_SHARED_END
 

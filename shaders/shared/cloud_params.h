@@ -54,6 +54,7 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_SKY_COLOR 5   // sampler2D (SKY_LAYER 1): the 2.5D sky at half resolution (rgb radiance, a transmittance)
 #define CLOUD_BINDING_SKY_DEPTH 6   // sampler2D (SKY_LAYER 1): its depth (x opacity-0.5 distance)
 #define CLOUD_BINDING_SCENE_DEPTH_COMPOSITE 7  // sampler2D (SKY_LAYER 1): the scene depth (the upsample stops at geometry)
+#define CLOUD_BINDING_AERIAL 8      // sampler3D (AERIAL 1): the atmosphere's aerial-perspective froxels
 
 // Debug views (CloudParams::frame.w).
 #define CLOUD_DEBUG_NONE 0

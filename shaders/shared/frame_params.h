@@ -10,6 +10,7 @@
 #define GEOMETRY_BASE_COLOR_BINDING 1  // geometry: base-colour texture
 #define TONEMAP_HDR_BINDING 0          // tonemap: the HDR scene colour
 #define GEOMETRY_LIGHT_SHADOW_BINDING 2  // geometry: the key light's transmittance map (cloud shadows; white when none)
+#define GEOMETRY_AERIAL_BINDING 3        // geometry: sampler3D, the atmosphere's aerial-perspective froxels
 
 CUMULO_SHARED_BEGIN
 
@@ -42,8 +43,9 @@ struct FrameParams {
   // (xy + u / zw.x, misc.x, ..) of a horizontal plane; a point elsewhere is projected onto the plane along the light.
   vec4 shadow_plane;  // xy: world x, z of the map's corner; zw: 1 / its size (m)
   vec4 shadow_misc;   // x: the plane's height (world y); y: 1 = a map is bound; z, w unused
+  vec4 aerial;        // x: 1 = aerial perspective from the atmosphere's froxels, 0 = the height fog; y, z, w unused
 };
-CUMULO_SHARED_SIZE(FrameParams, 416)
+CUMULO_SHARED_SIZE(FrameParams, 432)
 CUMULO_SHARED_OFFSET(FrameParams, sun_radiance, 160)
 CUMULO_SHARED_OFFSET(FrameParams, viewport_size, 224)
 

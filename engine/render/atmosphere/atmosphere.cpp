@@ -192,23 +192,17 @@ glm::vec3 Atmosphere::multiple_scattering(float r, float mu_s) const {
   return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
 }
 
-glm::vec3 Atmosphere::sky_radiance(float altitude_km, glm::vec3 dir, glm::vec3 sun_dir, float irradiance) const {
-  const float Rb = p_.bottom_radius_km, Rt = p_.top_radius_km;
-  const float r = std::clamp(Rb + std::max(altitude_km, 0.001f), Rb, Rt - 0.001f);
-  dir = glm::normalize(dir);
-  sun_dir = glm::normalize(sun_dir);
+Atmosphere::Inscatter Atmosphere::inscatter(float r, glm::vec3 dir, glm::vec3 sun_dir, float irradiance, float t_max,
+                                             int steps) const {
+  const float Rb = p_.bottom_radius_km;
   const glm::vec3 pos(0.0f, r, 0.0f);
-  const float mu = dir.y;
-  const bool ground = hits_ground(r, mu, Rb);
-  const float t_max = ground ? distance_to_ground(r, mu, Rb) : distance_to_sphere(r, mu, Rt);
   const float nu = glm::dot(dir, sun_dir);
   const float pr = rayleigh_phase(nu), pm = mie_phase(p_.mie_g, nu);
-  constexpr int kSteps = 40;
-  glm::vec3 L(0.0f), T(1.0f);
+  Inscatter out{glm::vec3(0.0f), glm::vec3(1.0f)};
   float t0 = 0.0f;
-  for (int s = 0; s < kSteps; ++s) {
+  for (int s = 0; s < steps; ++s) {
     // Steps grow with the square of the index: dense near the viewer, where the air is.
-    const float t1 = t_max * float((s + 1) * (s + 1)) / float(kSteps * kSteps);
+    const float t1 = t_max * float((s + 1) * (s + 1)) / float(steps * steps);
     const float dt = t1 - t0, t = 0.5f * (t0 + t1);
     t0 = t1;
     const glm::vec3 q = pos + dir * t;
@@ -220,15 +214,35 @@ glm::vec3 Atmosphere::sky_radiance(float altitude_km, glm::vec3 dir, glm::vec3 s
     const glm::vec3 ts = transmittance_lut(rq, mu_s);
     const glm::vec3 S = irradiance * ((sr * pr + glm::vec3(sm * pm)) * ts + (sr + glm::vec3(sm)) * multiple_scattering(rq, mu_s));
     const glm::vec3 step_t = glm::exp(-ext * dt);
-    L += T * S * (glm::vec3(1.0f) - step_t) / glm::max(ext, glm::vec3(1e-9f));
-    T *= step_t;
+    out.radiance += out.transmittance * S * (glm::vec3(1.0f) - step_t) / glm::max(ext, glm::vec3(1e-9f));
+    out.transmittance *= step_t;
   }
+  return out;
+}
+
+glm::vec3 Atmosphere::sky_radiance(float altitude_km, glm::vec3 dir, glm::vec3 sun_dir, float irradiance) const {
+  const float Rb = p_.bottom_radius_km, Rt = p_.top_radius_km;
+  const float r = std::clamp(Rb + std::max(altitude_km, 0.001f), Rb, Rt - 0.001f);
+  dir = glm::normalize(dir);
+  sun_dir = glm::normalize(sun_dir);
+  const float mu = dir.y;
+  const bool ground = hits_ground(r, mu, Rb);
+  const float t_max = ground ? distance_to_ground(r, mu, Rb) : distance_to_sphere(r, mu, Rt);
+  const Inscatter in = inscatter(r, dir, sun_dir, irradiance, t_max, 40);
+  glm::vec3 L = in.radiance;
   if (ground) {
-    const glm::vec3 g = glm::normalize(pos + dir * t_max);
+    const glm::vec3 g = glm::normalize(glm::vec3(0.0f, r, 0.0f) + dir * t_max);
     const float ndl = std::max(glm::dot(g, sun_dir), 0.0f);
-    L += T * irradiance * transmittance_lut(Rb, glm::dot(g, sun_dir)) * ndl * p_.ground_albedo / kPi;
+    L += in.transmittance * irradiance * transmittance_lut(Rb, glm::dot(g, sun_dir)) * ndl * p_.ground_albedo / kPi;
   }
   return L;
+}
+
+Atmosphere::Inscatter Atmosphere::aerial_perspective(float altitude_km, glm::vec3 dir, glm::vec3 sun_dir, float irradiance,
+                                                     float distance_km) const {
+  const float Rb = p_.bottom_radius_km, Rt = p_.top_radius_km;
+  const float r = std::clamp(Rb + std::max(altitude_km, 0.001f), Rb, Rt - 0.001f);
+  return inscatter(r, glm::normalize(dir), glm::normalize(sun_dir), irradiance, std::max(distance_km, 0.0f), 64);
 }
 
 float Atmosphere::night_weight(float sun_elevation_deg) { return std::clamp((-sun_elevation_deg - 4.0f) / 8.0f, 0.0f, 1.0f); }

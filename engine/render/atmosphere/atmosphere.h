@@ -64,6 +64,13 @@ class Atmosphere {
   // Radiance arriving at a point `altitude_km` above the ground from direction `dir` (world, +Y up),
   // the sun toward `sun_dir` with irradiance `irradiance` (renderer units); no sun disc.
   glm::vec3 sky_radiance(float altitude_km, glm::vec3 dir, glm::vec3 sun_dir, float irradiance) const;
+  // Along a view ray over distance_km: the air's in-scattered radiance and its transmittance (the
+  // aerial-perspective froxels' reference; Hillaire 2020 section 5.4).
+  struct Inscatter {
+    glm::vec3 radiance, transmittance;
+  };
+  Inscatter aerial_perspective(float altitude_km, glm::vec3 dir, glm::vec3 sun_dir, float irradiance,
+                               float distance_km) const;
 
   // The frame's lighting at the camera's altitude: sun_radiance (at the ground, Lambertian units), sky
   // zenith and horizon colours (the horizon averaged over azimuth), ground colour, ambient 1 (the sky's
@@ -77,6 +84,8 @@ class Atmosphere {
 
  private:
   glm::vec3 transmittance_lut(float r, float mu) const;
+  // Single scattering through the transmittance LUT plus psi_ms from radius r along dir for t_max km.
+  Inscatter inscatter(float r, glm::vec3 dir, glm::vec3 sun_dir, float irradiance, float t_max, int steps) const;
   AtmosphereParams p_;
   static constexpr int kTw = 128, kTh = 64, kMs = 32;
   std::vector<glm::vec3> trans_;  // kTw (mu) x kTh (r)

@@ -29,6 +29,7 @@ AtmospherePasses::AtmospherePasses(gpu::Context& ctx, gpu::PipelineLibrary& libr
   transmittance_pipe_ = &library.compute({.shader = "engine/atmosphere_transmittance.comp", .name = "atmosphere.transmittance"});
   ms_pipe_ = &library.compute({.shader = "engine/atmosphere_multiscatter.comp", .name = "atmosphere.multiscatter"});
   sky_view_pipe_ = &library.compute({.shader = "engine/atmosphere_sky_view.comp", .name = "atmosphere.sky_view"});
+  aerial_pipe_ = &library.compute({.shader = "engine/atmosphere_aerial.comp", .name = "atmosphere.aerial_perspective"});
   transmittance_ = lut_image(ctx, ATMOSPHERE_TRANSMITTANCE_W, ATMOSPHERE_TRANSMITTANCE_H, "atmosphere.transmittance");
   ms_ = lut_image(ctx, ATMOSPHERE_MS_SIZE, ATMOSPHERE_MS_SIZE, "atmosphere.multiscatter");
   sky_view_ = lut_image(ctx, ATMOSPHERE_SKY_VIEW_W, ATMOSPHERE_SKY_VIEW_H, "atmosphere.sky_view");
@@ -121,7 +122,33 @@ AtmosphereLuts AtmospherePasses::add_passes(RenderGraph& graph, const FrameSnaps
     have_key_ = true;
     ++sky_view_updates_;
   }
-  return {trans, view, ubo_handle};
+  // The aerial-perspective froxels follow the camera: every frame.
+  TextureDesc ad = TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, ATMOSPHERE_AERIAL_SIZE, ATMOSPHERE_AERIAL_SIZE,
+                                         ATMOSPHERE_AERIAL_SIZE);
+  ad.type = ImageType::Image3D;
+  TextureHandle aerial = graph.create_texture("atmosphere.aerial_perspective", ad);
+  gpu::Pipeline* ap = aerial_pipe_;
+  shared::AtmosphereAerialPush push{};
+  push.inv_view_proj = s.camera.inv_view_proj;
+  push.camera = glm::vec4(s.camera.position, 0.0f);
+  graph.add_pass("atmosphere.aerial_perspective", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(trans, Usage::Sampled);
+        b.read(ms, Usage::Sampled);
+        aerial = b.write(aerial, Usage::StorageWrite);
+      },
+      [ap, trans, ms, aerial, linear, ctx, ubo_handle, push](PassContext& c) {
+        gpu::DescriptorWriter w;
+        w.uniform_buffer(ATMOSPHERE_PARAMS_BINDING, ubo_handle, 0, sizeof(shared::AtmosphereGpuParams))
+            .sampled_image(ATMOSPHERE_TRANSMITTANCE_BINDING, c.view(trans), linear, c.layout(trans))
+            .sampled_image(ATMOSPHERE_MS_BINDING, c.view(ms), linear, c.layout(ms))
+            .storage_image(ATMOSPHERE_OUT_BINDING, c.view(aerial));
+        ap->bind(c.cmd());
+        w.push(*ctx, c.cmd(), *ap);
+        ap->push_constants(c.cmd(), push);
+        ap->dispatch_threads(c.cmd(), ATMOSPHERE_AERIAL_SIZE, ATMOSPHERE_AERIAL_SIZE);
+      });
+  return {trans, view, ubo_handle, aerial};
 }
 
 }  // namespace cumulo::render

@@ -5,6 +5,7 @@
 //   atmosphere.multiscatter   compute 32x32    (r, mu_s) -> psi_ms                   the preset changes
 //   atmosphere.sky_view       compute 192x108  (azimuth, elevation) -> sky radiance  the sun, the moon or the
 //                                                                                     camera's altitude moves
+//   atmosphere.aerial_perspective  compute 32x32x32 froxels -> in-scattering, transmittance   every frame
 // The sky pass samples the sky-view LUT (and the transmittance for the sun's disc). The CPU model
 // (atmosphere.h) computes the same integrals and is their reference in the tests.
 #include <cstdint>
@@ -30,6 +31,7 @@ namespace cumulo::render {
 struct AtmosphereLuts {
   TextureHandle transmittance, sky_view;
   VkBuffer ubo = VK_NULL_HANDLE;  // AtmosphereGpuParams of this frame
+  TextureHandle aerial;  // 3D: the camera's aerial-perspective froxels (atmosphere_params.h ATMOSPHERE_AERIAL_*)
 };
 
 class AtmospherePasses {
@@ -47,6 +49,7 @@ class AtmospherePasses {
   gpu::Pipeline* transmittance_pipe_ = nullptr;
   gpu::Pipeline* ms_pipe_ = nullptr;
   gpu::Pipeline* sky_view_pipe_ = nullptr;
+  gpu::Pipeline* aerial_pipe_ = nullptr;
   gpu::Image transmittance_, ms_, sky_view_;
   PersistentTexture transmittance_tex_, ms_tex_, sky_view_tex_;
   gpu::Buffer ubo_[gpu::kFramesInFlight];

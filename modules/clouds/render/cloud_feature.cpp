@@ -267,6 +267,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   if (!inputs_) return;  // (a renderer always runs BeforeScene first)
   CloudFrameInputs in = std::move(*inputs_);
   inputs_.reset();
+  in.aerial = f.aerial_perspective;
   if (sky_) {
     const SkyLayer::Outputs o = sky_->add_passes(f.graph, frame->sky, in, f.depth);
     in.sky_color = o.color;

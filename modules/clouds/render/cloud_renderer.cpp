@@ -80,8 +80,7 @@ struct CloudResources {
   gpu::Pipeline* grid_pipe = nullptr;
   gpu::Pipeline* temporal_pipe = nullptr;
   gpu::Pipeline* merge_pipe = nullptr;
-  gpu::Pipeline* composite_pipe = nullptr;
-  gpu::Pipeline* composite_sky_pipe = nullptr;  // with the 2.5D sky (SKY_LAYER 1)
+  gpu::Pipeline* composite_pipes[2][2] = {};  // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)]
   gpu::Pipeline* shadow_pipe = nullptr;
   std::map<MarchKey, gpu::Pipeline*> march_pipes;
   uint32_t rebuilds = 0;
@@ -323,9 +322,12 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->temporal_pipe = &library.compute({.shader = "clouds/temporal_accumulate.comp", .name = "clouds.temporal"});
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
-  res->composite_pipe = &library.compute({.shader = "clouds/composite_apply.comp", .name = "clouds.composite"});
-  res->composite_sky_pipe = &library.compute(
-      {.shader = "clouds/composite_apply.comp", .defines = {{"SKY_LAYER", "1"}}, .name = "clouds.composite (2.5D sky)"});
+  for (int sky = 0; sky < 2; ++sky)
+    for (int aerial = 0; aerial < 2; ++aerial)
+      res->composite_pipes[sky][aerial] = &library.compute(
+          {.shader = "clouds/composite_apply.comp",
+           .defines = {{"SKY_LAYER", sky ? "1" : "0"}, {"AERIAL", aerial ? "1" : "0"}},
+           .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") + (aerial ? " (aerial froxels)" : "")});
   res->shadow_pipe = &library.compute({.shader = "clouds/shadow_map.comp", .name = "clouds.shadow_map"});
   res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true, true);  // the common variant, built up front
   res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
@@ -869,8 +871,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
 
   // ---- 4. Composite over the scene colour ----
   const bool sky = in.sky_color.valid() && in.sky_depth.valid();
-  gpu::Pipeline* comp = sky ? res.composite_sky_pipe : res.composite_pipe;
-  const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth;
+  const bool aerial = in.aerial.valid();
+  gpu::Pipeline* comp = res.composite_pipes[sky ? 1 : 0][aerial ? 1 : 0];
+  const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth, aerial_tex = in.aerial;
   graph.add_pass("clouds.composite", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(final_color, Usage::Sampled);
@@ -881,9 +884,11 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           b.read(sky_depth, Usage::Sampled);
           b.read(depth, Usage::Sampled);
         }
+        if (aerial) b.read(aerial_tex, Usage::Sampled);
         hdr = b.read_write(hdr, Usage::StorageWrite);
       },
-      [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth](PassContext& c) {
+      [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth, aerial,
+       aerial_tex](PassContext& c) {
         Bindings bind(*comp);
         bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
             .sampled(CLOUD_BINDING_CLOUDS, c.view(final_color), r->nearest_clamp, c.layout(final_color))
@@ -894,6 +899,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           bind.sampled(CLOUD_BINDING_SKY_COLOR, c.view(sky_color), r->linear_clamp, c.layout(sky_color))
               .sampled(CLOUD_BINDING_SKY_DEPTH, c.view(sky_depth), r->nearest_clamp, c.layout(sky_depth))
               .sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
+        if (aerial) bind.sampled(CLOUD_BINDING_AERIAL, c.view(aerial_tex), r->linear_clamp, c.layout(aerial_tex));
         bind.push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(hdr);
         comp->push_constants(c.cmd(), target_push(e));

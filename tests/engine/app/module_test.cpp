@@ -203,10 +203,10 @@ TEST(Module, HeadlessRunDrivesEveryHookAndStage) {
     size_t name = graph.find(' ', pos + 6) + 1, end = graph.find(" (", name);
     order.push_back(graph.substr(name, end - name));
   }
-  // (The first frame also builds the atmosphere's LUTs, before the sky that reads them.)
-  EXPECT_EQ(order, (std::vector<std::string>{"test before-scene", "geometry", "atmosphere.transmittance",
-                                             "atmosphere.multiscatter", "atmosphere.sky_view", "sky", "test after-opaque",
-                                             "tonemap", "test after-tonemap"}))
+  // (The first frame also builds the atmosphere's LUTs, before the geometry (the aerial froxels) and the sky.)
+  EXPECT_EQ(order, (std::vector<std::string>{"test before-scene", "atmosphere.transmittance", "atmosphere.multiscatter",
+                                             "atmosphere.sky_view", "atmosphere.aerial_perspective", "geometry", "sky",
+                                             "test after-opaque", "tonemap", "test after-tonemap"}))
       << graph;
 
   // The picture: the red-only tint removed green and blue from the sky; the overlay is pure green.

@@ -80,11 +80,12 @@ TEST_F(FrameRendererTest, EmptySceneIsSkyBlueAboveAndSunlitGroundBelow) {
   EXPECT_LT(g.position("atmosphere.transmittance"), g.position("atmosphere.multiscatter"));
   EXPECT_LT(g.position("atmosphere.multiscatter"), g.position("atmosphere.sky_view"));
   EXPECT_LT(g.position("atmosphere.sky_view"), g.position("sky"));
+  EXPECT_LT(g.position("atmosphere.aerial_perspective"), g.position("geometry"));  // the terrain's haze
   // GPU timings: each pass clears or shades every pixel, so it takes measurable time, and together
   // they fit inside the CPU time from recording to the end of the wait.
   ASSERT_TRUE(ctx.info().timestamps) << "the test device has no timestamps";
   auto t = r.pass_timings();
-  ASSERT_EQ(t.size(), 6u);  // geometry, the three LUTs, sky, tonemap
+  ASSERT_EQ(t.size(), 7u);  // geometry, the three LUTs and the aerial froxels, sky, tonemap
   double sum_ms = 0.0;
   for (auto& [name, ms] : t) {
     EXPECT_GT(ms, 0.0) << name;
