@@ -32,6 +32,24 @@ glm::vec3 sky_view_dir(glm::vec2 uv, glm::vec3 sun) {  // atmosphere_common.glsl
   return {std::cos(e) * std::cos(az), std::sin(e), std::cos(e) * std::sin(az)};
 }
 
+// Copies `tex` into `buffer` at the end of `g` (a host-read buffer the test downloads after the submit).
+void add_readback(RenderGraph& g, TextureHandle tex, const gpu::Buffer& buffer) {
+  BufferHandle buf = g.import_buffer("readback", buffer.handle(), buffer.size(), ResourceState::host_read(),
+                                     ResourceState::host_read());
+  g.add_pass("readback", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(tex, Usage::TransferSrc);
+        buf = b.write(buf, Usage::TransferDst);
+        b.side_effect();
+      },
+      [tex, buf](PassContext& c) {
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = c.extent(tex);
+        vkCmdCopyImageToBuffer(c.cmd(), c.image(tex), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buf), 1, &region);
+      });
+}
+
 TEST(AtmosphereGpu, SkyViewLutAgreesWithTheCpuModel) {
   gpu::ContextDesc cd;
   cd.validation = true;
@@ -52,21 +70,7 @@ TEST(AtmosphereGpu, SkyViewLutAgreesWithTheCpuModel) {
   for (int frame = 0; frame < 2; ++frame) {
     RenderGraph g({16, 16});
     const AtmosphereLuts luts = passes.add_passes(g, s, uint32_t(frame));
-    BufferHandle buf = g.import_buffer("sky view readback", readback.handle(), readback.size(), ResourceState::host_read(),
-                                       ResourceState::host_read());
-    const TextureHandle view = luts.sky_view;
-    g.add_pass("readback", Queue::Compute,
-        [&](PassBuilder& b) {
-          b.read(view, Usage::TransferSrc);
-          buf = b.write(buf, Usage::TransferDst);
-          b.side_effect();
-        },
-        [view, buf](PassContext& c) {
-          VkBufferImageCopy region{};
-          region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-          region.imageExtent = c.extent(view);
-          vkCmdCopyImageToBuffer(c.cmd(), c.image(view), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buf), 1, &region);
-        });
+    add_readback(g, luts.sky_view, readback);
     ctx.submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
   }
   EXPECT_EQ(passes.sky_view_updates(), 1u);  // the second frame kept the LUT
@@ -120,22 +124,7 @@ TEST(AtmosphereGpu, AerialPerspectiveFroxelsAgreeWithTheCpuModel) {
   gpu::Buffer readback(ctx, {texels * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::Readback, "aerial readback"});
   Executor executor(ctx);
   RenderGraph g({16, 16});
-  const AtmosphereLuts luts = passes.add_passes(g, s, 0);
-  BufferHandle buf = g.import_buffer("aerial readback", readback.handle(), readback.size(), ResourceState::host_read(),
-                                     ResourceState::host_read());
-  const TextureHandle ap = luts.aerial;
-  g.add_pass("readback", Queue::Compute,
-      [&](PassBuilder& b) {
-        b.read(ap, Usage::TransferSrc);
-        buf = b.write(buf, Usage::TransferDst);
-        b.side_effect();
-      },
-      [ap, buf](PassContext& c) {
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = c.extent(ap);
-        vkCmdCopyImageToBuffer(c.cmd(), c.image(ap), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buf), 1, &region);
-      });
+  add_readback(g, passes.add_passes(g, s, 0).aerial, readback);
   ctx.submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
   EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
   std::vector<uint16_t> half(texels * 4);
