@@ -2,11 +2,11 @@
 // Light shafts, step 1 (2017 talk, seed 001 "Post Processing", after Mitchell's "Volumetric light
 // scattering as a post process"): "render a bright highlight around the sun where it is not occluded
 // by clouds ... offset this highlight radially away from the sun ... apply a radial blur on this image
-// to create the light shafts intensity buffer." Half resolution: per pixel, samples toward the sun's
+// to create the light shafts intensity buffer." Per pixel, samples toward the sun's
 // screen position read the occlusion (sky pixel x the voxel clouds' x the 2.5D sky's transmittance)
 // weighted by the highlight around the sun and a per-sample decay; the intensity is the unoccluded
 // fraction of that weight (1: the sun's light reaches this part of the view's air, 0: cloud or terrain
-// shadow it). light_shafts_apply.comp uses it as the mask of the atmosphere's Mie in-scattering.
+// shadow it). Quarter resolution (the blurred mask is smooth). light_shafts_apply.comp uses it as the mask of the atmosphere's Mie in-scattering.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 

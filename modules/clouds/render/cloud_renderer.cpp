@@ -82,6 +82,13 @@ struct CloudResources {
   gpu::Pipeline* merge_pipe = nullptr;
   gpu::Pipeline* composite_pipes[2][2] = {};  // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)]
   gpu::Pipeline* shadow_pipe = nullptr;
+  // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
+  gpu::Image shadow_image;
+  cumulo::render::PersistentTexture shadow_texture;
+  glm::vec4 shadow_key{0.0f};
+  glm::vec3 shadow_sun{0.0f};
+  bool shadow_valid = false;
+  uint32_t shadow_updates = 0;
   std::map<MarchKey, gpu::Pipeline*> march_pipes;
   uint32_t rebuilds = 0;
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
@@ -362,7 +369,7 @@ CloudResourcesDesc CloudResourcesDesc::for_device(const gpu::DeviceInfo& device)
     // One level of the sweep per frame: on lavapipe each dispatch has a fixed cost (~0.2 ms), and at
     // 20 fps 16 frames are 0.8 s (the sweep does not follow the wind; a moving sun lags that much).
     d.light_grid_divisions = 16;
-    d.shadow_map_size = 256;  // 16 m texels over the sample box at noon: the CPU grid's 43 m voxels need no finer
+    d.shadow_map_size = 128;  // 32 m texels over the sample box at noon: the CPU grid's 43 m voxels need no finer
   }
   return d;
 }
@@ -375,10 +382,12 @@ uint64_t persistent_gpu_bytes(const CloudResources& res) {
     total += 2ull * res.history.texture().desc().width * res.history.texture().desc().height * 8;
   if (res.recon_history.texture().has_images())
     total += 2ull * res.recon_history.texture().desc().width * res.recon_history.texture().desc().height * 8;
+  if (res.shadow_image) total += uint64_t(res.shadow_image.extent().width) * res.shadow_image.extent().height * 2;
   return total;
 }
 
 uint32_t light_grid_rebuilds(const CloudResources& res) { return res.rebuilds; }
+uint32_t shadow_map_updates(const CloudResources& res) { return res.shadow_updates; }
 
 float nearest_instance_distance(const CloudFrameInputs& in) {
   float nearest = INFINITY;
@@ -618,28 +627,46 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
 
 
   // ---- 1b. The clouds' shadow on the scene (shadow_map.comp) ----
+  // A persistent texture, recomputed only when the light grid changed this frame or the plane moved
+  // (the map is the grid's sums at the boxes' entries: nothing else changes it).
   if (const std::optional<cumulo::render::LightShadowMap> plane = shadow_plane(in, res.desc.shadow_map_size)) {
     const uint32_t sm = res.desc.shadow_map_size;
-    TextureHandle shadow = graph.create_texture("clouds.shadow_map", TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, sm, sm));
-    gpu::Pipeline* pipe = res.shadow_pipe;
-    shared::CloudShadowPush pc{};
-    pc.plane = glm::vec4(plane->origin, plane->size);
-    pc.light = glm::vec4(sun_world, plane->height);
-    graph.add_pass("clouds.shadow_map", Queue::Compute,
-        [&](PassBuilder& b) {
-          b.read(grid, Usage::Sampled);
-          shadow = b.write(shadow, Usage::StorageWrite);
-        },
-        [r, pipe, grid, shadow, ubo_handle, pc](PassContext& c) {
-          Bindings(*pipe)
-              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
-              .storage(CLOUD_BINDING_SHADOW_OUT, c.view(shadow))
-              .push(r->ctx, c.cmd());
-          pipe->push_constants(c.cmd(), pc);
-          const VkExtent3D e = c.extent(shadow);
-          pipe->dispatch_threads(c.cmd(), e.width, e.height);
-        });
+    if (!res.shadow_image) {
+      res.shadow_image = gpu::Image(ctx, gpu::ImageDesc::tex2d(sm, sm, VK_FORMAT_R16_SFLOAT,
+                                                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
+                                                               "clouds.shadow_map"));
+      res.shadow_texture = {"clouds.shadow_map", TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, sm, sm),
+                            res.shadow_image.handle(), res.shadow_image.view(), ResourceState::undefined()};
+    }
+    TextureHandle shadow = graph.import_persistent(res.shadow_texture);
+    const glm::vec4 key(plane->origin, plane->size.x, plane->height);
+    const bool stale = grid_work || !res.shadow_valid || key != res.shadow_key || sun_world != res.shadow_sun;
+    if (stale) {
+      gpu::Pipeline* pipe = res.shadow_pipe;
+      shared::CloudShadowPush pc{};
+      pc.plane = glm::vec4(plane->origin, plane->size);
+      pc.light = glm::vec4(sun_world, plane->height);
+      graph.add_pass("clouds.shadow_map", Queue::Compute,
+          [&](PassBuilder& b) {
+            b.read(grid, Usage::Sampled);
+            shadow = b.write(shadow, Usage::StorageWrite);
+            b.side_effect();  // kept for the frames that reuse it
+          },
+          [r, pipe, grid, shadow, ubo_handle, pc](PassContext& c) {
+            Bindings(*pipe)
+                .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+                .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
+                .storage(CLOUD_BINDING_SHADOW_OUT, c.view(shadow))
+                .push(r->ctx, c.cmd());
+            pipe->push_constants(c.cmd(), pc);
+            const VkExtent3D e = c.extent(shadow);
+            pipe->dispatch_threads(c.cmd(), e.width, e.height);
+          });
+      res.shadow_key = key;
+      res.shadow_sun = sun_world;
+      res.shadow_valid = true;
+      ++res.shadow_updates;
+    }
     out.shadow = *plane;
     out.shadow.texture = shadow;
   }

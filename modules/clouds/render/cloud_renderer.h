@@ -245,7 +245,7 @@ struct CloudResourcesDesc {
   uint32_t light_grid_sweep_samples = 8;
   // The clouds' shadow map on the scene (clouds.shadow_map): texels per side over the boxes' footprint
   // along the light (the sample's 4 km box at noon: 8 m texels at 512, as the light grid's own 16 m
-  // voxels need no finer).
+  // voxels need no finer; 128 on CPU devices).
   uint32_t shadow_map_size = 512;
 };
 
@@ -296,5 +296,6 @@ std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInput
 // and how many full light-grid rebuilds happened.
 uint64_t persistent_gpu_bytes(const CloudResources& res);
 uint32_t light_grid_rebuilds(const CloudResources& res);
+uint32_t shadow_map_updates(const CloudResources& res);  // frames the clouds' shadow map was recomputed
 
 }  // namespace cumulo::clouds::render

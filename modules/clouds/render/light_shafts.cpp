@@ -1,5 +1,6 @@
 #include "modules/clouds/render/light_shafts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -35,7 +36,13 @@ LightShafts::LightShafts(gpu::Context& ctx, gpu::PipelineLibrary& library) : ctx
 
 bool LightShafts::active(const LightShaftInputs& in) {
   const glm::vec3 l = glm::normalize(in.sun_direction);
-  return l.y > -0.02f && in.haze_density > 0.0f && in.strength > 0.0f && glm::dot(l, in.camera.forward) > 0.0f;
+  if (!(l.y > -0.02f && in.haze_density > 0.0f && in.strength > 0.0f)) return false;
+  // Only when the highlight around the sun reaches the view: the angle between the view's axis and the
+  // sun within the half-diagonal of the view plus the highlight's radius (elsewhere the mask is 1).
+  const float half_h = 0.5f * in.camera.fov_y, half_w = std::atan(std::tan(half_h) * in.camera.aspect);
+  const float half_diag = std::atan(std::hypot(std::tan(half_h), std::tan(half_w)));
+  const float angle = std::acos(std::clamp(glm::dot(l, glm::normalize(in.camera.forward)), -1.0f, 1.0f));
+  return angle < half_diag + glm::radians(in.highlight_degrees);
 }
 
 TextureHandle LightShafts::add_passes(cumulo::render::RenderGraph& graph, const LightShaftInputs& in, TextureHandle hdr,
@@ -63,7 +70,7 @@ TextureHandle LightShafts::add_passes(cumulo::render::RenderGraph& graph, const 
   if (!have_sky)
     sky = graph.import_texture("clouds.light_shafts.no_sky", TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1),
                                white_.handle(), white_.view(), ResourceState::shader_read_only());
-  TextureHandle shafts = graph.create_texture("clouds.light_shafts", TextureDesc::relative(VK_FORMAT_R16_SFLOAT, 0.5f));
+  TextureHandle shafts = graph.create_texture("clouds.light_shafts", TextureDesc::relative(VK_FORMAT_R16_SFLOAT, in.resolution_scale));
   const TextureHandle color = clouds.color, cdepth = clouds.depth;
   LightShafts* self = this;
   graph.add_pass("clouds.light_shafts", Queue::Compute,

@@ -2,11 +2,12 @@
 // Light shafts through gaps in the clouds (issue 10; 2017 talk, seed 001 "Post Processing": a radial
 // blur of the unoccluded sun, used as the mask of the atmosphere's Mie in-scattering).
 //
-//   clouds.light_shafts        compute  half resolution: the shaft intensity (shaders/clouds/light_shafts.comp)
+//   clouds.light_shafts        compute  quarter resolution: the shaft intensity (shaders/clouds/light_shafts.comp)
 //   clouds.light_shafts_apply  compute  full resolution: hdr minus the Mie in-scattering the shafts' shadow
 //                                       takes out (light_shafts_apply.comp)
 //
-// Skipped when the sun is behind the camera, below the horizon, or there is no haze to scatter in.
+// Skipped when the highlight around the sun is outside the view, the sun below the horizon, or there is
+// no haze to scatter in.
 #include <glm/glm.hpp>
 
 #include "engine/gpu/buffer.h"
@@ -34,7 +35,8 @@ struct LightShaftInputs {
   float mie_g = 0.76f;          // the Mie lobe's eccentricity (Hillaire's Earth preset)
   float strength = 1.0f;  // x the haze model's in-scattering, as Mie
   float highlight_degrees = 12.0f;  // angular radius of the highlight around the sun
-  uint32_t samples = 40;
+  uint32_t samples = 32;
+  float resolution_scale = 0.25f;  // of the output, per axis: the blurred mask is smooth
   float decay = 0.97f;
   float blur_length = 0.85f;    // fraction of the way to the sun the blur reaches
   float sky_distance_m = 30000.0f;
