@@ -53,6 +53,9 @@ struct SceneLighting {
   // The scene's exposure meter (times the renderer's exposure): 1 by day, up to 32 in a moonlit night,
   // so a night reads as dark but not black (the eye adapts; the atmosphere sets it from its light level).
   float exposure = 1.0f;
+  // The weather's haze as a multiplier of the atmosphere's Mie (aerosol) density: the LUTs and the
+  // aerial perspective scatter more in haze (a module's extract sets it; 1: the preset's air).
+  float mie_scale = 1.0f;
 };
 
 // Per-frame data of modules, one value per type:

@@ -1,5 +1,6 @@
 #include "engine/render/atmosphere/atmosphere_passes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -42,12 +43,18 @@ AtmospherePasses::AtmospherePasses(gpu::Context& ctx, gpu::PipelineLibrary& libr
   linear_ = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
 }
 
+float AtmospherePasses::mie_scale_key(const FrameSnapshot& s) {
+  const float m = std::clamp(s.lighting.mie_scale, 0.05f, 20.0f);
+  return std::round(m * 20.0f) / 20.0f;
+}
+
 shared::AtmosphereGpuParams AtmospherePasses::gpu_params(const FrameSnapshot& s) const {
   const AtmosphereParams& p = atmosphere_.params();
   shared::AtmosphereGpuParams g{};
   g.radii = glm::vec4(p.bottom_radius_km, p.top_radius_km, p.rayleigh_scale_height_km, p.mie_scale_height_km);
   g.rayleigh = glm::vec4(p.rayleigh_scattering, p.mie_g);
-  g.mie = glm::vec4(p.mie_scattering, p.mie_extinction, p.ozone_center_km, p.ozone_width_km);
+  const float haze = mie_scale_key(s);
+  g.mie = glm::vec4(p.mie_scattering * haze, p.mie_extinction * haze, p.ozone_center_km, p.ozone_width_km);
   g.ozone = glm::vec4(p.ozone_absorption, Atmosphere::kAirglow);
   g.albedo = glm::vec4(p.ground_albedo, p.solar_irradiance);
   const glm::vec3 sun = glm::normalize(s.sun.direction);
@@ -73,8 +80,9 @@ AtmosphereLuts AtmospherePasses::add_passes(RenderGraph& graph, const FrameSnaps
     w.push(*ctx, cmd, *pipe);
     pipe->dispatch_threads(cmd, wd, ht);
   };
-  if (!luts_built_) {
-    // The preset's LUTs: once (a preset change builds a new AtmospherePasses).
+  if (!luts_built_ || params.mie.x != built_mie_) {
+    // The preset's LUTs: once, and again when the weather's haze changes the Mie density (in steps of
+    // 5 %: mie_scale_key). A preset change builds a new AtmospherePasses.
     gpu::Pipeline* tp = transmittance_pipe_;
     graph.add_pass("atmosphere.transmittance", Queue::Compute,
         [&](PassBuilder& b) { trans = b.write(trans, Usage::StorageWrite); },
@@ -96,6 +104,8 @@ AtmosphereLuts AtmospherePasses::add_passes(RenderGraph& graph, const FrameSnaps
           dispatch(mp, c.cmd(), w, ATMOSPHERE_MS_SIZE, ATMOSPHERE_MS_SIZE);
         });
     luts_built_ = true;
+    built_mie_ = params.mie.x;
+    ++lut_builds_;
     have_key_ = false;
   }
   // The sky view follows the sun (a tenth of a degree), the moon's weight and the camera's altitude (10 m).

@@ -41,6 +41,9 @@ class AtmospherePasses {
   // The GPU block for a snapshot (tests compare the LUTs with the CPU model through it).
   shared::AtmosphereGpuParams gpu_params(const FrameSnapshot& s) const;
   uint32_t sky_view_updates() const { return sky_view_updates_; }
+  uint32_t lut_builds() const { return lut_builds_; }  // transmittance + multiple-scattering builds
+  // SceneLighting::mie_scale in steps of 5 % (a weather blend rebuilds the LUTs at most every step).
+  static float mie_scale_key(const FrameSnapshot& s);
   const gpu::Image& sky_view_image() const { return sky_view_; }
 
  private:
@@ -54,6 +57,8 @@ class AtmospherePasses {
   PersistentTexture transmittance_tex_, ms_tex_, sky_view_tex_;
   gpu::Buffer ubo_[gpu::kFramesInFlight];
   bool luts_built_ = false;
+  float built_mie_ = 0.0f;  // the Mie scattering the transmittance and psi_ms LUTs were built with
+  uint32_t lut_builds_ = 0;
   bool have_key_ = false;
   glm::vec4 sky_key_{0.0f};  // sun direction and altitude of the sky-view LUT's last update
   float moon_key_ = 0.0f;

@@ -184,8 +184,14 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
       if (!frame.weather) frame.weather = weather::weather_now(w, *weather_lib_).state;  // the first one counts
     });
   frame.sky.enabled = sky_enabled_;
-  if (frame.weather) apply_weather(*frame.weather, frame.sky);
-  else if (options_.weather) apply_weather(*options_.weather, frame.sky);
+  const weather::WeatherState* state = frame.weather ? &*frame.weather : options_.weather ? &*options_.weather : nullptr;
+  if (state) {
+    apply_weather(*state, frame.sky);
+    // The weather's haze thickens the air's aerosols: the atmosphere's Mie density and the height fog.
+    const float mie = haze_mie_scale(state->haze);
+    snapshot.lighting.mie_scale = mie;
+    snapshot.lighting.fog_density *= mie;
+  }
   snapshot.extensions.set(std::move(frame));
 }
 

@@ -1,5 +1,7 @@
 #include "modules/clouds/render/weather_lighting.h"
 
+#include <algorithm>
+
 namespace cumulo::clouds::render {
 
 void apply_weather(const weather::WeatherState& w, CloudFrameInputs& in) {
@@ -15,5 +17,7 @@ void apply_weather(const weather::WeatherState& w, CloudFrameInputs& in) {
     i.wind_speed = w.wind_speed;
   }
 }
+
+float haze_mie_scale(float haze) { return std::max(0.25f, 1.0f + (std::clamp(haze, 0.0f, 1.0f) - 0.1f) * 10.0f); }
 
 }  // namespace cumulo::clouds::render

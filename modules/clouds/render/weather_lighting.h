@@ -8,12 +8,16 @@
 //   lighting.ambient          -> ambient colour multiplier
 //   voxel_density             -> each instance's density x this
 //   wind                      -> each instance's wind (the weather's wind replaces the Cloudscape's)
-// The other keys (coverage, cloud map, lightning, rain, haze) are the 2.5D sky's and gameplay's.
+//   haze                      -> haze_mie_scale: the atmosphere's Mie density (SceneLighting::mie_scale) and the
+//                                height fog, x 1 at the sample's 0.1 (the preset's clear air), 0.5 at 0.05, 4 at 0.4
+// The other keys (coverage, cloud map, lightning, rain) are the 2.5D sky's and gameplay's.
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/weather/weather_state.h"
 
 namespace cumulo::clouds::render {
 
 void apply_weather(const weather::WeatherState& w, CloudFrameInputs& in);
+// The Mie (aerosol) density multiplier of a weather state's haze (0..1).
+float haze_mie_scale(float haze);
 
 }  // namespace cumulo::clouds::render

@@ -160,4 +160,39 @@ TEST(AtmosphereGpu, AerialPerspectiveFroxelsAgreeWithTheCpuModel) {
   EXPECT_LT(worst_t, 0.02f);
 }
 
+// The weather's haze (SceneLighting::mie_scale) thickens the air: the LUTs are rebuilt once for a new
+// step of the scale (not for a change within the step), and the far froxels' transmittance drops.
+TEST(AtmosphereGpu, HazeRebuildsTheLutsOnceAndThickensTheAerialPerspective) {
+  gpu::ContextDesc cd;
+  cd.validation = true;
+  gpu::Context ctx(cd);
+  gpu::PipelineLibrary library(ctx);
+  AtmospherePasses passes(ctx, library, default_atmosphere());
+  FrameSnapshot s;
+  s.sun.direction = glm::normalize(glm::vec3(0.3f, 0.5f, -0.8f));
+  s.sun.elevation_deg = 30.0f;
+  s.camera = scene::make_camera_view(scene::Transform::look_at({0, 10, 0}, {1000, 10, 0}), scene::Camera{}, 16.0f / 9.0f);
+  constexpr int N = ATMOSPHERE_AERIAL_SIZE;
+  gpu::Buffer readback(ctx, {size_t(N) * N * N * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::Readback, "ap"});
+  Executor executor(ctx);
+  auto far_transmittance = [&](float mie_scale) {
+    s.lighting.mie_scale = mie_scale;
+    RenderGraph g({16, 16});
+    add_readback(g, passes.add_passes(g, s, 0).aerial, readback);
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) { executor.execute(g, cmd); });
+    std::vector<uint16_t> half(size_t(N) * N * N * 4);
+    readback.download(half.data(), half.size() * sizeof(uint16_t));
+    return gpu::half_to_float(half[((size_t(N - 1) * N + N / 2) * N + N / 2) * 4 + 3]);  // the view's centre, 32 km
+  };
+  const float clear = far_transmittance(1.0f);
+  EXPECT_EQ(passes.lut_builds(), 1u);
+  const float hazy = far_transmittance(4.0f);
+  EXPECT_EQ(passes.lut_builds(), 2u);
+  far_transmittance(4.01f);  // the same 5 % step
+  EXPECT_EQ(passes.lut_builds(), 2u);
+  std::printf("  transmittance to 32 km along the horizon: clear air %.3f, 4x the aerosols %.3f\n", clear, hazy);
+  EXPECT_LT(hazy, clear * 0.7f);
+  EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+}
+
 }  // namespace
