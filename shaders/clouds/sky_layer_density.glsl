@@ -47,12 +47,15 @@ vec2 shell_segment(vec3 ro, vec3 rd, float t_max) {
   return vec2(t0, t1);
 }
 
-// Density scale of the voxel cloudscape's presence: 0 in a box's footprint, 1 beyond the fade.
+// Density scale of the voxel cloudscape's presence: 0 in a box's footprint within its heights, 1 beyond
+// the fade outside the footprint (S.misc.x) or above the box's top (S.misc.w): a deck above the voxel
+// clouds stays (two layers, no double counting), and where they share heights the layer hands over.
 float yield_mask(vec3 p) {
   float m = 1.0;
   for (int i = 0; i < int(S.misc.y); ++i) {
     vec2 outside = max(max(S.yield_min[i].xz - p.xz, p.xz - S.yield_max[i].xz), vec2(0.0));
-    m *= smoothstep(0.0, S.misc.x, length(outside));
+    float above = max(max(p.y - S.yield_max[i].y, S.yield_min[i].y - p.y), 0.0);
+    m *= max(smoothstep(0.0, S.misc.x, length(outside)), smoothstep(0.0, S.misc.w, above));
   }
   return m;
 }

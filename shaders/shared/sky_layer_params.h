@@ -36,7 +36,7 @@ struct SkyLayerParams {
   vec4 phase;          // x: forward HG g, y: backward HG g, z: forward weight, w: multiple-scattering strength
   vec4 high;           // x: high-layer (cirrus/alto) coverage 0..1, y: altitude (m), z: tile (m), w: opacity scale
   vec4 high_scroll;    // xy: cirrus drift (m), zw: alto drift (m)
-  vec4 misc;           // x: yield fade (m, outside each box's footprint), y: yield box count, z: jitter frame, w: debug
+  vec4 misc;           // x: yield fade (m, outside each box's footprint), y: yield box count, z: jitter frame, w: vertical yield fade (m, above / below a box)
   vec4 yield_min[SKY_MAX_YIELD_BOXES];  // xyz: world AABB min of a voxel cloudscape; w unused
   vec4 yield_max[SKY_MAX_YIELD_BOXES];
 };

@@ -152,7 +152,8 @@ struct SkyLayer::Impl {
       p.yield_max[boxes] = glm::vec4(hi, 0.0f);
       ++boxes;
     }
-    p.misc = glm::vec4(std::max(sky.yield_fade_m, 1.0f), float(boxes), float(in.frame_index % 64), 0.0f);
+    p.misc = glm::vec4(std::max(sky.yield_fade_m, 1.0f), float(boxes), float(in.frame_index % 64),
+                       std::max(sky.yield_fade_vertical_m, 1.0f));
     return p;
   }
 

@@ -52,6 +52,7 @@ struct SkyLayerFrame {
   float high_coverage = 0.35f;  // the 2D cirrus / alto layers
   float high_altitude_m = 7000.0f;
   float yield_fade_m = 1500.0f;  // the density fades in over this distance outside a voxel box's footprint
+  float yield_fade_vertical_m = 400.0f;  // and over this height above (or below) the box
   float extinction_scale = 0.4f; // x the voxel clouds' extinction: the shell's densities are per 10 m, not per 1 m of voxel
 };
 void apply_weather(const weather::WeatherState& w, SkyLayerFrame& sky);

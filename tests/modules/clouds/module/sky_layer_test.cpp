@@ -77,12 +77,12 @@ TEST(SkyLayerMap, PaintedPngIsReadAndABadOneIsNamed) {
   fs::remove_all(dir);
 }
 
-// From the air over a wide, low voxel box (3072 x 256 x 3072 m, 500-756 m up, one small cloud in it)
-// under an overcast 2.5D deck (stratus: 1.5-2.1 km).
+// From the air over a wide voxel box reaching through the 2.5D deck's heights (3072 x 2048 x 3072 m,
+// 500-2548 m up, one small cloud in it) under an overcast deck (stratus: 1.5-2.1 km).
 TEST_F(CloudsRun, TheSkyLayerAddsNothingOverTheVoxelBoxAndShowsBeyondIt) {
   const glm::vec3 cam(0.0f, 8000.0f, 850.0f), target(0.0f, 0.0f, -445.0f);  // the view crosses the shell above the box
   write_file_atomic(dir_ / "wide_box.json", R"({"name": "wide_box", "seed": 5, "voxel_size": 32,
-    "bounds": {"min": [-1536, 0, -1536], "max": [1536, 256, 1536]}, "profile": {"depth": 64, "exponent": 1.0},
+    "bounds": {"min": [-1536, 0, -1536], "max": [1536, 2048, 1536]}, "profile": {"depth": 64, "exponent": 1.0},
     "edits": [{"type": "sphere", "radius": 100, "position": [-1200, 128, -1200], "detail_type": 0.5, "density_scale": 1.0}]})");
   const fs::path file = dir_ / "seam.json";
   write_file_atomic(file, R"({"version": 1, "name": "sky-seam", "entities": [
@@ -156,7 +156,8 @@ class SkyLayerGpu : public gpu::test::GpuTest {};
 
 }  // namespace
 
-// The yield along a voxel box's border, measured on the layer's own density (sky_layer_probe.comp):
+// The yield along a border of a voxel box that reaches the deck's heights, measured on the layer's own
+// density (sky_layer_probe.comp):
 // 0 over the footprint, then rising with no step between 50 m bins within 300 m of the border larger
 // than a quarter of its level beyond the fade; the same metric on a layer cut at the border (a 1 m fade)
 // finds the step.
@@ -165,7 +166,7 @@ TEST_F(SkyLayerGpu, TheDensityFadesInAlongAVoxelBoxBorderWithoutAStep) {
   clouds::render::SkyLayer sky(ctx(), library, clouds::prepare_sky_noise());
   auto asset = std::make_shared<clouds::render::CloudAsset>();
   asset->bounds_min = glm::vec3(-1536.0f, 0.0f, -1536.0f);
-  asset->bounds_max = glm::vec3(1536.0f, 256.0f, 1536.0f);
+  asset->bounds_max = glm::vec3(1536.0f, 2000.0f, 1536.0f);  // 500-2500 m: through the deck
   clouds::render::CloudFrameInputs in;
   in.camera.position = glm::vec3(0.0f, 1000.0f, 0.0f);
   clouds::render::CloudInstance inst;
@@ -218,4 +219,11 @@ TEST_F(SkyLayerGpu, TheDensityFadesInAlongAVoxelBoxBorderWithoutAStep) {
   EXPECT_GT(fade.full, 0.01);   // the deck is there
   EXPECT_LT(fade.worst_step, 0.25);
   EXPECT_GT(cut.worst_step, 0.3);  // the metric sees a seam where there is one
+
+  // A low box (500-756 m) leaves the deck above it: over its footprint the deck's density is as beyond.
+  f.yield_fade_m = 1500.0f;
+  asset->bounds_max.y = 256.0f;
+  const Metric low = measure(profile(1500.0f));
+  std::printf("  a box below the deck: mean density over its footprint %.3f, beyond %.3f\n", low.inside, low.full);
+  EXPECT_GT(low.inside, 0.5 * low.full);
 }
