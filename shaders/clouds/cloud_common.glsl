@@ -9,6 +9,7 @@
 #ifndef CUMULO_CLOUD_COMMON_GLSL
 #define CUMULO_CLOUD_COMMON_GLSL
 #include "shared/cloud_params.h"
+#include "clouds/cloud_math.glsl"
 
 #ifndef SDF_BC1
 #define SDF_BC1 0
@@ -48,17 +49,12 @@ layout(set = 0, binding = CLOUD_BINDING_FIELD_1) uniform sampler3D field_tex_1;
 #define CLOUD_WHERE(cond) if (cond)
 #endif
 
-const float kPi = 3.14159265;
-const float kEpsilon = 1e-4;
 // Field NVDF decode range (2023 talk: "originally ranged from -256 to 4096 but we scale it to a zero to 1 range").
 const float kSdfMin = -256.0;
 const float kSdfRange = 4352.0;
 // The voxel noise tiles every 100 m (talk: "inSamplePosition * 0.01").
 const float kNoiseScale = 0.01;
 
-float saturate(float x) { return clamp(x, 0.0, 1.0); }
-// The talk's ValueRemap / Remap: v from [a, b] to [c, d], clamped.
-float value_remap(float v, float a, float b, float c, float d) { return mix(c, d, saturate((v - a) / (b - a))); }
 // The talk's GetFractionFromValue.
 float fraction_from_value(float v, float a, float b) { return saturate((v - a) / (b - a)); }
 
@@ -194,20 +190,10 @@ DensitySample sample_density_with_noise(sampler3D modeling, CloudInstanceParams 
 // The voxel noise's mean: its last mip's single texel.
 vec4 noise_mean() { return textureLod(noise_tex, vec3(0.5), float(textureQueryLevels(noise_tex) - 1)); }
 
-// Henyey-Greenstein phase function (1/sr).
-float henyey_greenstein(float cos_theta, float g) {
-  float g2 = g * g;
-  return (1.0 - g2) / (4.0 * kPi * pow(max(1.0 + g2 - 2.0 * g * cos_theta, kEpsilon), 1.5));
-}
 // Dual-lobe HG (2017 talk's silver lining: a forward lobe toward the sun plus a backward lobe).
 float dual_lobe_phase(float cos_theta) {
   return mix(henyey_greenstein(cos_theta, P.phase.y), henyey_greenstein(cos_theta, P.phase.x), P.phase.z);
 }
 
-// Interleaved gradient noise (Jimenez 2014), 0..1, per pixel; `frame` animates it (golden-ratio offsets).
-float pixel_hash(vec2 pixel, uint frame) {
-  pixel += 5.588238 * float(frame % 64u);
-  return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
-}
 
 #endif

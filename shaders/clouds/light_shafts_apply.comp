@@ -9,6 +9,7 @@
 // Near scenery has little haze in front of it, so shafts are never drawn over it.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "clouds/cloud_math.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = SHAFT_BINDING_PARAMS, std140) uniform ShaftBlock { CloudShaftParams S; };
@@ -19,12 +20,6 @@ layout(set = 0, binding = SHAFT_BINDING_SHAFTS) uniform sampler2D shafts_tex;
 layout(set = 0, binding = SHAFT_BINDING_HDR, rgba16f) uniform image2D hdr;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
 
-const float kPi = 3.14159265;
-
-float hg(float mu, float g) {
-  float g2 = g * g;
-  return (1.0 - g2) / (4.0 * kPi * pow(max(1.0 + g2 - 2.0 * g * mu, 1e-4), 1.5));
-}
 
 // The height haze's optical depth along the ray (sky_common.glsl's fog_amount integral).
 float haze_depth(vec3 ro, vec3 dir, float dist) {
@@ -52,7 +47,7 @@ void main() {
   }
   if (texelFetch(clouds_tex, pixel, 0).a < 0.5) dist = min(dist, texelFetch(cloud_depth, pixel, 0).x);
   float inscatter = 1.0 - exp(-haze_depth(ro, dir, dist));
-  vec3 mie = S.sun_color.rgb * hg(mu, S.mie.x) * inscatter * S.mie.y;
+  vec3 mie = S.sun_color.rgb * henyey_greenstein(mu, S.mie.x) * inscatter * S.mie.y;
   float shafts = textureLod(shafts_tex, uv, 0.0).r;
   vec4 c = imageLoad(hdr, pixel);
   const vec3 kLum = vec3(0.2126, 0.7152, 0.0722);

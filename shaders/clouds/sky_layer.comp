@@ -36,10 +36,6 @@ layout(set = 0, binding = SKY_BINDING_OUT_COLOR, rgba16f) uniform writeonly imag
 layout(set = 0, binding = SKY_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
 
-float pixel_hash(vec2 pixel, uint frame) {
-  pixel += 5.588238 * float(frame % 64u);
-  return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
-}
 
 // A fixed cone of 5 unit offsets around the light direction (2015: "6 times in a cone toward the sun").
 const vec3 kCone[5] = vec3[](vec3(0.38, -0.60, 0.24), vec3(-0.55, 0.16, -0.41), vec3(0.12, 0.73, -0.28),
@@ -95,7 +91,7 @@ void main() {
   float transmittance = 1.0, depth50 = 1e6, steps = 0.0;
   vec3 l = normalize(S.sun_dir.xyz);
   float mu = dot(rd, l);
-  float phase = mix(hg(mu, S.phase.y), hg(mu, S.phase.x), S.phase.z);
+  float phase = mix(henyey_greenstein(mu, S.phase.y), henyey_greenstein(mu, S.phase.x), S.phase.z);
   vec2 seg = shell_segment(ro, rd, t_max);
   if (seg.x < seg.y) {
     float n = mix(S.march.z, S.march.y, saturate(abs(rd.y)));
@@ -127,7 +123,7 @@ void main() {
   }
   vec4 hl = high_layers(ro, rd, t_max);
   if (hl.x > 0.0) {
-    vec3 c = S.sun_color.rgb * hg(mu, 0.6) * 0.6 + S.ambient_color.rgb;
+    vec3 c = S.sun_color.rgb * henyey_greenstein(mu, 0.6) * 0.6 + S.ambient_color.rgb;
     radiance += transmittance * hl.x * c;
     float before = transmittance;
     transmittance *= 1.0 - hl.x;

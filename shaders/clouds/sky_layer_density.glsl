@@ -3,6 +3,7 @@
 #ifndef CUMULO_SKY_LAYER_DENSITY_GLSL
 #define CUMULO_SKY_LAYER_DENSITY_GLSL
 #include "shared/sky_layer_params.h"
+#include "clouds/cloud_math.glsl"
 
 layout(set = 0, binding = SKY_BINDING_PARAMS, std140) uniform SkyBlock { SkyLayerParams S; };
 layout(set = 0, binding = SKY_BINDING_CLOUD_MAP) uniform sampler2D cloud_map;
@@ -10,15 +11,8 @@ layout(set = 0, binding = SKY_BINDING_BASE_NOISE) uniform sampler3D base_noise;
 layout(set = 0, binding = SKY_BINDING_DETAIL_NOISE) uniform sampler3D detail_noise;
 layout(set = 0, binding = SKY_BINDING_CURL) uniform sampler3D curl_noise;
 
-const float kPi = 3.14159265;
-
-float saturate(float x) { return clamp(x, 0.0, 1.0); }
+// The 2015 Remap, unclamped (value_remap in cloud_math.glsl is the clamped one).
 float remap(float v, float a, float b, float c, float d) { return c + (v - a) / (b - a) * (d - c); }
-float remap01(float v, float a, float b, float c, float d) { return mix(c, d, saturate((v - a) / (b - a))); }
-float hg(float mu, float g) {
-  float g2 = g * g;
-  return (1.0 - g2) / (4.0 * kPi * pow(max(1.0 + g2 - 2.0 * g * mu, 1e-4), 1.5));
-}
 
 // The planet's centre is under the world origin; altitude above sea level of a world point.
 vec3 planet_centre() { return vec3(0.0, -S.shell.z, 0.0); }
@@ -63,11 +57,11 @@ float yield_mask(vec3 p) {
 // Height gradient of a cloud type (0 stratus, 0.5 stratocumulus, 1 cumulus) at height fraction h,
 // grown toward a cumulonimbus tower by precipitation.
 float height_gradient(float h, float type, float precip) {
-  float stratus = remap01(h, 0.0, 0.08, 0.0, 1.0) * remap01(h, 0.15, 0.25, 1.0, 0.0);
-  float stratocumulus = remap01(h, 0.0, 0.15, 0.0, 1.0) * remap01(h, 0.35, 0.55, 1.0, 0.0);
-  float cumulus = remap01(h, 0.0, 0.15, 0.0, 1.0) * remap01(h, 0.6, 0.9, 1.0, 0.0);
+  float stratus = value_remap(h, 0.0, 0.08, 0.0, 1.0) * value_remap(h, 0.15, 0.25, 1.0, 0.0);
+  float stratocumulus = value_remap(h, 0.0, 0.15, 0.0, 1.0) * value_remap(h, 0.35, 0.55, 1.0, 0.0);
+  float cumulus = value_remap(h, 0.0, 0.15, 0.0, 1.0) * value_remap(h, 0.6, 0.9, 1.0, 0.0);
   float g = type < 0.5 ? mix(stratus, stratocumulus, type * 2.0) : mix(stratocumulus, cumulus, type * 2.0 - 1.0);
-  float cumulonimbus = remap01(h, 0.0, 0.1, 0.0, 1.0) * remap01(h, 0.9, 1.0, 1.0, 0.0);
+  float cumulonimbus = value_remap(h, 0.0, 0.1, 0.0, 1.0) * value_remap(h, 0.9, 1.0, 1.0, 0.0);
   return mix(g, cumulonimbus, precip);
 }
 
@@ -101,7 +95,7 @@ float density(vec3 p, bool cheap) {
   float wfbm = b.g * 0.625 + b.b * 0.25 + b.a * 0.125;
   float base = remap(b.r, -(1.0 - wfbm), 1.0, 0.0, 1.0);
   base = saturate(base * height_gradient(h, w.type, w.precip));
-  float cov = pow(w.coverage, remap01(h, 0.7, 0.8, 1.0, mix(1.0, 0.5, S.weather.w)));
+  float cov = pow(w.coverage, value_remap(h, 0.7, 0.8, 1.0, mix(1.0, 0.5, S.weather.w)));
   float d = saturate(remap(base, 1.0 - cov, 1.0, 0.0, 1.0)) * cov;
   if (d <= 0.0 || cheap) return d * yield_m;
   vec3 curl = (textureLod(curl_noise, vec3(q.xz / S.shape.x * 4.0, 0.5), 0.0).rgb * 2.0 - 1.0) * S.shape.z;

@@ -19,6 +19,7 @@
 #include "engine/gpu/sampler.h"
 #include "engine/render/history.h"
 #include "engine/render/sky_model.h"
+#include "modules/clouds/render/reconstruct_pass.h"
 #include "modules/clouds/scene/density_query.h"
 #include "shaders/shared/cloud_params.h"
 
@@ -713,19 +714,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     if (in.camera_cut || res.recon_block != block) res.recon_history.invalidate();
     const cumulo::render::HistoryHandles h = res.recon_history.import(res.ctx, graph);
     recon = {h.previous, h.current, h.valid};
-    static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
-    const uint32_t k = uint32_t(in.frame_index % (block * block));
-    // (B = 3 ranks the top-left 3x3 cells of the 4x4 matrix: still each pixel once per 9 frames.)
-    for (uint32_t y = 0; y < block; ++y)
-      for (uint32_t x = 0; x < block; ++x) {
-        // Bayer order of a BxB block: the 4x4 matrix's values at the block's cells, ranked.
-        const uint32_t step = 4 / block;
-        uint32_t rank = 0;
-        const uint32_t v = kBayer4[(y * step) * 4 + x * step];
-        for (uint32_t yy = 0; yy < block; ++yy)
-          for (uint32_t xx = 0; xx < block; ++xx) rank += kBayer4[(yy * step) * 4 + xx * step] < v ? 1u : 0u;
-        if (rank == k) sub_offset = {x, y};
-      }
+    sub_offset = reprojection_offset(block, in.frame_index);
   }
   res.recon_block = block > 1 ? block : 0;
 
@@ -793,34 +782,10 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     TextureHandle sub_c = graph.create_texture("clouds.sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
     TextureHandle sub_d = graph.create_texture("clouds.sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
     add_march(name, segment, sub_c, sub_d, front, block);
-    gpu::Pipeline* pipe = r->recon_pipe;
-    TextureHandle prev = recon.prev, next = recon.next;
-    const bool valid = recon.valid;
-    graph.add_pass("clouds.reconstruct", Queue::Compute,
-        [&](PassBuilder& b) {
-          b.read(sub_c, Usage::Sampled);
-          b.read(sub_d, Usage::Sampled);
-          b.read(prev, Usage::Sampled);
-          b.read(depth, Usage::Sampled);
-          next = b.write(next, Usage::StorageWrite);
-          cdepth = b.write(cdepth, Usage::StorageWrite);
-        },
-        [r, pipe, sub_c, sub_d, prev, next, depth, cdepth, ubo_handle, block, sub_offset, valid](PassContext& c) {
-          Bindings(*pipe)
-              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_CURRENT, c.view(sub_c), r->nearest_clamp, c.layout(sub_c))
-              .sampled(CLOUD_BINDING_CURRENT_DEPTH, c.view(sub_d), r->nearest_clamp, c.layout(sub_d))
-              .sampled(CLOUD_BINDING_HISTORY, c.view(prev), r->linear_clamp, c.layout(prev))
-              .sampled(CLOUD_BINDING_SCENE_DEPTH, c.view(depth), r->nearest_clamp, c.layout(depth))
-              .storage(CLOUD_BINDING_ACCUM_OUT, c.view(next))
-              .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
-              .push(r->ctx, c.cmd());
-          const VkExtent3D e = c.extent(next);
-          shared::CloudMarchPush pc = target_push(e);
-          pc.sub = glm::vec4(float(block), float(sub_offset.x), float(sub_offset.y), valid ? 1.0f : 0.0f);
-          pipe->push_constants(c.cmd(), pc);
-          pipe->dispatch_threads(c.cmd(), e.width, e.height);
-        });
+    TextureHandle next = recon.next;
+    add_reconstruct_pass(graph, res.ctx, "clouds.reconstruct",
+                         {r->recon_pipe, ubo_handle, sub_c, sub_d, recon.prev, depth, block, sub_offset, recon.valid}, next,
+                         cdepth);
     color = next;
   };
 

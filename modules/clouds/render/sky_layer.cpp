@@ -19,6 +19,7 @@
 #include "engine/render/history.h"
 #include "modules/clouds/noise/noise.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/render/reconstruct_pass.h"
 #include "modules/clouds/volume/volume_file.h"
 #include "shaders/shared/cloud_params.h"
 #include "shaders/shared/sky_layer_params.h"
@@ -283,11 +284,7 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
 
   // One pixel of each 4x4 block of the half-resolution target per frame, in Bayer order.
   constexpr uint32_t kBlock = 4;
-  static constexpr uint32_t kBayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
-  const uint32_t k = s.temporal ? uint32_t(in.frame_index % 16) : 0u;
-  glm::uvec2 offset{0, 0};
-  for (uint32_t i = 0; i < 16; ++i)
-    if (kBayer4[i] == k) offset = {i % 4, i / 4};
+  const glm::uvec2 offset = s.temporal ? reprojection_offset(kBlock, in.frame_index) : glm::uvec2(0, 0);
   const VkExtent2D full = graph.output_size();
   const uint32_t hw = std::max(1u, (full.width + 1) / 2), hh = std::max(1u, (full.height + 1) / 2);
   const uint32_t sw = (hw + kBlock - 1) / kBlock, sh = (hh + kBlock - 1) / kBlock;
@@ -309,7 +306,7 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
       "clouds.sky_layer.cloud_map", TextureDesc::absolute(VK_FORMAT_R8G8B8A8_UNORM, me.width, me.height),
       m.map_image.handle(), m.map_image.view(), cumulo::render::ResourceState::shader_read_only());
   Impl* mp = &m;
-  const VkBuffer ubo_h = ubo.handle(), recon_h = recon_ubo.handle();
+  const VkBuffer ubo_h = ubo.handle();
   graph.add_pass(
       "clouds.sky_layer", Queue::Compute,
       [&](PassBuilder& b) {
@@ -341,37 +338,10 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
         const VkExtent3D e = c.extent(sub_c);
         pipe.dispatch_threads(c.cmd(), e.width, e.height);
       });
-  TextureHandle prev = h.previous, next = h.current;
-  const bool valid = h.valid;
-  graph.add_pass(
-      "clouds.sky_layer_reconstruct", Queue::Compute,
-      [&](PassBuilder& b) {
-        b.read(sub_c, Usage::Sampled);
-        b.read(sub_d, Usage::Sampled);
-        b.read(prev, Usage::Sampled);
-        b.read(scene_depth, Usage::Sampled);
-        next = b.write(next, Usage::StorageWrite);
-        out_d = b.write(out_d, Usage::StorageWrite);
-      },
-      [mp, recon_h, sub_c, sub_d, prev, next, scene_depth, out_d, offset, valid](PassContext& c) {
-        gpu::Pipeline& pipe = *mp->reconstruct;
-        pipe.bind(c.cmd());
-        gpu::DescriptorWriter()
-            .uniform_buffer(CLOUD_BINDING_PARAMS, recon_h, 0, sizeof(shared::CloudParams))
-            .sampled_image(CLOUD_BINDING_CURRENT, c.view(sub_c), mp->nearest_clamp, c.layout(sub_c))
-            .sampled_image(CLOUD_BINDING_CURRENT_DEPTH, c.view(sub_d), mp->nearest_clamp, c.layout(sub_d))
-            .sampled_image(CLOUD_BINDING_HISTORY, c.view(prev), mp->linear_clamp, c.layout(prev))
-            .sampled_image(CLOUD_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
-            .storage_image(CLOUD_BINDING_ACCUM_OUT, c.view(next))
-            .storage_image(CLOUD_BINDING_OUT_DEPTH, c.view(out_d))
-            .push(mp->ctx, c.cmd(), pipe);
-        const VkExtent3D e = c.extent(next);
-        shared::CloudMarchPush pc{};
-        pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-        pc.sub = glm::vec4(float(kBlock), float(offset.x), float(offset.y), valid ? 1.0f : 0.0f);
-        pipe.push_constants(c.cmd(), pc);
-        pipe.dispatch_threads(c.cmd(), e.width, e.height);
-      });
+  TextureHandle next = h.current;
+  add_reconstruct_pass(graph, m.ctx, "clouds.sky_layer_reconstruct",
+                       {m.reconstruct, recon_ubo.handle(), sub_c, sub_d, h.previous, scene_depth, kBlock, offset, h.valid}, next,
+                       out_d);
   return {next, out_d};
 }
 
