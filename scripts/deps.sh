@@ -6,7 +6,7 @@ PKGS=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools spirv-tools
   glslang-dev glslang-tools libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libimgui-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libopenvdb-dev libtbb-dev libzstd-dev libboost-dev
+  libopenvdb-dev libtbb-dev libzstd-dev libboost-dev libopenexr-dev
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
   xvfb xauth
 )

@@ -118,7 +118,7 @@ float sun_optical_depth(sampler3D modeling, int i, CloudInstanceParams inst, vec
     sum += sample_density(modeling, inst, q, dist, mip, false).full * seg;
 #endif
   }
-  sum += light_grid(i, p + sun * (2.0 * seg * inv_scale)).x;
+  if ((P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u) sum += light_grid(i, p + sun * (2.0 * seg * inv_scale)).x;
 #endif
   return sum * P.march.x;
 }
@@ -136,7 +136,11 @@ void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd
   float t1 = min(seg.y, t_end);
   float scale = inst.bounds_min.w;
   float sun_dot = dot(rd, P.sun_dir.xyz);
-  float phase = dual_lobe_phase(sun_dot);
+  float phase = (P.effects.x & CLOUD_EFFECT_SILVER_LINING) != 0u ? dual_lobe_phase(sun_dot) : henyey_greenstein(sun_dot, P.phase.y);
+  float ms_strength = (P.effects.x & CLOUD_EFFECT_INNER_GLOW) != 0u ? P.phase.w : 0.0;
+  bool dark_edges = (P.effects.x & CLOUD_EFFECT_DARK_EDGES) != 0u;
+  bool ambient_direction = (P.effects.x & CLOUD_EFFECT_AMBIENT_DIRECTION) != 0u;
+  uint point_lights = (P.effects.x & CLOUD_EFFECT_LIGHTNING_GLOW) != 0u ? P.frame.z : 0u;
   float ext = P.march.x, albedo = P.march.y;
   uint max_steps = uint(P.march.w);
   for (uint s = 0u; s < max_steps; ++s) {
@@ -177,12 +181,12 @@ void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd
         sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
         float od_sun = sun_optical_depth(modeling, i, inst, q, ts, mip, mean_noise);
-        float od_sky = light_grid(i, q).y * ext * P.light.y;
-        float ms = ds.profile * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
+        float od_sky = ambient_direction ? light_grid(i, q).y * ext * P.light.y : 0.0;
+        float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
         vec3 world_q = ro + rd * ts;
-        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * P.phase.w / (4.0 * kPi)));
+        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength / (4.0 * kPi)));
         light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
-        for (uint l = 0u; l < P.frame.z; ++l) {
+        for (uint l = 0u; l < point_lights; ++l) {
           float d1 = distance(world_q, P.light_pos[l].xyz);
           float potential = pow(saturate(1.0 - d1 / P.light_pos[l].w), 12.0);
           light_in += P.light_color[l].rgb * (potential * (1.0 - saturate(ds.full * 5.0)));

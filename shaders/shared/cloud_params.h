@@ -63,6 +63,16 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_DEBUG_LIGHT_GRID 3  // a slice of instance 0's light grid (sun channel red, sky green)
 #define CLOUD_DEBUG_SPLIT 4       // near segment tinted orange, far segment blue
 
+// The talks' named lighting effects, each switchable in the march (CloudParams::effects.x) so that its
+// contribution can be measured against the path-traced reference (cumulo fidelity).
+#define CLOUD_EFFECT_SILVER_LINING 1u   // the forward HG lobe (off: the backward lobe alone)
+#define CLOUD_EFFECT_DARK_EDGES 2u      // the dimensional profile in the multiple-scattering field (off: 1 inside cloud)
+#define CLOUD_EFFECT_INNER_GLOW 4u      // the multiple-scattering field (off: no ms term)
+#define CLOUD_EFFECT_LONG_SHADOWS 8u    // the light grid beyond the two marched light samples (off: those alone)
+#define CLOUD_EFFECT_AMBIENT_DIRECTION 16u  // exp(-summed sky density) on the ambient (off: 1)
+#define CLOUD_EFFECT_LIGHTNING_GLOW 32u  // the point lights' glow (off: none)
+#define CLOUD_EFFECTS_ALL 63u
+
 // Ablations (compile-time: the shader is built once per variant, so loops have no dead branches).
 #define CLOUD_ABLATION_BASE 0            // uniform step over the clipped segment + 10-sample 256 m light march
 #define CLOUD_ABLATION_VOXEL_LIGHTING 1  // base + light grid after two marched light samples
@@ -105,9 +115,10 @@ struct CloudParams {
   vec4 light_pos[CLOUD_MAX_POINT_LIGHTS];    // xyz: world position; w: radius (m)
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
+  uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y, z, w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1184)
+CUMULO_SHARED_SIZE(CloudParams, 1200)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

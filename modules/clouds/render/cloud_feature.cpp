@@ -61,6 +61,10 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-sky", "auto|on|off",
               "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
               &sky_text_)
+      .option("--cloud-effects-off", "LIST",
+              "switch off lighting effects of the talks in the march, comma-separated: silver-lining, dark-edges, "
+              "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",
+              &effects_off_text_)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_);
 }
@@ -96,6 +100,18 @@ void CloudFeature::check_run_options() {
     if (!parse_format_set(formats_text_, &set))
       fail("--cloud-formats: unknown set \"%s\" (expected compressed or uncompressed)", formats_text_.c_str());
     options_.formats = set;
+  }
+  options_.effects = CLOUD_EFFECTS_ALL;
+  for (size_t b = 0; b < effects_off_text_.size();) {
+    size_t e = effects_off_text_.find(',', b);
+    if (e == std::string::npos) e = effects_off_text_.size();
+    const std::string name = effects_off_text_.substr(b, e - b);
+    const uint32_t bit = cloud_effect_bit(name);
+    if (!name.empty() && !bit)
+      fail("--cloud-effects-off: unknown effect \"%s\" (expected silver-lining, dark-edges, inner-glow, long-shadows, "
+           "ambient-direction or lightning-glow)", name.c_str());
+    options_.effects &= ~bit;
+    b = e + 1;
   }
   if (!ablation_text_.empty() && !parse_ablation(ablation_text_, &options_.ablation))
     fail("--cloud-ablation: unknown variant \"%s\" (expected base, voxel-lighting or full)", ablation_text_.c_str());
@@ -234,6 +250,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   settings.reprojection_block = options_.reprojection_block;
   settings.shadows = options_.shadows;
   settings.terrain_shadow = options_.terrain_shadow;
+  settings.effects = options_.effects;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {
@@ -274,7 +291,14 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   CloudFrameInputs in = std::move(*inputs_);
   inputs_.reset();
   in.aerial = f.aerial_perspective;
-  if (sky_) {
+  if (reference_) {
+    // The path tracer draws the whole picture (clouds, terrain, sky) in place of the real-time passes.
+    f.hdr = reference_->add_passes(f.graph, f.snapshot, in, light_, f.hdr, f.depth);
+    light_ = {};
+    if (hdr_capture_) hdr_capture_->add_pass(f.graph, f.hdr);
+    return;
+  }
+  if (sky_ && !options_.reference_comparable) {
     const SkyLayer::Outputs o = sky_->add_passes(f.graph, frame->sky, in, f.depth);
     in.sky_color = o.color;
     in.sky_depth = o.depth;
@@ -298,13 +322,13 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     fx.rain.push_back({i.position + glm::normalize(i.rotation) * (i.scale * base),
                        0.3f * i.scale * std::min(extent.x, extent.z), 0.0f, intensity});
   }
-  const bool effects = !fx.bolts.empty() || !fx.rain.empty();
+  const bool effects = (!fx.bolts.empty() || !fx.rain.empty()) && !options_.reference_comparable;
   CloudPassOutputs outputs;
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_);
   light_ = {};
   if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
   if (effects) f.hdr = effects_->add_passes(f.graph, fx, f.hdr, f.depth, outputs);
-  if (shafts_) {
+  if (shafts_ && !options_.reference_comparable) {
     LightShaftInputs li;
     li.camera = s.camera;
     li.slot = f.slot;
@@ -314,6 +338,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     li.haze_falloff = in.haze_falloff;
     f.hdr = shafts_->add_passes(f.graph, li, f.hdr, f.depth, outputs, in.sky_color);
   }
+  if (hdr_capture_) hdr_capture_->add_pass(f.graph, f.hdr);
 }
 
 void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth) {

@@ -18,6 +18,7 @@
 //   --cloud-shadows on|off     the clouds' shadow on the terrain and the ocean (default on)
 //   --cloud-terrain-shadow on|off  the terrain's shadow on the clouds (the key light's depth map; default on)
 //   --cloud-light-shafts on|off  light shafts through gaps in the clouds (light_shafts.h; default on)
+//   --cloud-effects-off LIST   lighting effects of the talks switched off in the march (cumulo fidelity measures each)
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
 #include <filesystem>
@@ -36,7 +37,9 @@
 #include "engine/render/render_feature.h"
 #include "modules/clouds/render/cloud_effects.h"
 #include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/render/hdr_capture.h"
 #include "modules/clouds/render/light_shafts.h"
+#include "modules/clouds/render/reference_tracer.h"
 #include "modules/clouds/render/sky_layer.h"
 #include "modules/clouds/weather/weather_library.h"
 #include "modules/clouds/weather/weather_state.h"
@@ -80,6 +83,10 @@ struct CloudRunOptions {
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
   bool light_shafts = true;  // --cloud-light-shafts
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
+  uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
+  // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
+  // light shafts, rain or bolt channels.
+  bool reference_comparable = false;
   std::optional<weather::WeatherState> weather;  // --weather ID: applied every frame (weather_lighting.h)
   int noise_size = 128;
 };
@@ -109,6 +116,11 @@ class CloudFeature : public cumulo::render::RenderFeature {
   uint64_t asset_gpu_bytes() const;
   CloudAssetCache* asset_cache() { return cache_.get(); }
   void set_measure_steps(bool on) { measure_steps_ = on; }
+  // `cumulo reference` / `cumulo fidelity`: the path tracer replaces the cloud passes (and draws the terrain
+  // and the sky too) while set; null: the real-time passes. Not owned.
+  void set_reference(ReferenceTracer* tracer) { reference_ = tracer; }
+  // A copy of the scene colour after the module's last pass of each frame (null: none). Not owned.
+  void set_hdr_capture(HdrCapture* capture) { hdr_capture_ = capture; }
   double read_steps_per_pixel() const;  // call once the frame has completed
   static constexpr const char* kStepsReadbackPass = "clouds.steps_readback";
 
@@ -124,7 +136,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
-      shafts_text_ = "on", terrain_shadow_text_ = "on";
+      shafts_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_;
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
@@ -137,6 +149,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::string last_camera_name_;
   bool have_last_camera_ = false;
   bool measure_steps_ = false;
+  ReferenceTracer* reference_ = nullptr;
+  HdrCapture* hdr_capture_ = nullptr;
   gpu::Buffer steps_buffer_;
   uint64_t steps_pixels_ = 0;
 };

@@ -19,6 +19,7 @@
 #include "engine/gpu/sampler.h"
 #include "engine/render/history.h"
 #include "engine/render/sky_model.h"
+#include "modules/clouds/render/pass_bindings.h"
 #include "modules/clouds/render/reconstruct_pass.h"
 #include "modules/clouds/scene/density_query.h"
 #include "shaders/shared/cloud_params.h"
@@ -149,34 +150,7 @@ void CloudResourcesDeleter::operator()(CloudResources* r) const {
 
 namespace {
 
-// Descriptor writes that skip bindings the pipeline does not have (reflection drops unused ones, and
-// variants use different subsets), so every variant can be fed by the same code.
-class Bindings {
- public:
-  explicit Bindings(const gpu::Pipeline& p) : p_(p) {}
-  Bindings& ubo(uint32_t b, VkBuffer buffer, VkDeviceSize size) {
-    if (p_.find_binding(0, b)) w_.uniform_buffer(b, buffer, 0, size);
-    return *this;
-  }
-  Bindings& sampled(uint32_t b, VkImageView view, VkSampler sampler,
-                    VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL) {
-    if (const gpu::PipelineBinding* pb = p_.find_binding(0, b))
-      for (uint32_t e = 0; e < pb->count; ++e) w_.sampled_image(b, view, sampler, layout, e);
-    return *this;
-  }
-  Bindings& storage(uint32_t b, VkImageView view) {
-    if (p_.find_binding(0, b)) w_.storage_image(b, view);
-    return *this;
-  }
-  void push(const gpu::Context& ctx, VkCommandBuffer cmd) const {
-    p_.bind(cmd);
-    w_.push(ctx, cmd, p_);
-  }
-
- private:
-  const gpu::Pipeline& p_;
-  gpu::DescriptorWriter w_;
-};
+using Bindings = PassBindings;
 
 shared::CloudMarchPush target_push(VkExtent3D e) {
   shared::CloudMarchPush pc{};
@@ -219,13 +193,12 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
 
 namespace {
 
-shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
-                                bool history_valid, const std::vector<uint32_t>& slots) {
+shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size, bool history_valid,
+                                     const std::vector<uint32_t>& slots) {
   const CloudSettings& s = in.settings;
   shared::CloudParams p{};
   p.view_proj = in.camera.view_proj;
   p.inv_view_proj = in.camera.inv_view_proj;
-  p.prev_view_proj = res.prev_view_proj;
   p.camera_pos = glm::vec4(in.camera.position, float(in.time));
   const glm::vec3 sun = glm::normalize(in.sun_direction);
   p.sun_dir = glm::vec4(sun, 0.0f);
@@ -243,6 +216,7 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   const bool terrain = in.settings.terrain_shadow && in.terrain_depth.valid();
   p.haze = glm::vec4(in.haze_density, in.haze_falloff, terrain ? 1.0f : 0.0f, in.terrain_depth_range_m);
   p.light_depth = in.terrain_depth_matrix;
+  p.effects = glm::uvec4(s.effects, 0u, 0u, 0u);
   p.sky_zenith = glm::vec4(in.sky_zenith, 0.0f);
   p.sky_horizon = glm::vec4(in.sky_horizon, 0.0f);
   for (size_t i = 0; i < in.lights.size(); ++i) {
@@ -255,6 +229,25 @@ shared::CloudParams make_params(const CloudResources& res, const CloudFrameInput
   }
   return p;
 }
+
+shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
+                                bool history_valid, const std::vector<uint32_t>& slots) {
+  shared::CloudParams p = make_params_impl(in, size, history_valid, slots);
+  p.prev_view_proj = res.prev_view_proj;
+  return p;
+}
+
+}  // namespace
+
+shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, const std::vector<uint32_t>& slots) {
+  std::vector<uint32_t> all = slots;
+  all.resize(in.instances.size(), 0u);
+  shared::CloudParams p = make_params_impl(in, size, false, all);
+  p.prev_view_proj = in.camera.view_proj;
+  return p;
+}
+
+namespace {
 
 // Temporal history: the graph's ping-pong pair (last frame's result as `prev`, this frame's target as
 // `next`). Invalid on the first frame, after a resize, a camera cut or a frame without accumulation.
@@ -283,6 +276,11 @@ bool parse_ablation(std::string_view n, CloudAblation* out) {
   for (CloudAblation a : {CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full})
     if (n == ablation_name(a)) return *out = a, true;
   return false;
+}
+uint32_t cloud_effect_bit(std::string_view name) {
+  for (const CloudEffectName& e : kCloudEffects)
+    if (name == e.name) return e.bit;
+  return 0;
 }
 const char* debug_view_name(CloudDebugView v) {
   switch (v) {

@@ -149,7 +149,22 @@ struct CloudSettings {
   bool light_grid_always_update = false;
   bool shadows = true;  // the clouds' shadow on the scene (clouds.shadow_map -> render::LightShadowMap)
   bool terrain_shadow = true;  // the terrain's shadow on the clouds (CloudFrameInputs::terrain_depth)
+  // The talks' lighting effects in the march (CLOUD_EFFECT_* bits, cloud_params.h); all on by default.
+  uint32_t effects = CLOUD_EFFECTS_ALL;
 };
+
+// The named effects (cumulo fidelity measures each): "silver-lining", "dark-edges", "inner-glow",
+// "long-shadows", "ambient-direction", "lightning-glow".
+struct CloudEffectName {
+  const char* name;
+  uint32_t bit;
+};
+inline constexpr CloudEffectName kCloudEffects[] = {
+    {"silver-lining", CLOUD_EFFECT_SILVER_LINING}, {"dark-edges", CLOUD_EFFECT_DARK_EDGES},
+    {"inner-glow", CLOUD_EFFECT_INNER_GLOW},       {"long-shadows", CLOUD_EFFECT_LONG_SHADOWS},
+    {"ambient-direction", CLOUD_EFFECT_AMBIENT_DIRECTION}, {"lightning-glow", CLOUD_EFFECT_LIGHTNING_GLOW}};
+// The bit of an effect's name; 0 if unknown.
+uint32_t cloud_effect_bit(std::string_view name);
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
 // the near segment (< split_distance_m) at half resolution and the far one at full resolution.
@@ -223,6 +238,11 @@ float nearest_instance_distance(const CloudFrameInputs& in);
 
 CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snapshot, uint32_t slot,
                                             const CloudSettings& settings = {});
+
+// The march's parameter block for a frame (what add_cloud_passes uploads; no history): other passes that
+// read the same density field and lighting (the path-traced reference) bind it too. `slots`: the asset slot
+// of each instance (CloudLightOutputs::slots; missing entries are slot 0).
+shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, const std::vector<uint32_t>& slots);
 
 inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
 inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS

@@ -1,0 +1,132 @@
+#include "modules/clouds/render/reference_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "engine/core/parallel.h"
+#include "engine/render/atmosphere/atmosphere.h"
+#include "engine/render/sky_model.h"
+#include "engine/scene/model.h"
+
+namespace cumulo::clouds::render {
+namespace {
+
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+// The albedo a material shows from afar: its factor x its texture's mean colour.
+glm::vec3 material_albedo(const scene::Model& m, int material) {
+  if (material < 0 || material >= int(m.materials.size())) return glm::vec3(1.0f);
+  const scene::Material& mat = m.materials[size_t(material)];
+  glm::vec3 c(mat.base_color_factor);
+  if (mat.base_color_texture >= 0 && mat.base_color_texture < int(m.textures.size())) {
+    const scene::Texture& t = m.textures[size_t(mat.base_color_texture)];
+    glm::dvec3 sum(0.0);
+    const size_t n = size_t(t.width) * t.height;
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const float v = float(t.rgba[i * 4 + size_t(k)]) / 255.0f;
+        sum[k] += t.srgb ? srgb_to_linear(v) : v;
+      }
+    if (n) c *= glm::vec3(sum / double(n));
+  }
+  return c;
+}
+
+}  // namespace
+
+TerrainHeightfield rasterize_heightfield(const std::vector<cumulo::render::ModelDraw>& models, uint32_t resolution) {
+  TerrainHeightfield h;
+  scene::Bounds bounds;
+  for (const cumulo::render::ModelDraw& d : models)
+    if (d.model) bounds.add(d.model->bounds.transformed(d.world));
+  if (bounds.empty() || resolution == 0) return h;
+  const float side = std::max(bounds.size().x, bounds.size().z);
+  if (!(side > 0.0f)) return h;
+  h.resolution = resolution;
+  h.origin = glm::vec2(bounds.min.x, bounds.min.z);
+  h.size = glm::vec2(side);
+  h.texels.assign(size_t(resolution) * resolution, glm::vec4(TerrainHeightfield::kNoTerrain, 0.0f, 0.0f, 0.0f));
+  const float texel = side / float(resolution);
+  for (const cumulo::render::ModelDraw& d : models) {
+    if (!d.model) continue;
+    const scene::Model& m = *d.model;
+    std::map<int, glm::vec3> albedo;
+    for (const scene::MeshInstance& inst : m.instances) {
+      const scene::Mesh& mesh = m.meshes[inst.mesh];
+      if (!albedo.count(mesh.material)) albedo[mesh.material] = material_albedo(m, mesh.material);
+      const glm::vec3 a = albedo[mesh.material];
+      const glm::mat4 world = d.world * inst.world;
+      std::vector<glm::vec3> p(mesh.vertices.size());
+      for (size_t i = 0; i < p.size(); ++i) p[i] = glm::vec3(world * glm::vec4(mesh.vertices[i].position, 1.0f));
+      for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const glm::vec3 v0 = p[mesh.indices[t]], v1 = p[mesh.indices[t + 1]], v2 = p[mesh.indices[t + 2]];
+        // Texel coordinates of the corners; the texels whose centres lie inside the triangle's xz shadow.
+        const glm::vec2 q0 = (glm::vec2(v0.x, v0.z) - h.origin) / texel, q1 = (glm::vec2(v1.x, v1.z) - h.origin) / texel,
+                        q2 = (glm::vec2(v2.x, v2.z) - h.origin) / texel;
+        const float area = (q1.x - q0.x) * (q2.y - q0.y) - (q2.x - q0.x) * (q1.y - q0.y);
+        if (std::fabs(area) < 1e-9f) continue;  // vertical: its neighbours cover it from above
+        const int x0 = std::max(0, int(std::floor(std::min({q0.x, q1.x, q2.x}) - 0.5f)));
+        const int x1 = std::min(int(resolution) - 1, int(std::ceil(std::max({q0.x, q1.x, q2.x}) - 0.5f)));
+        const int y0 = std::max(0, int(std::floor(std::min({q0.y, q1.y, q2.y}) - 0.5f)));
+        const int y1 = std::min(int(resolution) - 1, int(std::ceil(std::max({q0.y, q1.y, q2.y}) - 0.5f)));
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x) {
+            const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
+            const float w0 = ((q1.x - c.x) * (q2.y - c.y) - (q2.x - c.x) * (q1.y - c.y)) / area;
+            const float w1 = ((q2.x - c.x) * (q0.y - c.y) - (q0.x - c.x) * (q2.y - c.y)) / area;
+            const float w2 = 1.0f - w0 - w1;
+            if (w0 < -1e-5f || w1 < -1e-5f || w2 < -1e-5f) continue;
+            const float y_world = w0 * v0.y + w1 * v1.y + w2 * v2.y;
+            glm::vec4& dst = h.texels[size_t(y) * resolution + size_t(x)];
+            if (y_world > dst.x) dst = glm::vec4(y_world, a);
+          }
+      }
+    }
+  }
+  h.min_height = INFINITY, h.max_height = -INFINITY;
+  for (const glm::vec4& t : h.texels)
+    if (t.x > TerrainHeightfield::kNoTerrain) h.min_height = std::min(h.min_height, t.x), h.max_height = std::max(h.max_height, t.x);
+  if (h.min_height > h.max_height) return TerrainHeightfield{};
+  return h;
+}
+
+SkyEnvironment sky_environment(const cumulo::render::FrameSnapshot& s, uint32_t width, uint32_t height) {
+  using cumulo::render::Atmosphere;
+  // The weather's haze scales the Mie density of the LUTs (the real-time sky); the same here.
+  const Atmosphere& base = cumulo::render::default_atmosphere();
+  std::unique_ptr<Atmosphere> hazy;
+  const float m = std::clamp(s.lighting.mie_scale, 0.05f, 20.0f);
+  if (std::fabs(m - 1.0f) > 1e-3f) {
+    cumulo::render::AtmosphereParams p = base.params();
+    p.mie_scattering *= m;
+    p.mie_extinction *= m;
+    hazy = std::make_unique<Atmosphere>(p);
+  }
+  const Atmosphere& a = hazy ? *hazy : base;
+  const float h = std::max(s.camera.position.y, 0.0f) * 0.001f;
+  const glm::vec3 key = glm::normalize(s.sun.direction);
+  const float E = a.params().solar_irradiance;
+  const float night = Atmosphere::night_weight(s.sun.elevation_deg);
+  SkyEnvironment env;
+  env.width = width, env.height = height;
+  env.texels.resize(size_t(width) * height);
+  constexpr float kPi = 3.14159265f;
+  parallel_for(height, [&](size_t v0, size_t v1) {
+   for (size_t v = v0; v < v1; ++v) {
+    const float e = (0.5f - (float(v) + 0.5f) / float(height)) * kPi;
+    for (uint32_t u = 0; u < width; ++u) {
+      const float az = ((float(u) + 0.5f) / float(width) - 0.5f) * 2.0f * kPi;
+      const glm::vec3 dir(std::cos(e) * std::cos(az), std::sin(e), std::cos(e) * std::sin(az));
+      glm::vec3 L = a.sky_radiance(h, dir, key, E);
+      if (night > 0.0f) L += a.sky_radiance(h, dir, -key, E * a.moon_weight(s.sun.elevation_deg));
+      L += Atmosphere::kAirglow * glm::vec3(1.0f, 1.2f, 2.0f);
+      env.texels[v * width + u] = glm::vec4(L, 1.0f);
+    }
+   }
+  });
+  return env;
+}
+
+}  // namespace cumulo::clouds::render
