@@ -2,6 +2,7 @@
 
 #include "modules/clouds/bake/bake_command.h"
 #include "modules/clouds/bench_command.h"
+#include "modules/clouds/reference/reference_command.h"
 #include "modules/clouds/noise/noise_command.h"
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/volume/import_command.h"
@@ -22,6 +23,8 @@ void CloudsModule::register_commands(CommandRegistry& registry) {
   register_import_command(registry);
   register_bake_command(registry);
   register_bench_command(registry);
+  register_reference_command(registry);
+  register_fidelity_command(registry);
 }
 
 void CloudsModule::register_components(ecs::ComponentRegistry& registry) {

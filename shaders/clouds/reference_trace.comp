@@ -111,6 +111,12 @@ ivec3 majorant_size(CloudInstanceParams inst) {
 #endif
   return textureSize(majorant_tex, 0);
 }
+ivec3 modeling_size(CloudInstanceParams inst) {
+#if CLOUD_ASSET_SLOTS > 1
+  if (inst.wind_offset.w > 0.5) return textureSize(modeling_tex_1, 0);
+#endif
+  return textureSize(modeling_tex, 0);
+}
 float majorant_at(CloudInstanceParams inst, ivec3 c) {
 #if CLOUD_ASSET_SLOTS > 1
   if (inst.wind_offset.w > 0.5) return texelFetch(majorant_tex_1, c, 0).r;
@@ -137,7 +143,8 @@ float track_instance(int i, vec3 o, vec3 d, float tmax, bool ratio, inout float 
   float t = max(seg.x, 0.0), t1 = min(seg.y, tmax);
   if (!(t < t1)) return -1.0;
   ivec3 G = majorant_size(inst);
-  vec3 cell = (bmax - bmin) / vec3(G);
+  // A cell is REF_MAJORANT_CELL voxels (the last one per axis may reach past the box, which clips the ray).
+  vec3 cell = (bmax - bmin) / vec3(modeling_size(inst)) * float(REF_MAJORANT_CELL);
   vec3 gp = (ao + ad * t - bmin) / cell;  // grid coordinates at t
   vec3 gd = ad / cell;                    // grid units per world metre
   ivec3 c = clamp(ivec3(floor(gp)), ivec3(0), G - 1);
@@ -292,16 +299,18 @@ float ocean_hit(vec3 o, vec3 d, float tmax) {
   float t = (R.terrain_range.w - o.y) / d.y;
   return t > 0.0 && t < tmax ? t : -1.0;
 }
-float surface_hit(vec3 o, vec3 d, float tmax) {
+// `tmin`: rays leaving a surface skip its first two texels (the raster surface and the bilinear
+// heightfield differ by up to a few metres; without this a point would shadow itself).
+float surface_hit(vec3 o, vec3 d, float tmax, float tmin) {
   float best = ocean_hit(o, d, tmax);
   if (best >= 0.0) tmax = best;
   if (!has_flag(REF_FLAG_TERRAIN)) return best;
   vec3 lo = vec3(R.terrain.x, R.terrain_range.x - 1.0, R.terrain.y);
   vec3 hi = vec3(R.terrain.x + R.terrain.z, R.terrain_range.y, R.terrain.y + R.terrain.w);
   vec2 seg = ray_box(o, d, lo, hi);
-  float a = max(seg.x, 0.0), b = min(seg.y, tmax);
-  if (!(a < b)) return best;
   float texel = R.terrain.z / float(textureSize(terrain_tex, 0).x);
+  float a = max(seg.x, tmin * texel), b = min(seg.y, tmax);
+  if (!(a < b)) return best;
   float n = min(ceil((b - a) / (0.5 * texel)), 384.0);
   float dt = (b - a) / max(n, 1.0);
   float prev_t = a;
@@ -316,7 +325,7 @@ float surface_hit(vec3 o, vec3 d, float tmax) {
   }
   return best;
 }
-float surface_visibility(vec3 o, vec3 d, float tmax) { return surface_hit(o, d, tmax) < 0.0 ? 1.0 : 0.0; }
+float surface_visibility(vec3 o, vec3 d, float tmax, float tmin) { return surface_hit(o, d, tmax, tmin) < 0.0 ? 1.0 : 0.0; }
 
 // ---- Light ---------------------------------------------------------------------------------------
 vec3 sky_radiance(vec3 d) {
@@ -334,7 +343,7 @@ vec3 direct_light(vec3 x, vec3 d, bool surface, vec3 n, vec3 albedo) {
     float w = surface ? max(dot(n, l), 0.0) / kPi : phase_value(dot(d, l));
     if (w > 0.0) {
       vec3 start = surface ? x + n * 0.5 : x;
-      float vis = surface_visibility(start, l, kFar);
+      float vis = surface_visibility(start, l, kFar, surface ? 2.0 : 0.0);
       if (vis > 0.0) L += (surface ? albedo : vec3(1.0)) * P.sun_color.rgb * (w * vis * transmittance(start, l, kFar));
     }
   }
@@ -345,7 +354,7 @@ vec3 direct_light(vec3 x, vec3 d, bool surface, vec3 n, vec3 albedo) {
     float w = surface ? max(dot(n, l), 0.0) / kPi : phase_value(dot(d, l));
     if (w <= 0.0) continue;
     vec3 start = surface ? x + n * 0.5 : x;
-    float T = transmittance(start, l, dist) * surface_visibility(start, l, dist);
+    float T = transmittance(start, l, dist) * surface_visibility(start, l, dist, surface ? 2.0 : 0.0);
     L += (surface ? albedo : vec3(1.0)) * P.light_color[k].rgb * (R.light_scale.x * w * T / max(dist * dist, 1.0));
   }
   return L;
@@ -358,6 +367,7 @@ vec3 trace(vec3 o, vec3 d, float t_scene, vec2 uv, out float view_T) {
   vec3 L = vec3(0.0), beta = vec3(1.0);
   int max_vertices = max(int(R.settings.x), 1);
   view_T = transmittance(o, d, min(t_scene, kFar));
+  bool from_surface = false;
   for (int v = 0; v <= max_vertices; ++v) {
     bool camera_ray = v == 0;
     float ts;
@@ -365,7 +375,7 @@ vec3 trace(vec3 o, vec3 d, float t_scene, vec2 uv, out float view_T) {
       // The raster geometry's depth, else the ocean plane (drawn by the sky pass, not in the depth).
       ts = t_scene < 1e29 ? t_scene : ocean_hit(o, d, kFar);
     } else {
-      ts = surface_hit(o, d, kFar);
+      ts = surface_hit(o, d, kFar, from_surface ? 2.0 : 0.0);
     }
     float tc = free_flight(o, d, ts >= 0.0 ? ts : kFar);
     float t_vertex = tc >= 0.0 ? tc : ts;
@@ -401,9 +411,10 @@ vec3 trace(vec3 o, vec3 d, float t_scene, vec2 uv, out float view_T) {
         nd = sample_phase(d, w);
       }
       vec3 start = surface ? x + n * 0.5 : x;
-      if (w > 0.0 && surface_visibility(start, nd, kFar) > 0.0) L += beta * w * sky_radiance(nd) * transmittance(start, nd, kFar);
+      if (w > 0.0 && surface_visibility(start, nd, kFar, surface ? 2.0 : 0.0) > 0.0) L += beta * w * sky_radiance(nd) * transmittance(start, nd, kFar);
       break;
     }
+    from_surface = surface;
     if (surface) {
       beta *= albedo;
       d = around(n, sqrt(rand01()));

@@ -19,7 +19,7 @@ void write_exr(const std::filesystem::path& path, uint32_t width, uint32_t heigh
   namespace fs = std::filesystem;
   const fs::path tmp = path.string() + ".tmp";
   try {
-    Imf::Header header(int(width), int(height));
+    Imf::Header header{int(width), int(height)};
     header.compression() = Imf::ZIP_COMPRESSION;
     const char* names[4] = {"R", "G", "B", "A"};
     for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));

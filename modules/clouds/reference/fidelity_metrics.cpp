@@ -33,6 +33,8 @@ FidelityError fidelity_error(const std::vector<glm::vec4>& rt, const render::Ref
     all += err;
     if (ref.radiance[i].a >= kCloudOpacity) {
       e.error_in_cloud += err;
+      e.realtime_luminance_in_cloud += lt;
+      e.reference_luminance_in_cloud += lr;
       e.bias_in_cloud += (lt - lr) / denom;
       const double rel_se = ref.luminance_stderr.empty() ? 0.0 : ref.luminance_stderr[i] / denom;
       e.stderr_in_cloud += rel_se;
@@ -43,6 +45,7 @@ FidelityError fidelity_error(const std::vector<glm::vec4>& rt, const render::Ref
   e.error_mean = all / double(rt.size());
   if (e.cloud_pixels) {
     const double n = double(e.cloud_pixels);
+    e.realtime_luminance_in_cloud /= n, e.reference_luminance_in_cloud /= n;
     e.error_in_cloud /= n, e.bias_in_cloud /= n, e.noise_in_cloud /= n, e.stderr_in_cloud /= n;
   }
   return e;

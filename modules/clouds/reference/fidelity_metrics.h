@@ -19,6 +19,7 @@ struct FidelityError {
   double bias_in_cloud = 0.0;   // signed: mean (L_rt - L_ref) / L_ref in cloud (> 0: the real-time image is brighter)
   double noise_in_cloud = 0.0;  // the error the reference's standard error alone gives (E|N(0, se)| / L_ref)
   double stderr_in_cloud = 0.0; // mean relative standard error of the reference in cloud
+  double realtime_luminance_in_cloud = 0.0, reference_luminance_in_cloud = 0.0;  // means
   uint64_t cloud_pixels = 0;
 };
 inline constexpr float kCloudOpacity = 0.2f;

@@ -65,6 +65,10 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "switch off lighting effects of the talks in the march, comma-separated: silver-lining, dark-edges, "
               "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",
               &effects_off_text_)
+      .option("--cloud-lighting", "talk|tuned",
+              "the lighting model's free constants: the talks' (default) or the set tuned against the path-traced "
+              "reference (cumulo fidelity)",
+              &lighting_text_)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_);
 }
@@ -101,6 +105,8 @@ void CloudFeature::check_run_options() {
       fail("--cloud-formats: unknown set \"%s\" (expected compressed or uncompressed)", formats_text_.c_str());
     options_.formats = set;
   }
+  if (!parse_lighting_preset(lighting_text_, &options_.lighting))
+    fail("--cloud-lighting: expected talk or tuned, got \"%s\"", lighting_text_.c_str());
   options_.effects = CLOUD_EFFECTS_ALL;
   for (size_t b = 0; b < effects_off_text_.size();) {
     size_t e = effects_off_text_.find(',', b);
@@ -213,6 +219,7 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
 
 void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   ctx_ = &g.ctx;
+  library_ = &g.library;
   cache_ = std::make_unique<CloudAssetCache>(g.ctx);
   if (noise_file_.empty()) return;  // the level has no cloudscape
   // The talk's 256x256x32 grid, or on CPU devices a smaller one (its eighth per frame would cost about
@@ -233,6 +240,12 @@ void CloudFeature::destroy_gpu() {
   effects_.reset();
   cache_.reset();
   ctx_ = nullptr;
+  library_ = nullptr;
+}
+
+gpu::PipelineLibrary& CloudFeature::pipeline_library() {
+  if (!library_) fail("clouds: the feature's GPU objects are not created yet");
+  return *library_;
 }
 
 uint64_t CloudFeature::asset_gpu_bytes() const { return cache_ ? cache_->gpu_bytes() : 0; }
@@ -251,6 +264,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   settings.shadows = options_.shadows;
   settings.terrain_shadow = options_.terrain_shadow;
   settings.effects = options_.effects;
+  apply_lighting_preset(settings, options_.lighting);
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {
@@ -268,7 +282,9 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   else if (options_.weather) apply_weather(*options_.weather, in);
   const bool cut = have_last_camera_ && (s.camera_name != last_camera_name_ ||
                                          glm::length(s.camera.position - last_camera_) > kCameraCutMetres);
-  in.camera_cut = cut;
+  in.camera_cut = cut || restart_;
+  in.rebuild_light_grid = restart_;
+  restart_ = false;
   last_camera_ = s.camera.position;
   last_camera_name_ = s.camera_name;
   have_last_camera_ = true;

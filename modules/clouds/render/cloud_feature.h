@@ -19,6 +19,7 @@
 //   --cloud-terrain-shadow on|off  the terrain's shadow on the clouds (the key light's depth map; default on)
 //   --cloud-light-shafts on|off  light shafts through gaps in the clouds (light_shafts.h; default on)
 //   --cloud-effects-off LIST   lighting effects of the talks switched off in the march (cumulo fidelity measures each)
+//   --cloud-lighting talk|tuned  the lighting constants: the talks' (default) or tuned against the reference
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
 #include <filesystem>
@@ -84,6 +85,7 @@ struct CloudRunOptions {
   bool light_shafts = true;  // --cloud-light-shafts
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
+  CloudLightingPreset lighting = CloudLightingPreset::Talk;  // --cloud-lighting talk|tuned
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;
@@ -115,12 +117,16 @@ class CloudFeature : public cumulo::render::RenderFeature {
   const CloudResources* resources() const { return resources_.get(); }
   uint64_t asset_gpu_bytes() const;
   CloudAssetCache* asset_cache() { return cache_.get(); }
+  // The renderer's pipeline library (after create_gpu): passes added from outside share its hot reload.
+  gpu::PipelineLibrary& pipeline_library();
   void set_measure_steps(bool on) { measure_steps_ = on; }
   // `cumulo reference` / `cumulo fidelity`: the path tracer replaces the cloud passes (and draws the terrain
   // and the sky too) while set; null: the real-time passes. Not owned.
   void set_reference(ReferenceTracer* tracer) { reference_ = tracer; }
   // A copy of the scene colour after the module's last pass of each frame (null: none). Not owned.
   void set_hdr_capture(HdrCapture* capture) { hdr_capture_ = capture; }
+  // The next frame starts afresh: no temporal history, the light grid rebuilt whole (a new view or scene).
+  void restart_history() { restart_ = true; }
   double read_steps_per_pixel() const;  // call once the frame has completed
   static constexpr const char* kStepsReadbackPass = "clouds.steps_readback";
 
@@ -136,9 +142,10 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
-      shafts_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_;
+      shafts_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "talk";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
+  gpu::PipelineLibrary* library_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
   CloudResourcesPtr resources_;
   std::unique_ptr<CloudEffects> effects_;
@@ -150,6 +157,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   bool have_last_camera_ = false;
   bool measure_steps_ = false;
   ReferenceTracer* reference_ = nullptr;
+  bool restart_ = false;
   HdrCapture* hdr_capture_ = nullptr;
   gpu::Buffer steps_buffer_;
   uint64_t steps_pixels_ = 0;

@@ -166,6 +166,15 @@ inline constexpr CloudEffectName kCloudEffects[] = {
 // The bit of an effect's name; 0 if unknown.
 uint32_t cloud_effect_bit(std::string_view name);
 
+// The lighting model's free constants: the talks' (Talk, the default: CloudSettings as declared) or the set
+// tuned against the path-traced reference (Tuned; cumulo fidelity measures both). Only terms the reference
+// does not share change (the multiple-scattering strength, the ambient occlusion scale), so both sets march
+// the same medium and phase function as the reference.
+enum class CloudLightingPreset : uint8_t { Talk, Tuned };
+const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned"
+bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown
+void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p);
+
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
 // the near segment (< split_distance_m) at half resolution and the far one at full resolution.
 inline void apply_budget_mode(CloudSettings& s, int hz) { s.split = hz >= 40; }
@@ -229,8 +238,9 @@ struct CloudFrameInputs {
 
 // The engine-side fields of CloudFrameInputs from a frame snapshot: camera, frame index, time, the budget
 // mode (apply_budget_mode), the sun and the ambient; the module adds its instances, lights and other
-// settings. Units: the engine's sun radiance is what a white Lambertian surface returns (E / pi); the
-// march multiplies the sun by a phase function in 1/sr, so its sun colour is pi x that radiance. The
+// settings. Units: the engine's sun radiance (SceneLighting::sun_radiance, the geometry's) is what a white
+// Lambertian surface returns (E / pi); the march multiplies the sun by a phase function in 1/sr, so its sun
+// colour is pi x that radiance. The
 // ambient is the stand-in sky's hemispheric term as geometry_lit.frag uses it (mean of zenith and
 // horizon x ambient scale): a thick cloud under a uniform sky scatters about the sky's radiance.
 // Distance from the camera to the nearest instance's world box (0 inside one; infinity with none).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <memory>
 
 #include "engine/core/parallel.h"
@@ -15,23 +14,35 @@ namespace {
 
 float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
-// The albedo a material shows from afar: its factor x its texture's mean colour.
-glm::vec3 material_albedo(const scene::Model& m, int material) {
-  if (material < 0 || material >= int(m.materials.size())) return glm::vec3(1.0f);
-  const scene::Material& mat = m.materials[size_t(material)];
-  glm::vec3 c(mat.base_color_factor);
-  if (mat.base_color_texture >= 0 && mat.base_color_texture < int(m.textures.size())) {
-    const scene::Texture& t = m.textures[size_t(mat.base_color_texture)];
-    glm::dvec3 sum(0.0);
-    const size_t n = size_t(t.width) * t.height;
-    for (size_t i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) {
-        const float v = float(t.rgba[i * 4 + size_t(k)]) / 255.0f;
-        sum[k] += t.srgb ? srgb_to_linear(v) : v;
+// The base colour at a uv (nearest texel, the sampler's wrap), linear; the factor alone without a texture.
+struct MaterialSampler {
+  glm::vec3 factor{1.0f};
+  const scene::Texture* texture = nullptr;
+  glm::vec3 at(glm::vec2 uv) const {
+    if (!texture || texture->width == 0 || texture->height == 0) return factor;
+    auto wrap = [](float v, scene::Wrap w) {
+      if (w == scene::Wrap::ClampToEdge) return std::clamp(v, 0.0f, 1.0f);
+      if (w == scene::Wrap::MirroredRepeat) {
+        const float f = std::fmod(std::fabs(v), 2.0f);
+        return f > 1.0f ? 2.0f - f : f;
       }
-    if (n) c *= glm::vec3(sum / double(n));
+      return v - std::floor(v);
+    };
+    const uint32_t x = std::min(texture->width - 1, uint32_t(wrap(uv.x, texture->wrap_u) * float(texture->width)));
+    const uint32_t y = std::min(texture->height - 1, uint32_t(wrap(uv.y, texture->wrap_v) * float(texture->height)));
+    const uint8_t* p = &texture->rgba[(size_t(y) * texture->width + x) * 4];
+    glm::vec3 c;
+    for (int k = 0; k < 3; ++k) c[k] = texture->srgb ? srgb_to_linear(float(p[k]) / 255.0f) : float(p[k]) / 255.0f;
+    return factor * c;
   }
-  return c;
+};
+MaterialSampler material_sampler(const scene::Model& m, int material) {
+  MaterialSampler s;
+  if (material < 0 || material >= int(m.materials.size())) return s;
+  const scene::Material& mat = m.materials[size_t(material)];
+  s.factor = glm::vec3(mat.base_color_factor);
+  if (mat.base_color_texture >= 0 && mat.base_color_texture < int(m.textures.size())) s.texture = &m.textures[size_t(mat.base_color_texture)];
+  return s;
 }
 
 }  // namespace
@@ -52,16 +63,17 @@ TerrainHeightfield rasterize_heightfield(const std::vector<cumulo::render::Model
   for (const cumulo::render::ModelDraw& d : models) {
     if (!d.model) continue;
     const scene::Model& m = *d.model;
-    std::map<int, glm::vec3> albedo;
     for (const scene::MeshInstance& inst : m.instances) {
       const scene::Mesh& mesh = m.meshes[inst.mesh];
-      if (!albedo.count(mesh.material)) albedo[mesh.material] = material_albedo(m, mesh.material);
-      const glm::vec3 a = albedo[mesh.material];
+      const MaterialSampler material = material_sampler(m, mesh.material);
       const glm::mat4 world = d.world * inst.world;
       std::vector<glm::vec3> p(mesh.vertices.size());
       for (size_t i = 0; i < p.size(); ++i) p[i] = glm::vec3(world * glm::vec4(mesh.vertices[i].position, 1.0f));
       for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-        const glm::vec3 v0 = p[mesh.indices[t]], v1 = p[mesh.indices[t + 1]], v2 = p[mesh.indices[t + 2]];
+        const uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+        if (i0 >= p.size() || i1 >= p.size() || i2 >= p.size()) continue;  // (the loader checks indices; never trust twice)
+        const glm::vec3 v0 = p[i0], v1 = p[i1], v2 = p[i2];
+        const glm::vec2 uv0 = mesh.vertices[i0].uv, uv1 = mesh.vertices[i1].uv, uv2 = mesh.vertices[i2].uv;
         // Texel coordinates of the corners; the texels whose centres lie inside the triangle's xz shadow.
         const glm::vec2 q0 = (glm::vec2(v0.x, v0.z) - h.origin) / texel, q1 = (glm::vec2(v1.x, v1.z) - h.origin) / texel,
                         q2 = (glm::vec2(v2.x, v2.z) - h.origin) / texel;
@@ -80,7 +92,7 @@ TerrainHeightfield rasterize_heightfield(const std::vector<cumulo::render::Model
             if (w0 < -1e-5f || w1 < -1e-5f || w2 < -1e-5f) continue;
             const float y_world = w0 * v0.y + w1 * v1.y + w2 * v2.y;
             glm::vec4& dst = h.texels[size_t(y) * resolution + size_t(x)];
-            if (y_world > dst.x) dst = glm::vec4(y_world, a);
+            if (y_world > dst.x) dst = glm::vec4(y_world, material.at(w0 * uv0 + w1 * uv1 + w2 * uv2));
           }
       }
     }

@@ -242,7 +242,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
       if (!m.built) {
         const cumulo::render::TextureHandle modeling = light.modelings[a];
         gpu::Pipeline* pipe = majorant_pipe_;
-        graph.add_pass("clouds.reference_majorant", Queue::Compute,
+        graph.add_pass(a ? "clouds.reference_majorant.1" : "clouds.reference_majorant", Queue::Compute,
             [&](PassBuilder& b) {
               b.read(modeling, Usage::Sampled);
               h = b.write(h, Usage::StorageWrite);

@@ -563,7 +563,8 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   snap.mode = cumulo::render::BudgetMode::Hz60;
   snap.camera.position = glm::vec3(1, 2, 3);
   snap.sun.direction = glm::vec3(0, 1, 0);
-  snap.sun.radiance = glm::vec3(3.0f, 2.0f, 1.0f);
+  snap.sun.radiance = glm::vec3(1.0f, 1.0f, 1.0f);  // the stand-in's unscaled radiance: not what lights the clouds
+  snap.lighting.sun_radiance = glm::vec3(3.0f, 2.0f, 1.0f);
   snap.lighting.sky_zenith = glm::vec3(0.2f, 0.4f, 0.8f);
   snap.lighting.sky_horizon = glm::vec3(0.6f, 0.6f, 0.6f);
   snap.lighting.ambient = 0.5f;
@@ -661,3 +662,31 @@ TEST_F(CloudRender, PointLightAddsGlowInsideTheCloud) {
 }
 
 }  // namespace
+
+namespace cumulo::clouds::render::test {
+namespace {
+
+// Each named lighting effect of the talks (cumulo fidelity switches them) changes the picture when off; the
+// lightning glow without a light changes nothing; the tuned constants differ from the talks'.
+TEST_F(CloudRender, EachLightingEffectSwitchChangesOnlyWhatItNames) {
+  CloudFrameInputs in = inputs(asset(), camera({-300.0f, 160.0f, 250.0f}));
+  const Frame all = render(in);
+  for (const CloudEffectName& e : kCloudEffects) {
+    SCOPED_TRACE(e.name);
+    in.settings.effects = CLOUD_EFFECTS_ALL & ~e.bit;
+    const Frame off = render(in);
+    if (e.bit == CLOUD_EFFECT_LIGHTNING_GLOW) EXPECT_EQ(psnr(all.hdr, off.hdr), 99.0);
+    else EXPECT_LT(psnr(all.hdr, off.hdr), 60.0);
+  }
+  in.settings.effects = CLOUD_EFFECTS_ALL;
+  EXPECT_EQ(cloud_effect_bit("inner-glow"), CLOUD_EFFECT_INNER_GLOW);
+  EXPECT_EQ(cloud_effect_bit("god-rays"), 0u);
+  apply_lighting_preset(in.settings, CloudLightingPreset::Tuned);
+  EXPECT_LT(psnr(all.hdr, render(in).hdr), 60.0);
+  apply_lighting_preset(in.settings, CloudLightingPreset::Talk);
+  EXPECT_EQ(psnr(all.hdr, render(in).hdr), 99.0);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+}  // namespace
+}  // namespace cumulo::clouds::render::test
