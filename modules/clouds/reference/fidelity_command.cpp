@@ -14,6 +14,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/json.h"
+#include "engine/core/png.h"
 #include "engine/core/time.h"
 #include "engine/gpu/context.h"
 #include "modules/clouds/clouds_module.h"
@@ -92,6 +93,7 @@ struct FidelityOptions {
   ReferenceOptions ref;
   std::string out = "fidelity.json";
   std::string images;  // default: <out without extension>_images/
+  bool reuse_references = false;
   std::vector<render::CloudLightingPreset> presets{render::CloudLightingPreset::Talk, render::CloudLightingPreset::Tuned};
 };
 
@@ -116,6 +118,28 @@ std::vector<glm::vec4> realtime_image(RenderSession& s, CloudsModule& m, render:
   return sum;
 }
 
+// A previous run's reference of this view (`base`_reference.exr, _reference_stderr.exr, _reference.png) when it
+// has the size and samples asked for.
+bool load_reference(const std::string& base, const FidelityOptions& o, render::ReferenceImage& ref, gpu::Rgba8Image& png) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(base + "_reference.exr") || !fs::exists(base + "_reference_stderr.exr") || !fs::exists(base + "_reference.png"))
+    return false;
+  uint32_t w = 0, h = 0, w2 = 0, h2 = 0;
+  std::vector<glm::vec4> radiance = read_exr(base + "_reference.exr", &w, &h);
+  std::vector<glm::vec4> se = read_exr(base + "_reference_stderr.exr", &w2, &h2);
+  if (w != o.width || h != o.height || w2 != w || h2 != h || se.empty() || uint32_t(se[0].y) != o.ref.spp) return false;
+  ref.width = w, ref.height = h;
+  ref.samples = uint32_t(se[0].y);
+  ref.majorant_violations = se[0].z;
+  ref.radiance = std::move(radiance);
+  ref.luminance_stderr.resize(se.size());
+  for (size_t i = 0; i < se.size(); ++i) ref.luminance_stderr[i] = se[i].x;
+  ImageRgba8 px = read_png_rgba8(base + "_reference.png");
+  png.width = px.width, png.height = px.height;
+  png.pixels = std::move(px.rgba);
+  return true;
+}
+
 struct ViewResult {
   FidelityView view;
   FidelityError err, err_off;  // the first preset's (the talks' constants by default)
@@ -123,6 +147,7 @@ struct ViewResult {
   double effect_contribution = NAN;  // mean |on - off| / L_ref in cloud
   uint32_t spp = 0;
   double reference_seconds = 0;
+  bool reference_reused = false;
   nlohmann::ordered_json images = nlohmann::ordered_json::object();
 };
 
@@ -197,10 +222,22 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
       rt_off_png = session.screenshot();
       feature.options().effects = all_effects;
     }
-    feature.set_reference(&tracer);
-    const render::ReferenceImage ref = accumulate_reference(session, tracer, camera, o.ref, v.name, &r.reference_seconds);
-    feature.set_reference(nullptr);
-    const gpu::Rgba8Image ref_png = session.screenshot();
+    // The reference: traced, or with --reuse-references the one a previous run wrote at the same size and spp
+    // (the tracer is deterministic: the same scene, settings and seed give the same image).
+    render::ReferenceImage ref;
+    gpu::Rgba8Image ref_png;
+    if (!(o.reuse_references && load_reference(base, o, ref, ref_png))) {
+      feature.set_reference(&tracer);
+      ref = accumulate_reference(session, tracer, camera, o.ref, v.name, &r.reference_seconds);
+      feature.set_reference(nullptr);
+      ref_png = session.screenshot();
+      std::vector<glm::vec4> se(ref.radiance.size());
+      for (size_t i = 0; i < se.size(); ++i) se[i] = glm::vec4(ref.luminance_stderr[i], float(ref.samples), float(ref.majorant_violations), 1.0f);
+      write_exr(base + "_reference_stderr.exr", ref.width, ref.height, se);
+    } else {
+      std::fprintf(stderr, "cumulo fidelity: %s: reusing %s_reference.exr (%u spp)\n", v.name.c_str(), base.c_str(), ref.samples);
+      r.reference_reused = true;
+    }
     r.spp = ref.samples;
     r.err = fidelity_error(rt, ref);
     for (const std::vector<glm::vec4>& img : rt_presets) r.preset_err.push_back(fidelity_error(img, ref));
@@ -210,7 +247,7 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
       gpu::write_png(base + "_error_" + name + ".png", error_map(rt_presets[k], ref));
     }
     const gpu::Rgba8Image err_png = error_map(rt, ref);
-    write_exr(base + "_reference.exr", ref.width, ref.height, ref.radiance);
+    if (!r.reference_reused) write_exr(base + "_reference.exr", ref.width, ref.height, ref.radiance);
     write_exr(base + "_realtime.exr", ref.width, ref.height, rt);
     gpu::write_png(base + "_realtime.png", rt_png);
     gpu::write_png(base + "_reference.png", ref_png);
@@ -316,7 +353,8 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
                                 {"realtime_luminance_in_cloud", r.err.realtime_luminance_in_cloud},
                                 {"reference_luminance_in_cloud", r.err.reference_luminance_in_cloud},
                                 {"spp", r.spp},
-                                {"reference_seconds", r.reference_seconds},
+                                {"reference_seconds", r.reference_reused ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.reference_seconds)},
+                                {"reference_reused", r.reference_reused},
                                 {"images", r.images}};
     if (!r.view.note.empty()) e["note"] = r.view.note;
     nlohmann::ordered_json by = nlohmann::ordered_json::object();
@@ -366,6 +404,9 @@ void register_fidelity_command(CommandRegistry& registry) {
                       .option("--warmup", "N", "real-time frames before averaging (default 8)", &o.warmup)
                       .option("--out", "FILE.json", "results (default fidelity.json)", &o.out)
                       .option("--images", "DIR", "image folder (default: FILE_images beside --out)", &o.images)
+                      .flag("--reuse-references", "take each view's reference from the image folder when a previous run "
+                            "wrote it at this size and spp (to compare other real-time settings without re-tracing)",
+                            &o.reuse_references)
                       .option("--constants", "A,B", "real-time lighting constants compared, the first also for the effects "
                               "and images (default talk,tuned)", &constants);
                   add_reference_options(p, o.ref);

@@ -69,6 +69,13 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the lighting model's free constants: the talks' (default) or the set tuned against the path-traced "
               "reference (cumulo fidelity)",
               &lighting_text_)
+      .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
+              &options_.ms_strength)
+      .range(0.0, 100.0)
+      .option("--cloud-ambient-occlusion", "X",
+              "the scale of the summed sky density on the ambient, overriding the preset's (talk: 0.1)",
+              &options_.ambient_occlusion)
+      .range(0.0, 100.0)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_);
 }
@@ -265,6 +272,8 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   settings.terrain_shadow = options_.terrain_shadow;
   settings.effects = options_.effects;
   apply_lighting_preset(settings, options_.lighting);
+  if (options_.ms_strength >= 0.0f) settings.ms_strength = options_.ms_strength;
+  if (options_.ambient_occlusion >= 0.0f) settings.ambient_occlusion_scale = options_.ambient_occlusion;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

@@ -20,6 +20,7 @@
 //   --cloud-light-shafts on|off  light shafts through gaps in the clouds (light_shafts.h; default on)
 //   --cloud-effects-off LIST   lighting effects of the talks switched off in the march (cumulo fidelity measures each)
 //   --cloud-lighting talk|tuned  the lighting constants: the talks' (default) or tuned against the reference
+//   --cloud-ms-strength X, --cloud-ambient-occlusion X   override those two constants of the preset
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
 #include <filesystem>
@@ -86,6 +87,8 @@ struct CloudRunOptions {
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
   CloudLightingPreset lighting = CloudLightingPreset::Talk;  // --cloud-lighting talk|tuned
+  // --cloud-ms-strength / --cloud-ambient-occlusion: override the preset's value (< 0: the preset's).
+  float ms_strength = -1.0f, ambient_occlusion = -1.0f;
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;

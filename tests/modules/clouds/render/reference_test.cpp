@@ -204,3 +204,33 @@ TEST_F(Reference, TracesTheTestCloudUnderItsMajorantsAndNearTheRealTimeMarch) {
 
 }  // namespace
 }  // namespace cumulo::clouds::render::test
+
+namespace cumulo::clouds::render::test {
+namespace {
+
+// An asset whose voxel counts are not multiples of the majorant cell (51 x 26 x 51 at 10 m): the last cell
+// per axis reaches past the box, and the bound still holds everywhere the paths sample.
+TEST_F(Reference, TheMajorantGridBoundsAnAssetOfAnySize) {
+  std::string recipe = kTestRecipe;
+  recipe.replace(recipe.find("\"voxel_size\": 8"), 15, "\"voxel_size\": 10");
+  bake::Recipe r = bake::parse_recipe_text(recipe, "odd.json", test_data().root);
+  bake::BakeSettings settings;
+  settings.show_progress = false;
+  const fs::path dir = test_data().root / "odd_cloudscape";
+  bake::write_bake_outputs(r, bake::bake_recipe(r, settings), dir);
+  const auto odd = asset({}, dir);
+  ASSERT_NE(odd->modeling.extent().width % 8, 0u);
+  set_size(32, 18);
+  CloudFrameInputs in = inputs(odd, camera());
+  ReferenceSettings& s = tracer_->settings();
+  s.max_bounces = 8;
+  s.samples_per_frame = 8;
+  s.uniform_sky = 0.5f;
+  const ReferenceImage img = trace(in, 1);
+  EXPECT_EQ(img.majorant_violations, 0.0);
+  EXPECT_GT(img.radiance[(height_ / 2) * width_ + width_ / 2].a, 0.8f);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+}  // namespace
+}  // namespace cumulo::clouds::render::test
