@@ -18,6 +18,7 @@
 // then the light grid ("The first two samples are taken as we did before but the remaining samples
 // are pre-computed ... stored in a 256x256x32 voxel grid that we sample after the first two samples");
 //   ms_volume = profile * exp(-od_sun * Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128, 0, 0.05, 0.25)))
+//   (the talk's 0.05 and 0.25 are P.ms.x and P.ms.y, CloudSettings::ms_attenuation_inside / ms_attenuation)
 // (talk; the summed density is taken as optical depth, i.e. times the extinction coefficient);
 //   ambient = pow(1 - profile, 0.5) * exp(-od_sky) * ambient colour                  (talk)
 // (od_sky = summed sky density x extinction x P.light.y: the talk does not give the scale of its
@@ -182,7 +183,7 @@ void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd
 #endif
         float od_sun = sun_optical_depth(modeling, i, inst, q, ts, mip, mean_noise);
         float od_sky = ambient_direction ? light_grid(i, q).y * ext * P.light.y : 0.0;
-        float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, 0.25, value_remap(sdf, -128.0, 0.0, 0.05, 0.25)));
+        float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
         vec3 world_q = ro + rd * ts;
         vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength / (4.0 * kPi)));
         light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));

@@ -116,9 +116,11 @@ struct CloudParams {
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
   uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y, z, w: unused
+  vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
+                        // y at the surface and away from the sun (talk 0.25); z, w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1200)
+CUMULO_SHARED_SIZE(CloudParams, 1216)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

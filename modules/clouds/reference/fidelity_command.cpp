@@ -289,13 +289,6 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
       std::fprintf(stderr, "cumulo fidelity: %s: %s constants: error %.1f %%, in cloud %.1f %% (bias %+.1f %%)\n", v.name.c_str(),
                    render::lighting_preset_name(o.presets[k]), 100 * r.preset_err[k].error_mean,
                    100 * r.preset_err[k].error_in_cloud, 100 * r.preset_err[k].bias_in_cloud);
-    // The sky's and the scene's overall level (the top row's centre: sky in every view above the horizon).
-    for (float fy : {0.0f, 0.45f, 0.55f, 0.99f}) {
-      const size_t probe = size_t(o.width / 8) + size_t(fy * float(o.height - 1)) * o.width;
-      std::fprintf(stderr, "cumulo fidelity: %s: pixel (1/8, %.2f) real-time (%.3f %.3f %.3f), reference (%.3f %.3f %.3f)\n",
-                   v.name.c_str(), fy, rt[probe].r, rt[probe].g, rt[probe].b, ref.radiance[probe].r, ref.radiance[probe].g,
-                   ref.radiance[probe].b);
-    }
     results.push_back(r);
   }
   feature.options().effects = all_effects;

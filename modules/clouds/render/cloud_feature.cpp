@@ -76,6 +76,11 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the scale of the summed sky density on the ambient, overriding the preset's (talk: 0.1)",
               &options_.ambient_occlusion)
       .range(0.0, 100.0)
+      .option("--cloud-ms-attenuation-inside", "X",
+              "the multiple-scattering field's attenuation deep inside a cloud toward the sun (the inner glow's "
+              "relaxation), overriding the preset's (talk: 0.05)",
+              &options_.ms_attenuation_inside)
+      .range(0.0, 10.0)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_);
 }
@@ -274,6 +279,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   apply_lighting_preset(settings, options_.lighting);
   if (options_.ms_strength >= 0.0f) settings.ms_strength = options_.ms_strength;
   if (options_.ambient_occlusion >= 0.0f) settings.ambient_occlusion_scale = options_.ambient_occlusion;
+  if (options_.ms_attenuation_inside >= 0.0f) settings.ms_attenuation_inside = options_.ms_attenuation_inside;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

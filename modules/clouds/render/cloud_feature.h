@@ -89,6 +89,7 @@ struct CloudRunOptions {
   CloudLightingPreset lighting = CloudLightingPreset::Talk;  // --cloud-lighting talk|tuned
   // --cloud-ms-strength / --cloud-ambient-occlusion: override the preset's value (< 0: the preset's).
   float ms_strength = -1.0f, ambient_occlusion = -1.0f;
+  float ms_attenuation_inside = -1.0f;  // --cloud-ms-attenuation-inside
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;

@@ -132,6 +132,9 @@ struct CloudSettings {
   float transmittance_limit = 0.01f;  // early exit (talk: view_ray_transmittance_limit)
   float hg_forward = 0.8f, hg_backward = -0.3f, hg_forward_weight = 0.7f;  // dual-lobe HG (silver lining)
   float ms_strength = 1.0f;           // weight of the multiple-scattering probability field
+  // Its Beer-Lambert attenuation (talk: Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128.0, 0.0, 0.05,
+  // 0.25))): the coefficient deep inside a cloud toward the sun, and at its surface or away from the sun.
+  float ms_attenuation_inside = 0.05f, ms_attenuation = 0.25f;
   float ambient_occlusion_scale = 0.1f;   // sky optical depth = summed sky density x extinction x this (not in the talk)
   float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
   float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
@@ -169,7 +172,7 @@ uint32_t cloud_effect_bit(std::string_view name);
 // The lighting model's free constants: the talks' (Talk, the default: CloudSettings as declared) or the set
 // tuned against the path-traced reference (Tuned; cumulo fidelity measures both). Only terms the reference
 // does not share change (the multiple-scattering strength, the ambient occlusion scale), so both sets march
-// the same medium and phase function as the reference.
+// the same medium and phase function as the reference. (Also the inner glow's relaxed attenuation.)
 enum class CloudLightingPreset : uint8_t { Talk, Tuned };
 const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned"
 bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown
