@@ -35,4 +35,28 @@ void begin_rendering(PassContext& c, const Attachment* color, const Attachment* 
   set_viewport(c.cmd(), e);
 }
 
+void add_readback_pass(RenderGraph& graph, const std::string& name,
+                       const std::vector<std::pair<TextureHandle, VkBuffer>>& copies, VkDeviceSize bytes_each) {
+  std::vector<std::pair<TextureHandle, BufferHandle>> handles;
+  for (size_t i = 0; i < copies.size(); ++i)
+    handles.emplace_back(copies[i].first, graph.import_buffer(name + "." + std::to_string(i), copies[i].second, bytes_each,
+                                                             ResourceState::host_read(), ResourceState::host_read()));
+  graph.add_pass(name, Queue::Compute,
+      [&](PassBuilder& b) {
+        for (auto& [image, buffer] : handles) {
+          b.read(image, Usage::TransferSrc);
+          buffer = b.write(buffer, Usage::TransferDst);
+        }
+        b.side_effect();
+      },
+      [handles](PassContext& c) {
+        for (const auto& [image, buffer] : handles) {
+          VkBufferImageCopy region{};
+          region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+          region.imageExtent = c.extent(image);
+          vkCmdCopyImageToBuffer(c.cmd(), c.image(image), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buffer), 1, &region);
+        }
+      });
+}
+
 }  // namespace cumulo::render

@@ -7,6 +7,9 @@
 //   set_viewport(c.cmd(), c.extent(half_res));
 //   vkCmdDispatch(c.cmd(), groups(e.width, 8), groups(e.height, 8), 1);
 #include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/render/graph/render_graph.h"
 
@@ -27,6 +30,10 @@ inline void begin_rendering(PassContext& c, const Attachment& color, const Attac
 }
 // Viewport (depth 0..1) and scissor covering `extent`.
 void set_viewport(VkCommandBuffer cmd, VkExtent3D extent);
+// A side-effect pass named `name` copying mip 0 of each image into its host-visible buffer (imported per
+// frame in host_read state): the image's texels, tightly packed, once the frame completed.
+void add_readback_pass(RenderGraph& graph, const std::string& name,
+                       const std::vector<std::pair<TextureHandle, VkBuffer>>& copies, VkDeviceSize bytes_each);
 // Work groups covering `size` items with `local` items per group.
 constexpr uint32_t groups(uint32_t size, uint32_t local) { return (size + local - 1) / local; }
 

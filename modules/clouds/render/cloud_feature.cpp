@@ -1,5 +1,7 @@
 #include "modules/clouds/render/cloud_feature.h"
 
+#include "engine/render/pass_helpers.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -382,20 +384,7 @@ void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::r
                                         gpu::MemoryUsage::Readback, "clouds steps readback"});
     steps_pixels_ = pixels;
   }
-  BufferHandle buf = f.graph.import_buffer("clouds steps", steps_buffer_.handle(), steps_buffer_.size(),
-                                           ResourceState::host_read(), ResourceState::host_read());
-  f.graph.add_pass(kStepsReadbackPass, Queue::Compute,
-      [&](PassBuilder& b) {
-        b.read(depth, Usage::TransferSrc);
-        buf = b.write(buf, Usage::TransferDst);
-        b.side_effect();
-      },
-      [depth, buf](PassContext& c) {
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = c.extent(depth);
-        vkCmdCopyImageToBuffer(c.cmd(), c.image(depth), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buf), 1, &region);
-      });
+  add_readback_pass(f.graph, kStepsReadbackPass, {{depth, steps_buffer_.handle()}}, steps_buffer_.size());
 }
 
 double CloudFeature::read_steps_per_pixel() const {

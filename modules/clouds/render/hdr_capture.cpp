@@ -3,6 +3,7 @@
 #include "engine/core/error.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/readback.h"
+#include "engine/render/pass_helpers.h"
 
 namespace cumulo::clouds::render {
 
@@ -15,20 +16,7 @@ void HdrCapture::add_pass(cumulo::render::RenderGraph& graph, cumulo::render::Te
                                  gpu::MemoryUsage::Readback, "hdr capture"});
     width_ = size.width, height_ = size.height;
   }
-  BufferHandle buf = graph.import_buffer("hdr capture", buffer_.handle(), buffer_.size(), ResourceState::host_read(),
-                                         ResourceState::host_read());
-  graph.add_pass("hdr_capture", Queue::Compute,
-      [&](PassBuilder& b) {
-        b.read(hdr, Usage::TransferSrc);
-        buf = b.write(buf, Usage::TransferDst);
-        b.side_effect();
-      },
-      [hdr, buf](PassContext& c) {
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = c.extent(hdr);
-        vkCmdCopyImageToBuffer(c.cmd(), c.image(hdr), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(buf), 1, &region);
-      });
+  add_readback_pass(graph, "hdr_capture", {{hdr, buffer_.handle()}}, buffer_.size());
 }
 
 std::vector<glm::vec4> HdrCapture::read() const {

@@ -9,13 +9,13 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pipeline_library.h"
 #include "engine/gpu/sampler.h"
+#include "engine/render/pass_helpers.h"
 #include "engine/render/sky_model.h"
 #include "modules/clouds/render/pass_bindings.h"
 #include "shaders/shared/reference_params.h"
 
 namespace cumulo::clouds::render {
 
-using cumulo::render::BufferHandle;
 using cumulo::render::PassBuilder;
 using cumulo::render::PassContext;
 using cumulo::render::Queue;
@@ -328,25 +328,8 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
       });
 
   // ---- Readback (a copy per frame: the command reads the last one) ----
-  BufferHandle accum_buf = graph.import_buffer("clouds.reference.accum readback", accum_readback_.handle(), accum_readback_.size(),
-                                               ResourceState::host_read(), ResourceState::host_read());
-  BufferHandle aux_buf = graph.import_buffer("clouds.reference.aux readback", aux_readback_.handle(), aux_readback_.size(),
-                                             ResourceState::host_read(), ResourceState::host_read());
-  graph.add_pass("clouds.reference_readback", Queue::Compute,
-      [&](PassBuilder& b) {
-        b.read(accum, Usage::TransferSrc);
-        b.read(aux, Usage::TransferSrc);
-        accum_buf = b.write(accum_buf, Usage::TransferDst);
-        aux_buf = b.write(aux_buf, Usage::TransferDst);
-        b.side_effect();
-      },
-      [accum, aux, accum_buf, aux_buf](PassContext& c) {
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = c.extent(accum);
-        vkCmdCopyImageToBuffer(c.cmd(), c.image(accum), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(accum_buf), 1, &region);
-        vkCmdCopyImageToBuffer(c.cmd(), c.image(aux), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(aux_buf), 1, &region);
-      });
+  cumulo::render::add_readback_pass(graph, "clouds.reference_readback",
+                                    {{accum, accum_readback_.handle()}, {aux, aux_readback_.handle()}}, accum_readback_.size());
   return hdr;
 }
 
