@@ -96,6 +96,10 @@ int run_level(const RunOptions& options, const Modules& modules) {
     apply_recording_settings(o, *replay);
   }
   bool headless = o.headless;
+  if (o.require_window && (headless || !platform::display_available()))
+    fail("%s", headless ? "this command needs a window: --headless is not allowed"
+                        : "this command needs a display (DISPLAY or WAYLAND_DISPLAY); without one, run it under "
+                          "xvfb-run -a");
   if (!headless && !platform::display_available()) {
     std::printf("cumulo: no display (DISPLAY and WAYLAND_DISPLAY are unset): running headless\n");
     headless = true;
@@ -133,6 +137,7 @@ int run_level(const RunOptions& options, const Modules& modules) {
     try {
       code = detail::run_windowed(rc);
     } catch (const WindowUnavailable& e) {
+      if (o.require_window) fail("cannot open a window: %s", e.what());
       std::printf("cumulo: %s: running headless\n", e.what());
       if (rc.opt.frames == 0) rc.opt.frames = kDefaultHeadlessFrames;
     }

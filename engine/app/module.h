@@ -16,6 +16,15 @@
 //   add_passes              (render::RenderFeature) every frame, at each render::Stage
 //   destroy_gpu             before the context goes, device idle
 //
+// Windowed runs only (an editor, a debug UI):
+//   on_window_open          the window, context and renderer exist (create a UI's device objects)
+//   on_frame_input          every frame after the window's events, before the fly camera and the
+//                           simulation steps: build the UI, edit the world; returns the input it took
+//   allow_close             the window was asked to close (its button, Esc): false keeps it open
+//   on_window_close         before the renderer and the context go, device idle
+//
+// register_run_commands gets every module: a command that runs a level with all of them (`cumulo edit`).
+//
 // A short module with one component, one system and one compute pass:
 //
 //   struct Spin { float speed = 1.0f; };
@@ -41,6 +50,7 @@
 //    private:
 //     gpu::Pipeline* pipe_ = nullptr;
 //   };
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -55,8 +65,35 @@ namespace cumulo {
 class ArgParser;
 class CommandRegistry;
 }  // namespace cumulo
+namespace cumulo::gpu {
+class Context;
+}
+namespace cumulo::platform {
+class Window;
+struct InputState;
+}  // namespace cumulo::platform
+namespace cumulo::render {
+class FrameRenderer;
+enum class BudgetMode : uint8_t;
+}  // namespace cumulo::render
 
 namespace cumulo::app {
+
+class Module;
+using Modules = std::vector<std::shared_ptr<Module>>;
+
+// What a windowed run lends a module's UI: valid from on_window_open to on_window_close.
+struct WindowServices {
+  platform::Window& window;
+  gpu::Context& ctx;
+  render::FrameRenderer& renderer;
+  render::BudgetMode& mode;  // the run's budget mode: a UI may switch it between frames
+};
+
+// The input a module's UI took this frame: the fly camera and the run loop's keys (Esc, Tab) skip it.
+struct InputClaim {
+  bool keyboard = false, mouse = false;
+};
 
 class Module : public render::RenderFeature {
  public:
@@ -69,9 +106,13 @@ class Module : public render::RenderFeature {
   // Throws cumulo::Error naming the level file and the place on a bad asset; the run then stops.
   virtual void on_level_loaded(ecs::World&, const scene::LevelInfo&) {}
   virtual void extract(const ecs::World&, render::FrameSnapshot&) {}
-};
+  // Commands that run a level with every module (their hooks, flags and passes).
+  virtual void register_run_commands(CommandRegistry&, const Modules& /*all*/) {}
 
-// In registration order; the engine calls every hook in this order.
-using Modules = std::vector<std::shared_ptr<Module>>;
+  virtual void on_window_open(WindowServices&) {}
+  virtual InputClaim on_frame_input(ecs::World&, const platform::InputState&, double /*dt_s*/) { return {}; }
+  virtual bool allow_close(ecs::World&) { return true; }
+  virtual void on_window_close() {}
+};
 
 }  // namespace cumulo::app

@@ -23,11 +23,11 @@ void parse_size(const std::string& text, uint32_t& width, uint32_t& height) {
   height = static_cast<uint32_t>(h);
 }
 
-std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules) {
+std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules, const char* command) {
   RunOptions o;
   std::string mode = "30", size, aerial = "lut";
   float tod = -1.0f;
-  ArgParser p("cumulo run",
+  ArgParser p(command,
               "Run a level: a fixed-step simulation (ECS systems in phases) and the renderer (render graph:\n"
               "geometry, sky, tonemap). Opens a window when a display exists, otherwise runs headless.");
   p.positional("LEVEL", "level JSON file, e.g. content/levels/sample/level.json", &o.level)

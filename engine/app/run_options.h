@@ -31,6 +31,7 @@ struct RunOptions {
   std::string record;                // --record FILE: write the run's inputs (engine/app/recording.h)
   std::string replay;                // --replay FILE: drive the run from a recording
   bool aerial_lut = true;            // --aerial-perspective lut|fog: the atmosphere's froxels or the height fog
+  bool require_window = false;       // `cumulo edit`: no headless fallback (fail when no window opens)
 };
 
 // Frames a headless run renders when --frames is not given.
@@ -39,7 +40,9 @@ constexpr uint32_t kDefaultHeadlessFrames = 1;
 // Parses argv (argv[0] = "run"), with the flags every module adds (Module::add_run_options, checked by
 // Module::check_run_options). Returns nullopt after printing --help. Throws cumulo::Error on bad
 // values: "--size: expected WIDTHxHEIGHT ...", "--mode: ...", out-of-range time of day, etc.
-std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules = {});
+// `command` names the command in --help and errors (`cumulo edit` parses the same flags).
+std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules = {},
+                                            const char* command = "cumulo run");
 
 // "640x360" -> (640, 360); throws cumulo::Error for anything else or sizes outside 1..16384.
 void parse_size(const std::string& text, uint32_t& width, uint32_t& height);

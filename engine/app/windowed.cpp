@@ -61,6 +61,17 @@ int run_windowed(RunContext& rc) {
   renderer.set_aerial_perspective_lut(rc.opt.aerial_lut);
   add_module_features(rc, renderer);
   gpu::FrameRing frames(ctx);
+  // Modules' UIs live from here until the guard goes (first of all, device idle, before the renderer).
+  WindowServices services{*window, ctx, renderer, rc.opt.mode};
+  struct UiGuard {
+    gpu::Context& ctx;
+    const Modules& modules;
+    ~UiGuard() {
+      ctx.wait_idle();
+      for (const auto& m : modules) m->on_window_close();
+    }
+  } ui_guard{ctx, rc.modules};
+  for (const auto& m : rc.modules) m->on_window_open(services);
 
   FlyCamera fly = fly_camera_from(rc.sim.world(), rc.camera);
   platform::InputState input;
@@ -70,14 +81,34 @@ int run_windowed(RunContext& rc) {
   render::FrameSnapshot last;
   bool dumped = false;
 
-  while (!window->should_close() && (o.frames == 0 || rendered < o.frames)) {
+  while (o.frames == 0 || rendered < o.frames) {
     double dt = frame_clock.seconds();
     frame_clock.reset();
     Stopwatch cpu;
     window->poll(input);
-    if (input.was_pressed(platform::Key::Tab)) window->set_cursor_captured(!input.cursor_captured);
+    // A module's UI goes first: keys typed into its text field or a drag over its panel are not the camera's.
+    InputClaim claim;
+    for (const auto& m : rc.modules) {
+      const InputClaim c = m->on_frame_input(rc.sim.world(), input, dt);
+      claim.keyboard |= c.keyboard;
+      claim.mouse |= c.mouse;
+    }
+    platform::InputState own = input;
+    if (claim.keyboard) own.down = own.pressed = {};
+    if (claim.mouse) {
+      own.mouse_down = {};
+      own.mouse_dx = own.mouse_dy = own.scroll = 0.0;
+    }
+    if (own.was_pressed(platform::Key::Escape)) window->request_close();
+    if (window->should_close()) {
+      bool allowed = true;
+      for (const auto& m : rc.modules) allowed = m->allow_close(rc.sim.world()) && allowed;
+      if (allowed) break;
+      window->cancel_close();  // a module asks first (unsaved changes)
+    }
+    if (own.was_pressed(platform::Key::Tab)) window->set_cursor_captured(!own.cursor_captured);
     // A replay moves the camera itself (the recorded path); the keys and mouse do not.
-    if (!replaying(rc.sim.world()) && update_fly_camera(fly, input, static_cast<float>(std::min(dt, 0.1))))
+    if (!replaying(rc.sim.world()) && update_fly_camera(fly, own, static_cast<float>(std::min(dt, 0.1))))
       apply_fly_camera(rc.sim.world(), rc.camera, fly);
 
     uint32_t steps = rc.clock.steps_for_real_time(dt);

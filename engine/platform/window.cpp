@@ -130,11 +130,11 @@ void Window::poll(InputState& input) {
   input.scroll = scroll_;
   scroll_ = 0;
   input.cursor_captured = captured_;
-  if (input.was_pressed(Key::Escape)) request_close();
 }
 
 bool Window::should_close() const { return glfwWindowShouldClose(window_); }
 void Window::request_close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+void Window::cancel_close() { glfwSetWindowShouldClose(window_, GLFW_FALSE); }
 
 uint32_t Window::width() const {
   int w = 0, h = 0;

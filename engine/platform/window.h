@@ -41,10 +41,12 @@ class Window {
   // Creates a VkSurfaceKHR for this window; throws cumulo::Error on failure.
   VkSurfaceKHR create_surface(VkInstance instance) const;
 
-  // Pumps events and fills `input` (pressed/deltas are since the previous poll). Escape requests close.
+  // Pumps events and fills `input` (pressed/deltas are since the previous poll). Escape is the run
+  // loop's to act on (a UI's text field takes it first).
   void poll(InputState& input);
   bool should_close() const;
   void request_close();
+  void cancel_close();  // the close was refused (unsaved changes): keep running
 
   // Framebuffer size in pixels (0x0 while minimized).
   uint32_t width() const;

@@ -84,7 +84,13 @@ void CloudFeature::add_run_options(ArgParser& p) {
               &options_.ms_attenuation_inside)
       .range(0.0, 10.0)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
-              &weather_text_);
+              &weather_text_)
+      .option("--weather-dir", "DIR", "the folder of weather states (default content/weather/; the editor saves there)",
+              &weather_dir_text_);
+}
+
+std::filesystem::path CloudFeature::weather_folder() const {
+  return weather_dir_text_.empty() ? weather::WeatherLibrary::default_folder() : std::filesystem::path(weather_dir_text_);
 }
 
 void CloudFeature::check_run_options() {
@@ -108,7 +114,7 @@ void CloudFeature::check_run_options() {
   options_.light_sample_noise_mean = light_noise_text_ == "mean";
   options_.weather.reset();
   if (!weather_text_.empty())
-    options_.weather = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder()).get(weather_text_);
+    options_.weather = weather::WeatherLibrary::load(weather_folder()).get(weather_text_);
   if (!parse_light_grid_method(light_grid_method_text_, &options_.light_grid_method))
     fail("--cloud-light-grid-method: expected rays or sweep, got \"%s\"", light_grid_method_text_.c_str());
   if (!debug_text_.empty() && !parse_debug_view(debug_text_, &options_.debug))
@@ -153,7 +159,7 @@ void CloudFeature::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
   if (any && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
   // Every weather state the level names must exist; `--weather ID` is the state schedulers start in.
   auto library = [&]() -> const weather::WeatherLibrary& {
-    if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather::WeatherLibrary::default_folder());
+    if (!weather_lib_) weather_lib_ = weather::WeatherLibrary::load(weather_folder());
     return *weather_lib_;
   };
   auto where = [&](ecs::Entity e, const char* component) {
@@ -215,6 +221,7 @@ void CloudFeature::extract(const ecs::World& world, cumulo::render::FrameSnapsho
       snapshot.lighting.point_lights.push_back({l.position, 2000.0f, kLightningColor * (0.0015f * l.intensity)});
     }
   }
+  if (weather_preview_) frame.weather = *weather_preview_;
   if (weather_lib_)
     world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) {
       if (!frame.weather) frame.weather = weather::weather_now(w, *weather_lib_).state;  // the first one counts

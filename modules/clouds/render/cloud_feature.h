@@ -21,6 +21,7 @@
 //   --cloud-effects-off LIST   lighting effects of the talks switched off in the march (cumulo fidelity measures each)
 //   --cloud-lighting talk|tuned  the lighting constants: the talks' (default) or tuned against the reference
 //   --cloud-ms-strength X, --cloud-ambient-occlusion X   override those two constants of the preset
+//   --weather-dir DIR          the folder of weather states (default content/weather/)
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
 #include <filesystem>
@@ -104,6 +105,13 @@ class CloudFeature : public cumulo::render::RenderFeature {
   CloudRunOptions& options() { return options_; }
   // The weather states, loaded when the level has a WeatherScheduler or WeatherZone (else null).
   const weather::WeatherLibrary* weather_library() const { return weather_lib_ ? &*weather_lib_ : nullptr; }
+  // The editor's live edits go here (null: the level has no scheduler or zone).
+  weather::WeatherLibrary* mutable_weather_library() { return weather_lib_ ? &*weather_lib_ : nullptr; }
+  // The editor's preview: this state is drawn instead of the scheduler's (the simulation is unchanged).
+  void set_weather_preview(std::optional<weather::WeatherState> state) { weather_preview_ = std::move(state); }
+  const std::optional<weather::WeatherState>& weather_preview() const { return weather_preview_; }
+  // --weather-dir, else content/weather/.
+  std::filesystem::path weather_folder() const;
   const SkyLayer* sky_layer() const { return sky_.get(); }
 
   // Resolves every Cloudscape's asset (bakes recipes into the cache) and the noise. Throws naming the
@@ -143,10 +151,11 @@ class CloudFeature : public cumulo::render::RenderFeature {
   CloudLightOutputs light_;
   CloudRunOptions options_;
   std::optional<weather::WeatherLibrary> weather_lib_;  // loaded when the level has a WeatherScheduler
+  std::optional<weather::WeatherState> weather_preview_;
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
-      shafts_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "talk";
+      shafts_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "talk", weather_dir_text_;
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   gpu::PipelineLibrary* library_ = nullptr;

@@ -63,6 +63,11 @@ CloudMapImage make_cloud_map(const weather::CloudMapSource& src, uint32_t n) {
   CloudMapImage m;
   // The largest features are scale_km across; a tile holds 4 of them (period 4 of the fBm).
   m.tile_m = 4.0f * std::max(src.scale_km, 0.1f) * 1000.0f;
+  if (src.painted && src.painted->width > 0 && src.painted->rgba.size() == size_t(src.painted->width) * src.painted->height * 4) {
+    m.width = src.painted->width, m.height = src.painted->height;
+    m.rgba = src.painted->rgba;
+    return m;
+  }
   if (!src.png.empty()) {
     ImageRgba8 img = read_png_rgba8(src.png);
     m.width = img.width, m.height = img.height;
@@ -94,6 +99,7 @@ struct SkyLayer::Impl {
   gpu::Context& ctx;
   gpu::Image base, detail, curl;
   gpu::Image map_image;
+  std::vector<std::pair<uint64_t, gpu::Image>> retired_maps;  // (frame replaced, image)
   weather::CloudMapSource map_source;
   bool map_loaded = false;
   float map_tile_m = 32000.0f;
@@ -166,7 +172,10 @@ struct SkyLayer::Impl {
   }
 
   // The weather's map on the GPU; re-made when the source changes. A PNG that fails keeps the last map.
-  void ensure_map(const weather::CloudMapSource& src) {
+  void ensure_map(const weather::CloudMapSource& src, uint64_t frame = 0) {
+    // Maps replaced while the editor paints: frames in flight may still sample them.
+    while (!retired_maps.empty() && retired_maps.front().first + gpu::kFramesInFlight + 1 <= frame)
+      retired_maps.erase(retired_maps.begin());
     if (map_loaded && src == map_source) return;
     CloudMapImage m;
     try {
@@ -179,7 +188,10 @@ struct SkyLayer::Impl {
       }
       throw;
     }
-    if (map_loaded) ctx.wait_idle();  // frames in flight may sample the old map
+    if (map_loaded) {
+      if (frame > 0) retired_maps.emplace_back(frame, std::move(map_image));
+      else ctx.wait_idle();  // no frame count (a probe): frames in flight may sample the old map
+    }
     map_image = gpu::Image(ctx, gpu::ImageDesc::tex2d(m.width, m.height, VK_FORMAT_R8G8B8A8_UNORM,
                                                       VK_IMAGE_USAGE_SAMPLED_BIT, 1, "clouds.sky_layer.cloud_map"));
     map_image.upload({{m.rgba.data(), m.rgba.size()}});
@@ -263,7 +275,7 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
                                        const CloudFrameInputs& in, TextureHandle scene_depth) {
   if (!sky.enabled) return {};
   Impl& m = *impl_;
-  m.ensure_map(sky.map);
+  m.ensure_map(sky.map, in.frame_index + 1);
   const CloudSettings& s = in.settings;
   const double t = in.time;
   const shared::SkyLayerParams p = m.params(sky, in);

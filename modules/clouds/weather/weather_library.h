@@ -24,6 +24,9 @@ class WeatherLibrary {
   // The same check for data that names a state: throws "WHERE: unknown weather state ... (known: ...)".
   void require(const std::string& id, const std::string& where) const;
   const std::filesystem::path& folder() const { return folder_; }
+  // The editor's live edits: adds or replaces the state with s.id; erase removes one (false if absent).
+  void put(const WeatherState& s) { states_[s.id] = s; }
+  bool erase(const std::string& id) { return states_.erase(id) > 0; }
 
  private:
   std::filesystem::path folder_;

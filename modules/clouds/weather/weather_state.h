@@ -25,7 +25,9 @@
 // Every key but `description` and `cloud_map.png` is required, so a state never depends on defaults
 // hidden in code; unknown keys are refused (a typo would otherwise be silently ignored).
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -33,11 +35,20 @@
 
 namespace cumulo::clouds::weather {
 
+// A cloud map being painted in the editor (RGBA8, top row first, the PNG's layout): it overrides the
+// PNG and the procedural map until saved. Immutable once shared: each change is a new object, so the
+// renderer sees a different pointer and uploads it again.
+struct PaintedCloudMap {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+
 struct CloudMapSource {
   uint32_t seed = 1;
   float scale_km = 8.0f;  // size of the map's largest features
   uint32_t octaves = 4;
   std::filesystem::path png;  // painted map (absolute once loaded); empty: procedural
+  std::shared_ptr<const PaintedCloudMap> painted;  // the editor's unsaved painting (never in JSON)
   bool operator==(const CloudMapSource&) const = default;
 };
 

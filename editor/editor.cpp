@@ -1,0 +1,343 @@
+#include "editor/editor.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <set>
+
+#include "editor/panels/panels.h"
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+#include "engine/platform/window.h"
+#include "modules/clouds/gameplay/triggers.h"
+#include "modules/clouds/render/cloud_feature.h"
+#include "modules/clouds/render/sky_layer.h"
+#include "modules/clouds/weather/weather_scheduler.h"
+#include "modules/clouds/weather/weather_zone.h"
+
+namespace cumulo::editor {
+namespace {
+
+// The renderer's own map generator: what the sky layer draws for a source is what painting starts from.
+PaintedCloudMap render_map(const clouds::weather::CloudMapSource& source) {
+  clouds::render::CloudMapImage m = clouds::render::make_cloud_map(source);
+  PaintedCloudMap out;
+  out.width = m.width;
+  out.height = m.height;
+  out.rgba = std::move(m.rgba);
+  return out;
+}
+
+constexpr double kDiskPollSeconds = 0.5;
+constexpr size_t kFramePlotSamples = 240;
+constexpr size_t kMessagesKept = 200;
+
+}  // namespace
+
+Editor::Editor(clouds::render::CloudFeature& clouds, const std::filesystem::path& weather_folder)
+    : clouds_(clouds), doc_(std::make_unique<WeatherDocument>(WeatherDocument::open(weather_folder, render_map))) {
+  for (const std::string& p : doc_->problems()) message(EditorMessage::Level::Error, p);
+  message(EditorMessage::Level::Info, strf("editing %zu weather states in %s", doc_->ids().size(),
+                                           weather_folder.string().c_str()));
+}
+
+void Editor::message(EditorMessage::Level level, const std::string& text) {
+  messages_.push_back({level, text, time_s_});
+  while (messages_.size() > kMessagesKept) messages_.pop_front();
+  if (level == EditorMessage::Level::Error) LOG_ERROR("editor: %s", text.c_str());
+  else if (level == EditorMessage::Level::Warning) LOG_WARN("editor: %s", text.c_str());
+  else LOG_INFO("editor: %s", text.c_str());
+}
+
+void Editor::set_camera(const scene::CameraView& view, uint32_t width, uint32_t height, double sim_time_s) {
+  camera = view;
+  sim_time = sim_time_s;
+  view_width = width;
+  view_height = height;
+}
+
+std::string Editor::target_state() const {
+  if (!selected.empty() && doc_->has(selected)) return selected;
+  std::string current;
+  if (world_)
+    static_cast<const ecs::World&>(*world_).view<const clouds::weather::WeatherScheduler>().each(
+        [&](const clouds::weather::WeatherScheduler& s) {
+          if (current.empty()) current = s.current;
+        });
+  if (!current.empty() && doc_->has(current)) return current;
+  if (clouds_.options().weather && doc_->has(clouds_.options().weather->id)) return clouds_.options().weather->id;
+  const auto ids = doc_->ids();
+  return ids.empty() ? std::string() : ids.front();
+}
+
+std::vector<std::string> Editor::states_in_use() const {
+  std::set<std::string> used;
+  if (!world_) return {};
+  const ecs::World& w = *world_;
+  w.view<const clouds::weather::WeatherScheduler>().each([&](const clouds::weather::WeatherScheduler& s) {
+    used.insert(s.start);
+    used.insert(s.current);
+    if (!s.next.empty()) used.insert(s.next);
+    for (const auto& e : s.schedule) used.insert(e.state);
+    for (const auto& e : s.encounter) used.insert(e.state);
+  });
+  w.view<const clouds::weather::WeatherZone>().each([&](const clouds::weather::WeatherZone& z) {
+    for (const auto& e : z.states) used.insert(e.state);
+  });
+  w.view<const clouds::gameplay::Trigger>().each([&](const clouds::gameplay::Trigger& t) {
+    for (const std::string& s : clouds::gameplay::trigger_weather_states(t)) used.insert(s);
+  });
+  if (clouds_.options().weather) used.insert(clouds_.options().weather->id);
+  used.erase("");
+  return {used.begin(), used.end()};
+}
+
+void Editor::sync_live() {
+  clouds::weather::WeatherLibrary* lib = clouds_.mutable_weather_library();
+  for (const std::string& id : doc_->take_changed()) {
+    if (doc_->has(id)) {
+      const clouds::weather::WeatherState s = doc_->state(id);
+      if (lib) lib->put(s);
+      if (clouds_.options().weather && clouds_.options().weather->id == id) clouds_.options().weather = s;
+    } else if (lib) {
+      // The level's states are never removed under it (the panels refuse); a removed editor-made one goes.
+      const auto used = states_in_use();
+      if (std::find(used.begin(), used.end(), id) == used.end()) lib->erase(id);
+    }
+  }
+  update_preview();
+}
+
+void Editor::update_preview() {
+  if (!pin_selected || selected.empty() || !doc_->has(selected)) {
+    if (clouds_.weather_preview()) clouds_.set_weather_preview(std::nullopt);
+    return;
+  }
+  clouds::weather::WeatherState s = doc_->state(selected);
+  if (blend_to && doc_->has(*blend_to)) s = clouds::weather::blend(s, doc_->state(*blend_to), blend_t).state;
+  clouds_.set_weather_preview(std::move(s));
+}
+
+bool Editor::set_param(const std::string& id, const std::string& param, const Json& value, bool merge) {
+  try {
+    doc_->set(id, param, value, merge);
+  } catch (const Error& e) {
+    message(EditorMessage::Level::Error, e.what());
+    return false;
+  }
+  sync_live();
+  return true;
+}
+
+bool Editor::paint(const std::string& id, glm::vec2 uv, bool stroke_start, bool stroke_end) {
+  try {
+    if (stroke_start) doc_->begin_stroke(id);
+    doc_->paint(id, brush_channel, uv, brush_radius, brush_value, brush_strength);
+    if (stroke_end) doc_->end_stroke();
+  } catch (const Error& e) {
+    message(EditorMessage::Level::Error, e.what());
+    return false;
+  }
+  sync_live();
+  return true;
+}
+
+bool Editor::undo() {
+  if (!doc_->can_undo()) return false;
+  const std::string label = doc_->undo_label();
+  doc_->undo();
+  sync_live();
+  message(EditorMessage::Level::Info, "undo: " + label);
+  return true;
+}
+
+bool Editor::redo() {
+  if (!doc_->can_redo()) return false;
+  const std::string label = doc_->redo_label();
+  doc_->redo();
+  sync_live();
+  message(EditorMessage::Level::Info, "redo: " + label);
+  return true;
+}
+
+bool Editor::save() {
+  try {
+    doc_->save();
+  } catch (const Error& e) {
+    message(EditorMessage::Level::Error, std::string("save failed, nothing was lost: ") + e.what());
+    return false;
+  }
+  sync_live();  // a painted map is now the PNG beside its state
+  message(EditorMessage::Level::Info, "saved " + doc_->folder().string());
+  return true;
+}
+
+void Editor::poll_disk() {
+  last_poll_s_ = time_s_;
+  std::vector<DiskEvent> events;
+  try {
+    events = doc_->poll_disk();
+  } catch (const Error& e) {
+    message(EditorMessage::Level::Error, e.what());
+    return;
+  }
+  for (const DiskEvent& e : events) {
+    switch (e.kind) {
+      case DiskEvent::Kind::Reloaded: message(EditorMessage::Level::Info, "reloaded " + e.id + " (changed on disk)"); break;
+      case DiskEvent::Kind::Added: message(EditorMessage::Level::Info, "new state on disk: " + e.id); break;
+      case DiskEvent::Kind::Removed: message(EditorMessage::Level::Warning, "removed on disk: " + e.id); break;
+      case DiskEvent::Kind::Malformed:
+        message(EditorMessage::Level::Error, e.message + " (the last good " + e.id + " keeps running)");
+        break;
+      case DiskEvent::Kind::Conflict:
+        if (std::find(conflicts_.begin(), conflicts_.end(), e.id) == conflicts_.end()) conflicts_.push_back(e.id);
+        message(EditorMessage::Level::Warning, e.id + " changed on disk while edited here");
+        break;
+    }
+  }
+  if (!events.empty()) sync_live();
+}
+
+void Editor::hotkeys() {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput || !io.KeyCtrl) return;  // a text field has its own undo
+  if (ImGui::IsKeyPressed(GLFW_KEY_Z, false)) {
+    if (io.KeyShift) redo();
+    else undo();
+  } else if (ImGui::IsKeyPressed(GLFW_KEY_Y, false)) {
+    redo();
+  } else if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) {
+    save();
+  }
+}
+
+bool Editor::allow_close() {
+  if (quit_confirmed_ || !doc_->dirty()) return true;
+  quit_prompt_ = true;
+  return false;
+}
+
+void Editor::draw_quit_prompt() {
+  if (quit_prompt_) {
+    ImGui::OpenPopup("Unsaved changes");
+    quit_prompt_ = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("Weather states have unsaved changes:");
+    for (const std::string& id : doc_->ids())
+      if (doc_->dirty(id)) ImGui::BulletText("%s", id.c_str());
+    if (ImGui::Button("Save and quit")) {
+      if (save()) {
+        quit_confirmed_ = true;
+        window_->window.request_close();
+      }
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Quit without saving")) {
+      quit_confirmed_ = true;
+      window_->window.request_close();
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+}
+
+void Editor::draw_conflicts() {
+  if (conflicts_.empty()) return;
+  ImGui::SetNextWindowPos(ImVec2(ImGui::GetMainViewport()->GetCenter().x, 40.0f), ImGuiCond_Appearing, ImVec2(0.5f, 0.0f));
+  ImGui::Begin("Changed on disk", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  for (size_t i = 0; i < conflicts_.size();) {
+    const std::string id = conflicts_[i];
+    ImGui::PushID(id.c_str());
+    ImGui::Text("%s changed on disk while you edited it.", id.c_str());
+    bool done = false;
+    if (ImGui::Button("Take the file on disk")) {
+      try {
+        doc_->resolve_conflict(id, true);
+      } catch (const Error& e) {
+        message(EditorMessage::Level::Error, e.what());
+      }
+      done = true;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Keep mine (saving overwrites it)")) {
+      doc_->resolve_conflict(id, false);
+      done = true;
+    }
+    ImGui::PopID();
+    if (done) {
+      conflicts_.erase(conflicts_.begin() + long(i));
+      sync_live();
+    } else {
+      ++i;
+    }
+  }
+  ImGui::End();
+}
+
+void Editor::draw_menu_bar() {
+  if (!ImGui::BeginMainMenuBar()) return;
+  if (ImGui::BeginMenu("File")) {
+    if (ImGui::MenuItem("Save", "Ctrl+S", false, doc_->dirty())) save();
+    if (ImGui::MenuItem("Quit", "Esc")) window_->window.request_close();
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Edit")) {
+    const std::string u = doc_->can_undo() ? "Undo " + doc_->undo_label() : "Undo";
+    const std::string r = doc_->can_redo() ? "Redo " + doc_->redo_label() : "Redo";
+    if (ImGui::MenuItem(u.c_str(), "Ctrl+Z", false, doc_->can_undo())) undo();
+    if (ImGui::MenuItem(r.c_str(), "Ctrl+Shift+Z", false, doc_->can_redo())) redo();
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("View")) {
+    for (PanelInfo& p : panels()) ImGui::MenuItem(p.title, nullptr, &p.open);
+    ImGui::MenuItem("Overlay in the viewport", nullptr, &show_overlay);
+    ImGui::EndMenu();
+  }
+  ImGui::TextDisabled("|  %s%s", doc_->folder().filename().string().c_str(), doc_->dirty() ? "  (unsaved changes)" : "");
+  ImGui::EndMainMenuBar();
+}
+
+void Editor::draw_status() {
+  if (messages_.empty()) return;
+  const EditorMessage& m = messages_.back();
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x, vp->Pos.y + vp->Size.y), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+  ImGui::SetNextWindowSize(ImVec2(vp->Size.x, 0.0f));
+  ImGui::SetNextWindowBgAlpha(0.6f);
+  ImGui::Begin("##status", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+  const ImVec4 colour = m.level == EditorMessage::Level::Error     ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f)
+                        : m.level == EditorMessage::Level::Warning ? ImVec4(1.0f, 0.8f, 0.3f, 1.0f)
+                                                                   : ImVec4(0.8f, 0.85f, 0.9f, 1.0f);
+  ImGui::TextColored(colour, "%s", m.text.c_str());
+  ImGui::End();
+}
+
+void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s) {
+  world_ = &world;
+  window_ = &window;
+  time_s_ += dt_s;
+  frame_ms.push_back(float(dt_s * 1000.0));
+  while (frame_ms.size() > kFramePlotSamples) frame_ms.pop_front();
+  if (last_poll_s_ < 0.0 || time_s_ - last_poll_s_ >= kDiskPollSeconds) poll_disk();
+  run_script_step();
+  hotkeys();
+
+  draw_menu_bar();
+  for (PanelInfo& p : panels())
+    if (p.open) p.draw(*this, p);
+  if (show_overlay) draw_viewport_overlay(*this);
+  draw_conflicts();
+  draw_quit_prompt();
+  draw_status();
+  update_preview();
+}
+
+}  // namespace cumulo::editor

@@ -1,0 +1,45 @@
+#pragma once
+// The editor's panels: one ImGui window per component of the cloud module (DESIGN.md's editor; STYLE.md:
+// "one editor panel per component"), each a free function over the Editor. panels() is the one list
+// (the View menu, the layout, the "every panel open" cost measurement go through it).
+//
+//   Weather states     list / create / duplicate / rename / delete, every parameter, blend preview
+//   Scheduler & zones  current / next state, progress, force a transition, the camera's zone, schedules
+//   Time of day        hours, speed, pause
+//   Cloudscapes        transforms, asset, density, dissipation, rain, renderer debug views
+//   Cloud map          a top-down view of the state's map and a brush painting coverage / type
+//   Events & triggers  lightning at the camera's target, named events, dissipation reset, live lists
+//   Performance        per-pass GPU times, frame-time plot, budget mode, the render graph's passes
+#include <imgui.h>
+
+#include <vector>
+
+namespace cumulo::editor {
+
+class Editor;
+
+struct PanelInfo {
+  const char* title;
+  void (*draw)(Editor&, PanelInfo&);
+  bool open = true;
+  ImVec2 pos, size;  // first-use layout for a 1280x720 window
+};
+
+std::vector<PanelInfo>& panels();
+
+void draw_weather_panel(Editor& e, PanelInfo& p);
+void draw_scheduler_panel(Editor& e, PanelInfo& p);
+void draw_time_panel(Editor& e, PanelInfo& p);
+void draw_cloudscape_panel(Editor& e, PanelInfo& p);
+void draw_paint_panel(Editor& e, PanelInfo& p);
+void draw_events_panel(Editor& e, PanelInfo& p);
+void draw_performance_panel(Editor& e, PanelInfo& p);
+// Trigger volumes, zones and live lightning drawn over the viewport (the background draw list).
+void draw_viewport_overlay(Editor& e);
+
+// ImGui::Begin at the panel's first-use place; false when collapsed (End() is still to be called).
+bool begin_panel(PanelInfo& p);
+// A "(?)" marker with `text` as its tooltip, or the last item's tooltip when hovered.
+void item_tooltip(const char* text);
+
+}  // namespace cumulo::editor

@@ -1,0 +1,184 @@
+// `cumulo edit --script FILE`: the editor performs a JSON array of actions with no person at the keys,
+// so CI tests the real editor under Xvfb. Actions run in order, as many per frame as come before a
+// `wait` or a `screenshot` (which waits for its frame to be read back); a refused action stops the
+// script with its file, index and reason, the window closes, and `cumulo edit` exits non-zero.
+#include <algorithm>
+
+#include "editor/editor.h"
+#include "editor/model/weather_params.h"
+#include "engine/app/game_events.h"
+#include "engine/core/error.h"
+#include "engine/platform/window.h"
+#include "engine/scene/components.h"
+#include "engine/scene/sun.h"
+#include "modules/clouds/gameplay/lightning.h"
+#include "modules/clouds/render/cloud_feature.h"
+
+namespace cumulo::editor {
+
+void Editor::set_script(std::vector<ScriptAction> actions, std::filesystem::path file) {
+  script_ = std::move(actions);
+  script_file_ = std::move(file);
+  script_pc_ = 0;
+  script_error_.clear();
+}
+
+std::optional<std::filesystem::path> Editor::take_screenshot_request() {
+  auto r = std::move(screenshot_request_);
+  screenshot_request_.reset();
+  return r;
+}
+
+void Editor::screenshot_written(const std::filesystem::path& path, const std::string& error) {
+  script_waiting_screenshot_ = false;
+  if (!error.empty()) {
+    script_error_ = error;
+    window_->window.request_close();
+    quit_confirmed_ = true;
+    return;
+  }
+  message(EditorMessage::Level::Info, "wrote screenshot " + path.string());
+  std::printf("cumulo: wrote screenshot %s\n", path.string().c_str());
+}
+
+void Editor::run_script_step() {
+  if (!script_error_.empty() || script_pc_ >= script_.size() || script_waiting_screenshot_) return;
+  if (script_wait_ > 0) {
+    --script_wait_;
+    return;
+  }
+  while (script_pc_ < script_.size()) {
+    const ScriptAction& a = script_[script_pc_++];
+    try {
+      execute(a);
+    } catch (const Error& e) {
+      script_error_ = a.where + " (" + script_op_name(a.op) + "): " + e.what();
+      message(EditorMessage::Level::Error, script_error_);
+      quit_confirmed_ = true;  // the script failed: nothing is saved, the run ends
+      window_->window.request_close();
+      return;
+    }
+    if (a.op == ScriptOp::Wait || a.op == ScriptOp::Screenshot || a.op == ScriptOp::Quit) break;
+  }
+}
+
+void Editor::execute(const ScriptAction& a) {
+  WeatherDocument& doc = *doc_;
+  auto require_state = [&](const std::string& id) {
+    if (!doc.has(id)) {
+      std::string known;
+      for (const std::string& k : doc.ids()) known += (known.empty() ? "" : ", ") + k;
+      fail("no weather state \"%s\" (known: %s)", id.c_str(), known.c_str());
+    }
+  };
+  switch (a.op) {
+    case ScriptOp::SelectState:
+      require_state(a.name);
+      selected = a.name;
+      pin_selected = true;
+      update_preview();
+      break;
+    case ScriptOp::Set: {
+      const std::string id = target_state();
+      require_state(id);
+      doc.set(id, a.param, a.value);
+      sync_live();
+      break;
+    }
+    case ScriptOp::Paint: {
+      const std::string id = target_state();
+      require_state(id);
+      doc.begin_stroke(id);
+      doc.paint(id, a.channel, a.uv, a.radius, a.paint_value, a.strength);
+      doc.end_stroke();
+      sync_live();
+      break;
+    }
+    case ScriptOp::Undo:
+      if (!undo()) fail("nothing to undo");
+      break;
+    case ScriptOp::Redo:
+      if (!redo()) fail("nothing to redo");
+      break;
+    case ScriptOp::Save:
+      if (a.flag) {  // "expect_failure": a test of a failed save (the document and the files stay as they were)
+        try {
+          doc.save();
+        } catch (const Error& e) {
+          message(EditorMessage::Level::Error, std::string("save failed, nothing was lost: ") + e.what());
+          std::printf("cumulo: save failed as expected: %s\n", e.what());
+          break;
+        }
+        fail("the save was expected to fail and did not");
+      }
+      doc.save();  // a failure stops the script with the document's message (file and OS reason)
+      sync_live();
+      message(EditorMessage::Level::Info, "saved " + doc.folder().string());
+      break;
+    case ScriptOp::Event:
+      app::schedule_event(*world_, a.name, sim_time);
+      break;
+    case ScriptOp::Wait:
+      script_wait_ = uint32_t(std::max(0, a.frames));
+      break;
+    case ScriptOp::Screenshot:
+      screenshot_request_ = a.path;
+      script_waiting_screenshot_ = true;
+      break;
+    case ScriptOp::Quit:
+      if (doc.dirty() && !a.flag) {
+        std::string ids;
+        for (const std::string& id : doc.dirty_ids()) ids += (ids.empty() ? "" : ", ") + id;
+        fail("unsaved changes (%s): save first, or quit with \"discard\": true", ids.c_str());
+      }
+      quit_confirmed_ = true;
+      window_->window.request_close();
+      break;
+    case ScriptOp::CreateState:
+      doc.create(a.name, a.other);
+      selected = a.name;
+      sync_live();
+      break;
+    case ScriptOp::DuplicateState:
+      doc.duplicate(a.name, a.other);
+      sync_live();
+      break;
+    case ScriptOp::RenameState:
+    case ScriptOp::DeleteState: {
+      const auto used = states_in_use();
+      if (std::find(used.begin(), used.end(), a.name) != used.end())
+        fail("the level names \"%s\" (scheduler, zone or trigger): it cannot be renamed or deleted while it runs",
+             a.name.c_str());
+      if (a.op == ScriptOp::RenameState) doc.rename(a.name, a.other);
+      else doc.remove(a.name);
+      if (selected == a.name) selected = a.op == ScriptOp::RenameState ? a.other : std::string();
+      sync_live();
+      break;
+    }
+    case ScriptOp::Lightning:
+      clouds::gameplay::strike_lightning(*world_, camera.position + camera.forward * target_distance);
+      break;
+    case ScriptOp::TimeOfDay: {
+      scene::SunSource sun = scene::find_sun(*world_);
+      if (!sun.time) fail("the level has no TimeOfDay");
+      sun.time->hours = a.hours;
+      break;
+    }
+    case ScriptOp::ExpectDirty:
+      if (doc.dirty() != a.flag) fail("expected the document %s, it is %s", a.flag ? "dirty" : "clean", doc.dirty() ? "dirty" : "clean");
+      break;
+    case ScriptOp::Expect: {
+      const std::string id = target_state();
+      require_state(id);
+      const ParamInfo* p = find_param(a.param);
+      Json have = get_param(doc.json(id), a.param);
+      Json want = p ? normalize_param_value(*p, a.value) : a.value;
+      const bool equal = have.is_number() && want.is_number() ? std::abs(have.get<double>() - want.get<double>()) < 1e-6
+                                                              : have == want;
+      if (!equal) fail("%s of %s: expected %s, is %s", a.param.c_str(), id.c_str(), want.dump().c_str(), have.dump().c_str());
+      break;
+    }
+  }
+}
+
+}  // namespace cumulo::editor
