@@ -2,6 +2,7 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include <algorithm>
 #include <set>
@@ -10,6 +11,7 @@
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/platform/window.h"
+#include "engine/render/frame_renderer.h"
 #include "modules/clouds/gameplay/triggers.h"
 #include "modules/clouds/render/cloud_feature.h"
 #include "modules/clouds/render/sky_layer.h"
@@ -303,6 +305,26 @@ void Editor::draw_menu_bar() {
   ImGui::EndMainMenuBar();
 }
 
+void Editor::draw_shader_errors() {
+  // Hot reload keeps the last good pipeline of a shader that fails to compile; say which and why here,
+  // where the person editing it is looking.
+  const std::string errors = window_->renderer.shader_errors();
+  if (errors != last_shader_errors_) {
+    if (!errors.empty()) message(EditorMessage::Level::Error, "shader hot reload failed; the old pipeline keeps running");
+    else if (!last_shader_errors_.empty()) message(EditorMessage::Level::Info, "shaders reloaded");
+    last_shader_errors_ = errors;
+  }
+  if (errors.empty()) return;
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(vp->GetCenter().x, vp->Pos.y + 30.0f), ImGuiCond_Appearing, ImVec2(0.5f, 0.0f));
+  ImGui::SetNextWindowSize(ImVec2(vp->Size.x * 0.5f, 0.0f), ImGuiCond_Appearing);
+  ImGui::Begin("Shader errors (the old pipeline keeps running)");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.5f, 0.45f, 1.0f));
+  ImGui::TextWrapped("%s", errors.c_str());
+  ImGui::PopStyleColor();
+  ImGui::End();
+}
+
 void Editor::draw_status() {
   if (messages_.empty()) return;
   const EditorMessage& m = messages_.back();
@@ -331,9 +353,18 @@ void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s) 
   hotkeys();
 
   draw_menu_bar();
-  for (PanelInfo& p : panels())
-    if (p.open) p.draw(*this, p);
+  for (PanelInfo& p : panels()) {
+    if (!p.open) continue;
+    try {
+      p.draw(*this, p);
+    } catch (const std::exception& e) {
+      // A panel that fails says so and closes its windows; the editor and the others go on.
+      ImGui::ErrorCheckEndFrameRecover(nullptr);
+      message(EditorMessage::Level::Error, std::string(p.title) + ": " + e.what());
+    }
+  }
   if (show_overlay) draw_viewport_overlay(*this);
+  draw_shader_errors();
   draw_conflicts();
   draw_quit_prompt();
   draw_status();

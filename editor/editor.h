@@ -101,6 +101,7 @@ class Editor {
   void draw_quit_prompt();
   void draw_conflicts();
   void draw_status();
+  void draw_shader_errors();
   void update_preview();
 
   clouds::render::CloudFeature& clouds_;
@@ -110,6 +111,7 @@ class Editor {
   std::deque<EditorMessage> messages_;
   double time_s_ = 0.0, last_poll_s_ = -1.0;
   std::vector<std::string> conflicts_;  // changed on disk while edited here
+  std::string last_shader_errors_;
   bool quit_prompt_ = false, quit_confirmed_ = false;
   // The script.
   std::vector<ScriptAction> script_;

@@ -48,6 +48,11 @@ void draw_performance_panel(Editor& e, PanelInfo& panel) {
     }
     ImGui::TableNextColumn();
     // The compiled graph: passes in execution order with what they read and write.
+    if (!ws.renderer.has_recorded()) {
+      ImGui::TextDisabled("render graph: no frame yet");
+      ImGui::EndTable();
+      return ImGui::End();
+    }
     const render::CompiledGraph& g = ws.renderer.last_compiled();
     ImGui::Text("render graph: %zu passes, %zu culled, %zu resources", g.passes.size(), g.culled.size(), g.resources.size());
     for (const render::CompiledPass& p : g.passes) {

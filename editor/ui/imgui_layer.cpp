@@ -1,6 +1,7 @@
 #include "editor/ui/imgui_layer.h"
 
 #include <imgui.h>
+#include <imgui_internal.h>
 #include <imgui_impl_glfw.h>
 
 #include <GLFW/glfw3.h>
@@ -25,6 +26,9 @@ ImGuiLayer::ImGuiLayer(platform::Window& window, gpu::Context& ctx) : window_(wi
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // the layout is the editor's, not a file left in the working folder
+  // The GLFW backend sets the cursor shape (and the cursor mode) on every frame, a request to the X
+  // server each time; end_frame sets it when the shape changes.
+  io.ConfigFlags |= ImGuiConfigFlags_NoMouseCursorChange;
   ImGui::StyleColorsDark();
   ImGui::GetStyle().WindowRounding = 3.0f;
   ImGui_ImplGlfw_InitForVulkan(window.handle(), true);
@@ -64,16 +68,25 @@ ImGuiLayer::~ImGuiLayer() {
     vkDestroyPipeline(ctx_.device(), t.pipeline, nullptr);
     vkDestroyRenderPass(ctx_.device(), t.render_pass, nullptr);
   }
-  if (frame_open_) ImGui::EndFrame();
+  if (frame_open_) {  // closed by an exception between NewFrame and Render: end its windows first
+    ImGui::ErrorCheckEndFrameRecover(nullptr);
+    ImGui::EndFrame();
+  }
   ImGui_ImplVulkan_Shutdown();
   ImGui_ImplGlfw_Shutdown();
+  glfwSetCursor(window_.handle(), nullptr);
+  for (auto& [shape, c] : cursors_)
+    if (c) glfwDestroyCursor(c);
   ImGui::DestroyContext();
   vkDestroyRenderPass(ctx_.device(), init_pass_, nullptr);
   vkDestroyDescriptorPool(ctx_.device(), pool_, nullptr);
 }
 
 void ImGuiLayer::begin_frame() {
-  if (frame_open_) ImGui::EndFrame();
+  if (frame_open_) {
+    ImGui::ErrorCheckEndFrameRecover(nullptr);
+    ImGui::EndFrame();
+  }
   ImGuiIO& io = ImGui::GetIO();
   // While the fly camera holds the cursor, the mouse is the camera's.
   if (glfwGetInputMode(window_.handle(), GLFW_CURSOR) == GLFW_CURSOR_DISABLED) io.ConfigFlags |= ImGuiConfigFlags_NoMouse;
@@ -85,6 +98,18 @@ void ImGuiLayer::begin_frame() {
 }
 
 void ImGuiLayer::end_frame() {
+  const ImGuiMouseCursor cursor = ImGui::GetMouseCursor();
+  if (cursor != cursor_ && glfwGetInputMode(window_.handle(), GLFW_CURSOR) != GLFW_CURSOR_DISABLED) {
+    const int shape = cursor == ImGuiMouseCursor_TextInput                                       ? GLFW_IBEAM_CURSOR
+                      : cursor == ImGuiMouseCursor_Hand                                          ? GLFW_HAND_CURSOR
+                      : cursor == ImGuiMouseCursor_ResizeEW                                      ? GLFW_HRESIZE_CURSOR
+                      : cursor == ImGuiMouseCursor_ResizeNS                                      ? GLFW_VRESIZE_CURSOR
+                                                                                                 : GLFW_ARROW_CURSOR;
+    auto it = cursors_.find(shape);
+    if (it == cursors_.end()) it = cursors_.emplace(shape, glfwCreateStandardCursor(shape)).first;
+    glfwSetCursor(window_.handle(), it->second);
+    cursor_ = cursor;
+  }
   ImGui::Render();
   frame_open_ = false;
   drawn_ = true;

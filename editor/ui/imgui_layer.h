@@ -19,6 +19,8 @@
 
 #include "engine/render/render_feature.h"
 
+struct GLFWcursor;
+
 namespace cumulo::gpu {
 class Context;
 }
@@ -59,6 +61,8 @@ class ImGuiLayer {
   std::map<VkFormat, Target> targets_;
   std::vector<std::pair<uint64_t, VkFramebuffer>> framebuffers_;  // (frame made, framebuffer)
   uint64_t frame_ = 0;
+  int cursor_ = -1;                     // the ImGuiMouseCursor last set
+  std::map<int, GLFWcursor*> cursors_;  // by GLFW standard shape
   bool frame_open_ = false, drawn_ = false;
 };
 

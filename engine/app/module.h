@@ -54,6 +54,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/app/input_claim.h"
 #include "engine/ecs/scheduler.h"
 #include "engine/ecs/serialize.h"
 #include "engine/ecs/world.h"
@@ -70,7 +71,6 @@ class Context;
 }
 namespace cumulo::platform {
 class Window;
-struct InputState;
 }  // namespace cumulo::platform
 namespace cumulo::render {
 class FrameRenderer;
@@ -88,11 +88,6 @@ struct WindowServices {
   gpu::Context& ctx;
   render::FrameRenderer& renderer;
   render::BudgetMode& mode;  // the run's budget mode: a UI may switch it between frames
-};
-
-// The input a module's UI took this frame: the fly camera and the run loop's keys (Esc, Tab) skip it.
-struct InputClaim {
-  bool keyboard = false, mouse = false;
 };
 
 class Module : public render::RenderFeature {

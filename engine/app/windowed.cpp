@@ -93,12 +93,7 @@ int run_windowed(RunContext& rc) {
       claim.keyboard |= c.keyboard;
       claim.mouse |= c.mouse;
     }
-    platform::InputState own = input;
-    if (claim.keyboard) own.down = own.pressed = {};
-    if (claim.mouse) {
-      own.mouse_down = {};
-      own.mouse_dx = own.mouse_dy = own.scroll = 0.0;
-    }
+    const platform::InputState own = unclaimed_input(input, claim);
     if (own.was_pressed(platform::Key::Escape)) window->request_close();
     if (window->should_close()) {
       bool allowed = true;

@@ -180,6 +180,7 @@ const char* stage_name(Stage stage) {
 }
 
 const CompiledGraph& FrameRenderer::last_compiled() const { return impl_->executor.compiled(); }
+bool FrameRenderer::has_recorded() const { return impl_->executor.has_executed(); }
 
 std::vector<std::pair<std::string, double>> FrameRenderer::pass_timings() const {
   std::vector<std::pair<std::string, double>> out;

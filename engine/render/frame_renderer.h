@@ -57,7 +57,8 @@ class FrameRenderer {
   // GPU time per pass of the last recorded frame, in execution order; empty until it completed.
   std::vector<std::pair<std::string, double>> pass_timings() const;
   // The compiled graph of the last recorded frame.
-  const CompiledGraph& last_compiled() const;
+  const CompiledGraph& last_compiled() const;  // throws before the first frame
+  bool has_recorded() const;                     // a frame was recorded (last_compiled() is there)
 
   // Windowed runs: recompiles changed shader files; a failure logs the error and keeps the old pipeline.
   // Returns true when a pipeline was rebuilt.

@@ -64,6 +64,7 @@ class Executor {
   void execute(const RenderGraph& graph, VkCommandBuffer cmd);
 
   const CompiledGraph& compiled() const;  // of the last execute(); throws before the first
+  bool has_executed() const { return physical_ != nullptr; }
   // Per-pass GPU milliseconds of the last executed frame, in execution order; empty while its
   // command buffer has not completed, or when the queue has no timestamps. A pass whose timestamps
   // are out of order is left out (see timestamp_interval_ms).

@@ -1,0 +1,239 @@
+// `cumulo edit --script` end to end: the real executable in a real window under Xvfb on lavapipe, with
+// validation on (a validation error fails the run with exit code 3). The editor edits a copy of the
+// shipped weather states (--weather-dir), so the repository's files are never touched.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "editor/model/weather_document.h"
+#include "engine/core/file_io.h"
+#include "engine/core/png.h"
+#include "modules/clouds/weather/weather_state.h"
+#include "tests/editor/editor_test_support.h"
+#include "tests/engine/app/cli_test_util.h"
+#include "tests/support/png_read.h"
+#include "tests/support/temp_dir.h"
+
+namespace fs = std::filesystem;
+using cumulo::test::CliResult;
+using cumulo::test::run_cumulo;
+
+namespace {
+
+const std::string kLevel = "content/levels/sample/level.json";
+
+// `cumulo edit` in a window of an Xvfb display. xvfb-run -a races other servers started at the same
+// moment (parallel tests): a start that could not open its display is retried.
+CliResult run_edit(const std::string& args) {
+  CliResult r;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    r = run_cumulo("edit " + args, "CUMULO_VALIDATION=1");
+    if (r.output.find("Failed to open display") == std::string::npos &&
+        r.output.find("cannot open display") == std::string::npos)
+      return r;
+    sleep(unsigned(2 * (attempt + 1)));
+  }
+  return r;
+}
+
+CliResult run_edit_in_xvfb(const std::string& args) {
+  // run_cumulo prefixes `env`; xvfb-run goes in front through the executable's path instead.
+  CliResult r;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 " + std::string(CUMULO_EXE) +
+                            " edit " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    r.output.clear();
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    const int status = pclose(p);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    if (r.output.find("Failed to open display") == std::string::npos &&
+        r.output.find("cannot open display") == std::string::npos)
+      return r;
+    sleep(unsigned(2 * (attempt + 1)));
+  }
+  return r;
+}
+
+fs::path write_script(const fs::path& dir, const std::string& name, const std::string& json) {
+  const fs::path p = dir / name;
+  std::ofstream(p) << json;
+  return p;
+}
+
+// The share of the viewport's upper half (between the editor's side panels: x 26-74 %, y 3-45 %) where
+// the sky is blue rather than cloud: blue above red by 40 levels.
+double blue_sky_share(const cumulo::test::Png& img) {
+  int blue = 0, n = 0;
+  for (int y = img.h * 3 / 100; y < img.h * 45 / 100; ++y)
+    for (int x = img.w * 26 / 100; x < img.w * 74 / 100; ++x, ++n)
+      if (img.at(x, y, 2) > img.at(x, y, 0) + 40) ++blue;
+  return n ? double(blue) / n : 0.0;
+}
+
+class EditorRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run is not installed";
+    dir_ = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_edit"));
+    weather_ = dir_ / "weather";
+    fs::create_directories(weather_);
+    cumulo::editor::test::copy_shipped_weather(weather_);
+  }
+  std::string args(const fs::path& script, const std::string& camera = "ground") const {
+    return kLevel + " --weather-dir " + weather_.string() + " --size 480x270 --camera " + camera + " --script " +
+           script.string();
+  }
+  fs::path dir_, weather_;
+};
+
+TEST_F(EditorRun, AScriptEditsPaintsAHoleUndoesRedoesSavesAndTheSavedFileReloadsToTheSameState) {
+  const std::string original = cumulo::read_file_text(weather_ / "overcast_stratus.json");
+  const fs::path shots = dir_ / "shots";
+  // Four dabs half the map wide clear an overcast deck's whole map: the sky opens everywhere the 2.5D
+  // layer draws. The wind is stilled so the map does not drift between the screenshots.
+  std::string paint;
+  for (const char* at : {"0.0, \"y\": 0.0", "0.5, \"y\": 0.0", "0.0, \"y\": 0.5", "0.5, \"y\": 0.5"})
+    paint += std::string(R"({"do": "paint", "channel": "coverage", "x": )") + at + R"(, "radius": 0.45, "value": 0},)";
+  const fs::path script = write_script(dir_, "edit.json", R"([
+    {"do": "select_state", "name": "overcast_stratus"},
+    {"do": "set", "param": "wind.speed", "value": 0},
+    {"do": "set", "param": "lighting.absorption", "value": 0.07},
+    {"do": "expect", "param": "lighting.absorption", "value": 0.07},
+    {"do": "wait", "frames": 16},
+    {"do": "screenshot", "path": ")" + (shots / "before.png").string() + R"("},
+    )" + paint + R"(
+    {"do": "wait", "frames": 16},
+    {"do": "screenshot", "path": ")" + (shots / "hole.png").string() + R"("},
+    {"do": "undo"}, {"do": "undo"}, {"do": "undo"}, {"do": "undo"},
+    {"do": "wait", "frames": 16},
+    {"do": "screenshot", "path": ")" + (shots / "undone.png").string() + R"("},
+    {"do": "redo"}, {"do": "redo"}, {"do": "redo"}, {"do": "redo"},
+    {"do": "wait", "frames": 16},
+    {"do": "screenshot", "path": ")" + (shots / "redone.png").string() + R"("},
+    {"do": "expect_dirty", "value": true},
+    {"do": "save"},
+    {"do": "expect_dirty", "value": false},
+    {"do": "quit"}])");
+  const CliResult r = run_edit_in_xvfb(args(script));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("validation error"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("editor CPU time per frame"), std::string::npos) << r.output;
+
+  const double before = blue_sky_share(cumulo::test::load_png(shots / "before.png"));
+  const double hole = blue_sky_share(cumulo::test::load_png(shots / "hole.png"));
+  const double undone = blue_sky_share(cumulo::test::load_png(shots / "undone.png"));
+  const double redone = blue_sky_share(cumulo::test::load_png(shots / "redone.png"));
+  std::printf("blue sky share: before %.3f, hole %.3f, undone %.3f, redone %.3f\n", before, hole, undone, redone);
+  EXPECT_GT(hole, before + 0.10) << "painting coverage 0 should open the overcast sky";
+  EXPECT_NEAR(undone, before, 0.03) << "undoing the strokes should close it again";
+  EXPECT_NEAR(redone, hole, 0.03) << "redoing them should open it again";
+
+  // The saved state: the edits, the painted map beside it, the previous file kept as a backup.
+  const auto saved = cumulo::clouds::weather::load_weather_state(weather_ / "overcast_stratus.json");
+  EXPECT_EQ(saved.wind_speed, 0.0f);
+  EXPECT_FLOAT_EQ(saved.lighting.absorption, 0.07f);
+  ASSERT_EQ(saved.cloud_map.png, weather_ / "overcast_stratus.cloud_map.png");
+  EXPECT_EQ(cumulo::read_file_text(weather_ / "overcast_stratus.json.bak"), original);
+  const cumulo::ImageRgba8 map = cumulo::read_png_rgba8(saved.cloud_map.png);
+  ASSERT_GT(map.width, 0u);
+  EXPECT_EQ(map.rgba[0], 0) << "the painted hole's coverage at the map's corner";
+  EXPECT_EQ(map.rgba[(size_t(map.height / 2) * map.width + map.width / 2) * 4], 0) << "and at its centre";
+
+  // A second session loads the saved file: the same state, clean, drawing the same open sky.
+  const fs::path reload = write_script(dir_, "reload.json", R"([
+    {"do": "select_state", "name": "overcast_stratus"},
+    {"do": "expect", "param": "wind.speed", "value": 0},
+    {"do": "expect", "param": "lighting.absorption", "value": 0.07},
+    {"do": "expect_dirty", "value": false},
+    {"do": "wait", "frames": 16},
+    {"do": "screenshot", "path": ")" + (shots / "reloaded.png").string() + R"("},
+    {"do": "quit"}])");
+  const CliResult r2 = run_edit_in_xvfb(args(reload));
+  ASSERT_EQ(r2.exit_code, 0) << r2.output;
+  const double reloaded = blue_sky_share(cumulo::test::load_png(shots / "reloaded.png"));
+  std::printf("blue sky share after reloading the saved file: %.3f\n", reloaded);
+  EXPECT_NEAR(reloaded, redone, 0.03);
+}
+
+TEST_F(EditorRun, ASaveIntoAReadOnlyFolderFailsWithAMessageAndLosesNothing) {
+  const std::string original = cumulo::read_file_text(weather_ / "storm.json");
+  // Root ignores permission bits: the folder is also made immutable where the file system allows it.
+  fs::permissions(weather_, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                                fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+  const bool immutable = std::system(("chattr +i " + weather_.string() + " 2>/dev/null").c_str()) == 0;
+  const bool writable = std::ofstream(weather_ / "probe").good();
+  if (writable) {
+    fs::remove(weather_ / "probe");
+    fs::permissions(weather_, fs::perms::owner_all);
+    GTEST_SKIP() << "cannot make a read-only folder here (root without chattr)";
+  }
+  const fs::path script = write_script(dir_, "readonly.json", R"([
+    {"do": "select_state", "name": "storm"},
+    {"do": "set", "param": "coverage", "value": 0.33},
+    {"do": "save", "expect_failure": true},
+    {"do": "expect", "param": "coverage", "value": 0.33},
+    {"do": "expect_dirty", "value": true},
+    {"do": "wait", "frames": 2},
+    {"do": "quit", "discard": true}])");
+  const CliResult r = run_edit_in_xvfb(args(script));
+  if (immutable) std::system(("chattr -i " + weather_.string()).c_str());
+  fs::permissions(weather_, fs::perms::owner_all);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("save failed as expected"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(weather_.string()), std::string::npos) << "the message names the file: " << r.output;
+  EXPECT_EQ(cumulo::read_file_text(weather_ / "storm.json"), original);
+  for (const auto& e : fs::directory_iterator(weather_)) EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+  EXPECT_FALSE(fs::exists(weather_ / "storm.json.bak"));
+}
+
+TEST_F(EditorRun, AFailingScriptActionStopsTheScriptNamesItAndExitsNonZero) {
+  const fs::path script = write_script(dir_, "bad.json", R"([
+    {"do": "set", "param": "coverage", "value": 0.5},
+    {"do": "select_state", "name": "no_such_state"},
+    {"do": "save"}])");
+  const CliResult r = run_edit_in_xvfb(args(script));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("bad.json: $[1]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no_such_state"), std::string::npos) << r.output;
+  // The script stopped before its save: the edit of $[0] never reached the disk.
+  EXPECT_FALSE(fs::exists(weather_ / "fair_cumulus.json.bak"));
+}
+
+TEST_F(EditorRun, QuittingWithUnsavedChangesAsksFirst) {
+  const fs::path script = write_script(dir_, "quit.json", R"([
+    {"do": "set", "param": "coverage", "value": 0.5},
+    {"do": "quit"}])");
+  const CliResult r = run_edit_in_xvfb(args(script));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("unsaved changes"), std::string::npos) << r.output;
+}
+
+// These fail before any window opens.
+TEST(EditorCli, AnUnknownScriptActionIsRefusedBeforeTheEditorStarts) {
+  const fs::path dir = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_edit_cli"));
+  const fs::path script = write_script(dir, "unknown.json", R"([{"do": "wait", "frames": 1}, {"do": "fly"}])");
+  const CliResult r = run_edit(kLevel + " --script " + script.string());
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("unknown.json: $[1]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("select_state"), std::string::npos) << "lists the known actions: " << r.output;
+}
+
+TEST(EditorCli, TheEditorNeedsAWindow) {
+  const CliResult headless = run_edit(kLevel + " --headless");
+  EXPECT_NE(headless.exit_code, 0) << headless.output;
+  EXPECT_NE(headless.output.find("needs a window"), std::string::npos) << headless.output;
+  const CliResult no_display = run_cumulo("edit " + kLevel, "DISPLAY= WAYLAND_DISPLAY=");
+  EXPECT_NE(no_display.exit_code, 0) << no_display.output;
+  EXPECT_NE(no_display.output.find("xvfb-run"), std::string::npos) << no_display.output;
+}
+
+}  // namespace
