@@ -217,6 +217,53 @@ TEST_F(EditorRun, QuittingWithUnsavedChangesAsksFirst) {
   EXPECT_NE(r.output.find("unsaved changes"), std::string::npos) << r.output;
 }
 
+TEST_F(EditorRun, AStateChangedOnDiskIsReloadedAndAMalformedOneKeepsTheLastGoodState) {
+  // Another program writes fair_cumulus.json twice while the editor runs: first a malformed version (the
+  // editor must report it and keep the last good state), then, once the script has checked that, a valid
+  // one (reloaded: the script sees its value). The script's screenshot is the signal between the two.
+  const fs::path file = weather_ / "fair_cumulus.json";
+  const std::string original = cumulo::read_file_text(file);
+  const std::string key = "\"coverage\": 0.4,";
+  const size_t at = original.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const std::string malformed = std::string(original).replace(at, key.size(), "\"coverage\": \"lots\",");
+  const std::string changed = std::string(original).replace(at, key.size(), "\"coverage\": 0.55,");
+  const fs::path script = write_script(dir_, "watch.json", R"([
+    {"do": "select_state", "name": "fair_cumulus"},
+    {"do": "wait", "frames": 30},
+    {"do": "expect", "param": "coverage", "value": 0.4},
+    {"do": "screenshot", "path": ")" + (dir_ / "signal.png").string() + R"("},
+    {"do": "wait", "frames": 40},
+    {"do": "expect", "param": "coverage", "value": 0.55},
+    {"do": "expect_dirty", "value": false},
+    {"do": "quit"}])");
+  const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 " + std::string(CUMULO_EXE) +
+                          " edit " + kLevel + " --weather-dir " + weather_.string() +
+                          " --size 320x180 --camera ground --script " + script.string() + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string output;
+  char line[4096];
+  bool wrote_malformed = false, wrote_changed = false;
+  while (fgets(line, sizeof line, p)) {
+    output += line;
+    const std::string l = line;
+    if (!wrote_malformed && l.find("editor: editing") != std::string::npos) {
+      cumulo::write_file_atomic(file, malformed);
+      wrote_malformed = true;
+    } else if (wrote_malformed && !wrote_changed && l.find("editor: wrote screenshot") != std::string::npos) {
+      cumulo::write_file_atomic(file, changed);
+      wrote_changed = true;
+    }
+  }
+  const int status = pclose(p);
+  ASSERT_TRUE(wrote_malformed && wrote_changed) << output;
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << output;
+  EXPECT_NE(output.find("fair_cumulus.json: $.coverage"), std::string::npos) << "the report names file and place: " << output;
+  EXPECT_NE(output.find("the last good fair_cumulus keeps running"), std::string::npos) << output;
+  EXPECT_NE(output.find("reloaded fair_cumulus"), std::string::npos) << output;
+}
+
 // These fail before any window opens.
 TEST(EditorCli, AnUnknownScriptActionIsRefusedBeforeTheEditorStarts) {
   const fs::path dir = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_edit_cli"));
