@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <set>
 
+#include "editor/model/edit_serial.h"
 #include "editor/panels/panels.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
@@ -96,6 +97,11 @@ std::vector<std::string> Editor::states_in_use() const {
 }
 
 void Editor::sync_live() {
+  // Serials only grow: a top step newer than any seen is a new document edit (a redo brings back an older one).
+  if (doc_->undo_serial() > newest_doc_serial_) {
+    world_redo_.clear();
+    newest_doc_serial_ = doc_->undo_serial();
+  }
   clouds::weather::WeatherLibrary* lib = clouds_.mutable_weather_library();
   for (const std::string& id : doc_->take_changed()) {
     if (doc_->has(id)) {
@@ -146,21 +152,54 @@ bool Editor::paint(const std::string& id, glm::vec2 uv, bool stroke_start, bool 
 }
 
 bool Editor::undo() {
-  if (!doc_->can_undo()) return false;
-  const std::string label = doc_->undo_label();
-  doc_->undo();
-  sync_live();
+  // An open paint stroke is the newest edit of all.
+  const uint64_t doc = doc_->in_stroke() ? UINT64_MAX : doc_->undo_serial();
+  const uint64_t world = world_undo_.empty() ? 0 : world_undo_.back().serial;
+  if (doc == 0 && world == 0) return false;
+  std::string label;
+  if (doc > world) {
+    label = doc_->undo_label();
+    doc_->undo();
+    if (label.empty()) label = doc_->redo_label();
+    sync_live();
+  } else {
+    WorldEdit e = std::move(world_undo_.back());
+    world_undo_.pop_back();
+    e.undo(*world_);
+    label = e.label;
+    world_redo_.push_back(std::move(e));
+  }
   message(EditorMessage::Level::Info, "undo: " + label);
   return true;
 }
 
 bool Editor::redo() {
-  if (!doc_->can_redo()) return false;
-  const std::string label = doc_->redo_label();
-  doc_->redo();
-  sync_live();
+  // The most recently undone comes back first: the older of the two tops.
+  const uint64_t doc = doc_->redo_serial();
+  const uint64_t world = world_redo_.empty() ? 0 : world_redo_.back().serial;
+  if (doc == 0 && world == 0) return false;
+  std::string label;
+  if (doc != 0 && (world == 0 || doc < world)) {
+    label = doc_->redo_label();
+    doc_->redo();
+    sync_live();
+  } else {
+    WorldEdit e = std::move(world_redo_.back());
+    world_redo_.pop_back();
+    e.redo(*world_);
+    label = e.label;
+    world_undo_.push_back(std::move(e));
+  }
   message(EditorMessage::Level::Info, "redo: " + label);
   return true;
+}
+
+void Editor::push_world_edit(std::string label, std::function<void(ecs::World&)> undo,
+                             std::function<void(ecs::World&)> redo) {
+  world_undo_.push_back({std::move(label), std::move(undo), std::move(redo), next_edit_serial()});
+  if (world_undo_.size() > 512) world_undo_.erase(world_undo_.begin());
+  world_redo_.clear();
+  doc_->clear_redo();
 }
 
 bool Editor::save() {
@@ -201,16 +240,14 @@ void Editor::poll_disk() {
   if (!events.empty()) sync_live();
 }
 
-void Editor::hotkeys() {
-  const ImGuiIO& io = ImGui::GetIO();
-  if (io.WantTextInput || !io.KeyCtrl) return;  // a text field has its own undo
-  if (ImGui::IsKeyPressed(GLFW_KEY_Z, false)) {
-    if (io.KeyShift) redo();
-    else undo();
-  } else if (ImGui::IsKeyPressed(GLFW_KEY_Y, false)) {
-    redo();
-  } else if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) {
-    save();
+void Editor::hotkeys(const std::vector<std::pair<int, int>>& presses) {
+  if (ImGui::GetIO().WantTextInput) return;  // a text field has its own undo
+  for (const auto& [key, mods] : presses) {
+    if (!(mods & GLFW_MOD_CONTROL)) continue;
+    if (key == GLFW_KEY_Z && (mods & GLFW_MOD_SHIFT)) redo();
+    else if (key == GLFW_KEY_Z) undo();
+    else if (key == GLFW_KEY_Y) redo();
+    else if (key == GLFW_KEY_S) save();
   }
 }
 
@@ -290,10 +327,10 @@ void Editor::draw_menu_bar() {
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Edit")) {
-    const std::string u = doc_->can_undo() ? "Undo " + doc_->undo_label() : "Undo";
-    const std::string r = doc_->can_redo() ? "Redo " + doc_->redo_label() : "Redo";
-    if (ImGui::MenuItem(u.c_str(), "Ctrl+Z", false, doc_->can_undo())) undo();
-    if (ImGui::MenuItem(r.c_str(), "Ctrl+Shift+Z", false, doc_->can_redo())) redo();
+    const bool can_undo = doc_->can_undo() || !world_undo_.empty();
+    const bool can_redo = doc_->can_redo() || !world_redo_.empty();
+    if (ImGui::MenuItem("Undo", "Ctrl+Z", false, can_undo)) undo();
+    if (ImGui::MenuItem("Redo", "Ctrl+Shift+Z", false, can_redo)) redo();
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("View")) {
@@ -342,7 +379,8 @@ void Editor::draw_status() {
   ImGui::End();
 }
 
-void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s) {
+void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s,
+                   const std::vector<std::pair<int, int>>& shortcuts) {
   world_ = &world;
   window_ = &window;
   time_s_ += dt_s;
@@ -350,7 +388,7 @@ void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s) 
   while (frame_ms.size() > kFramePlotSamples) frame_ms.pop_front();
   if (last_poll_s_ < 0.0 || time_s_ - last_poll_s_ >= kDiskPollSeconds) poll_disk();
   run_script_step();
-  hotkeys();
+  hotkeys(shortcuts);
 
   draw_menu_bar();
   for (PanelInfo& p : panels()) {
@@ -363,7 +401,10 @@ void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s) 
       message(EditorMessage::Level::Error, std::string(p.title) + ": " + e.what());
     }
   }
-  if (show_overlay) draw_viewport_overlay(*this);
+  if (show_overlay) {
+    draw_viewport_overlay(*this);
+    draw_cloudscape_handles(*this);
+  }
   draw_shader_errors();
   draw_conflicts();
   draw_quit_prompt();

@@ -13,6 +13,7 @@
 // from the window's opening to its closing and calls frame() between ImGui's NewFrame and Render.
 #include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -44,7 +45,9 @@ class Editor {
   Editor(clouds::render::CloudFeature& clouds, const std::filesystem::path& weather_folder);
 
   // Every frame, between ImGui::NewFrame and ImGui::Render: disk watch, script step, hotkeys, panels.
-  void frame(ecs::World& world, app::WindowServices& window, double dt_s);
+  // `shortcuts`: (GLFW key, mods) pressed since the last frame.
+  void frame(ecs::World& world, app::WindowServices& window, double dt_s,
+             const std::vector<std::pair<int, int>>& shortcuts = {});
   // The window was asked to close: true to let it (saved, or the person chose to discard).
   bool allow_close();
   void set_script(std::vector<ScriptAction> actions, std::filesystem::path file);
@@ -83,8 +86,13 @@ class Editor {
   // script, stops it). Return false when refused.
   bool set_param(const std::string& id, const std::string& param, const Json& value, bool merge = false);
   bool paint(const std::string& id, glm::vec2 uv, bool stroke_start, bool stroke_end);
+  // One history for the document's edits and the world's (world_edit): undo takes the newer top.
   bool undo();
   bool redo();
+  // A change a panel made to the world (a component's value): undoable with the document's edits.
+  void push_world_edit(std::string label, std::function<void(ecs::World&)> undo, std::function<void(ecs::World&)> redo);
+  // A drag in progress on widget `id`: how to put back the value it started from (world_edit in panels.h).
+  std::optional<std::pair<unsigned, std::function<void(ecs::World&)>>> world_drag;
   bool save();
   void message(EditorMessage::Level level, const std::string& text);
   const std::deque<EditorMessage>& messages() const { return messages_; }
@@ -95,7 +103,7 @@ class Editor {
  private:
   void run_script_step();
   void execute(const ScriptAction& a);
-  void hotkeys();
+  void hotkeys(const std::vector<std::pair<int, int>>& presses);
   void poll_disk();
   void draw_menu_bar();
   void draw_quit_prompt();
@@ -109,6 +117,13 @@ class Editor {
   ecs::World* world_ = nullptr;
   app::WindowServices* window_ = nullptr;
   std::deque<EditorMessage> messages_;
+  struct WorldEdit {
+    std::string label;
+    std::function<void(ecs::World&)> undo, redo;
+    uint64_t serial = 0;
+  };
+  std::vector<WorldEdit> world_undo_, world_redo_;
+  uint64_t newest_doc_serial_ = 0;  // a top step newer than this is a new document edit: the world's redo goes
   double time_s_ = 0.0, last_poll_s_ = -1.0;
   std::vector<std::string> conflicts_;  // changed on disk while edited here
   std::string last_shader_errors_;
@@ -118,6 +133,9 @@ class Editor {
   std::filesystem::path script_file_;
   size_t script_pc_ = 0;
   uint32_t script_wait_ = 0;
+  double script_resume_s_ = 0.0;  // a `wait` in seconds: run on from this time (a file's: give up then)
+  double script_wait_limit_s_ = 0.0;
+  std::optional<std::filesystem::path> script_wait_file_;
   bool script_waiting_screenshot_ = false;
   std::string script_error_;
   std::optional<std::filesystem::path> screenshot_request_;

@@ -88,7 +88,9 @@ app::InputClaim EditorModule::on_frame_input(ecs::World& world, const platform::
   if (shot_path_) finish_screenshot();
   const double start = thread_cpu_ms();
   ui_->begin_frame();
-  editor_->frame(world, *services_, dt_s);
+  std::vector<std::pair<int, int>> presses;
+  for (const KeyPress& k : ui_->take_key_presses()) presses.emplace_back(k.key, k.mods);
+  editor_->frame(world, *services_, dt_s, presses);
   ui_->end_frame();
   const double ms = thread_cpu_ms() - start;
   editor_->ui_cpu_ms = ms;

@@ -7,12 +7,14 @@
 #include "editor/editor.h"
 #include "editor/model/weather_params.h"
 #include "engine/app/game_events.h"
+#include "engine/app/simulation.h"
 #include "engine/core/error.h"
 #include "engine/platform/window.h"
 #include "engine/scene/components.h"
 #include "engine/scene/sun.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/render/cloud_feature.h"
+#include "modules/clouds/scene/cloudscape.h"
 
 namespace cumulo::editor {
 
@@ -45,6 +47,21 @@ void Editor::run_script_step() {
   if (!script_error_.empty() || script_pc_ >= script_.size() || script_waiting_screenshot_) return;
   if (script_wait_ > 0) {
     --script_wait_;
+    return;
+  }
+  if (script_wait_file_) {
+    std::error_code ec;
+    if (!std::filesystem::exists(*script_wait_file_, ec)) {
+      if (time_s_ < script_resume_s_) return;
+      script_error_ = strf("%s: waited %.0f s for %s, which never appeared", script_file_.string().c_str(),
+                           script_wait_limit_s_, script_wait_file_->string().c_str());
+      message(EditorMessage::Level::Error, script_error_);
+      quit_confirmed_ = true;
+      window_->window.request_close();
+      return;
+    }
+    script_wait_file_.reset();
+  } else if (time_s_ < script_resume_s_) {
     return;
   }
   while (script_pc_ < script_.size()) {
@@ -119,7 +136,13 @@ void Editor::execute(const ScriptAction& a) {
       app::schedule_event(*world_, a.name, sim_time);
       break;
     case ScriptOp::Wait:
-      script_wait_ = uint32_t(std::max(0, a.frames));
+      if (a.frames >= 0) {
+        script_wait_ = uint32_t(a.frames);
+      } else {
+        script_resume_s_ = time_s_ + a.seconds;
+        script_wait_limit_s_ = a.seconds;
+        if (!a.path.empty()) script_wait_file_ = a.path;
+      }
       break;
     case ScriptOp::Screenshot:
       screenshot_request_ = a.path;
@@ -167,6 +190,43 @@ void Editor::execute(const ScriptAction& a) {
     case ScriptOp::ExpectDirty:
       if (doc.dirty() != a.flag) fail("expected the document %s, it is %s", a.flag ? "dirty" : "clean", doc.dirty() ? "dirty" : "clean");
       break;
+    case ScriptOp::ExpectCamera: {
+      const auto* viewer = world_->try_resource<app::Viewer>();
+      const auto* t = viewer ? static_cast<const ecs::World&>(*world_).try_get<scene::Transform>(viewer->entity) : nullptr;
+      if (!t) fail("the run has no camera");
+      if (glm::distance(t->position, a.position) > 1e-3f)
+        fail("the camera is at (%g, %g, %g), expected (%g, %g, %g)", t->position.x, t->position.y, t->position.z,
+             a.position.x, a.position.y, a.position.z);
+      break;
+    }
+    case ScriptOp::MoveCloudscape:
+    case ScriptOp::ExpectCloudscape: {
+      ecs::Entity found = ecs::Entity::null();
+      std::string known;
+      world_->view<const clouds::Cloudscape, const scene::Transform>().each(
+          [&](ecs::Entity ent, const clouds::Cloudscape&, const scene::Transform&) {
+            const auto* n = static_cast<const ecs::World&>(*world_).try_get<ecs::Name>(ent);
+            const std::string name = n ? n->value : std::string();
+            known += (known.empty() ? "" : ", ") + name;
+            if (name == a.name) found = ent;
+          });
+      if (found.is_null()) fail("no Cloudscape entity \"%s\" (known: %s)", a.name.c_str(), known.c_str());
+      scene::Transform& t = world_->get<scene::Transform>(found);
+      if (a.op == ScriptOp::ExpectCloudscape) {
+        if (glm::distance(t.position, a.position) > 1e-3f)
+          fail("%s is at (%g, %g, %g), expected (%g, %g, %g)", a.name.c_str(), t.position.x, t.position.y, t.position.z,
+               a.position.x, a.position.y, a.position.z);
+        break;
+      }
+      auto put = [found](glm::vec3 p) {
+        return [found, p](ecs::World& w) {
+          if (auto* tr = w.try_get<scene::Transform>(found)) tr->position = p;
+        };
+      };
+      push_world_edit("move " + a.name, put(t.position), put(a.position));
+      t.position = a.position;
+      break;
+    }
     case ScriptOp::Expect: {
       const std::string id = target_state();
       require_state(id);

@@ -8,7 +8,7 @@ PKGS=(
   libimgui-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenvdb-dev libtbb-dev libzstd-dev libboost-dev libopenexr-dev
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
-  xvfb xauth
+  xvfb xauth xdotool
 )
 missing=()
 for p in "${PKGS[@]}"; do

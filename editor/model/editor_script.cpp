@@ -26,7 +26,7 @@ const std::vector<OpSpec>& op_specs() {
       {O::Redo, "redo", {}, {}},
       {O::Save, "save", {}, {"expect_failure"}},
       {O::Event, "event", {"name"}, {}},
-      {O::Wait, "wait", {"frames"}, {}},
+      {O::Wait, "wait", {}, {"frames", "seconds", "file"}},
       {O::Screenshot, "screenshot", {"path"}, {}},
       {O::Quit, "quit", {}, {"discard"}},
       {O::CreateState, "create_state", {"name"}, {"from"}},
@@ -37,6 +37,9 @@ const std::vector<OpSpec>& op_specs() {
       {O::TimeOfDay, "time_of_day", {"hours"}, {}},
       {O::ExpectDirty, "expect_dirty", {"value"}, {}},
       {O::Expect, "expect", {"param", "value"}, {}},
+      {O::MoveCloudscape, "move_cloudscape", {"name", "position"}, {}},
+      {O::ExpectCloudscape, "expect_cloudscape", {"name", "position"}, {}},
+      {O::ExpectCamera, "expect_camera", {"position"}, {}},
   };
   return specs;
 }
@@ -108,6 +111,14 @@ ScriptAction parse_action(const JsonView& v) {
       a.name = v["name"].as<std::string>();
       if (a.name.empty()) v["name"].fail("expected an event name");
       break;
+    case ScriptOp::ExpectCamera:
+      a.position = v["position"].as_vec3();
+      break;
+    case ScriptOp::MoveCloudscape:
+    case ScriptOp::ExpectCloudscape:
+      a.name = v["name"].as<std::string>();
+      a.position = v["position"].as_vec3();
+      break;
     case ScriptOp::Set:
     case ScriptOp::Expect: {
       const ParamInfo& p = param(v["param"]);
@@ -128,8 +139,24 @@ ScriptAction parse_action(const JsonView& v) {
       break;
     }
     case ScriptOp::Wait:
-      a.frames = v["frames"].as<int>();
-      if (a.frames < 0) v["frames"].fail("expected a number of frames >= 0");
+      // Frames (rendered), or seconds of real time (a person, or another program, acting meanwhile).
+      if (v.has("file")) {  // until another program creates the file, at most `seconds` (default 600)
+        if (v.has("frames")) v.fail("expected \"file\" with \"seconds\" (the longest wait), not \"frames\"");
+        const std::string f = v["file"].as<std::string>();
+        if (f.empty()) v["file"].fail("expected a file path");
+        a.path = f;
+        a.seconds = v.has("seconds") ? v["seconds"].as_float_in(0.0f, 3600.0f) : 600.0f;
+        a.frames = -1;
+        break;
+      }
+      if (v.has("frames") == v.has("seconds")) v.fail("expected \"frames\" or \"seconds\" (one of them)");
+      if (v.has("frames")) {
+        a.frames = v["frames"].as<int>();
+        if (a.frames < 0) v["frames"].fail("expected a number of frames >= 0");
+      } else {
+        a.seconds = v["seconds"].as_float_in(0.0f, 3600.0f);
+        a.frames = -1;
+      }
       break;
     case ScriptOp::Screenshot: {
       const std::string p = v["path"].as<std::string>();

@@ -38,6 +38,9 @@ enum class ScriptOp {
   TimeOfDay,       // hours
   ExpectDirty,     // flag: the document's dirty() must equal it
   Expect,          // param, value: the selected state's parameter must equal it
+  MoveCloudscape,  // name (the entity's), position: a world edit, undoable with the document's
+  ExpectCloudscape,  // name, position: the entity's position must equal it (within a millimetre)
+  ExpectCamera,    // position: the viewer's camera must stand there (within a millimetre)
 };
 
 struct ScriptAction {
@@ -50,9 +53,11 @@ struct ScriptAction {
   MapChannel channel = MapChannel::Coverage;
   glm::vec2 uv{0.0f};
   float radius = 0.0f, paint_value = 0.0f, strength = 1.0f;
-  int frames = 0;
+  int frames = 0;       // wait: frames; -1: wait `seconds`, or until `path` exists (at most `seconds`)
+  float seconds = 0.0f;  // wait: real time
   std::filesystem::path path;
   float hours = 0.0f;
+  glm::vec3 position{0.0f};
   bool flag = false;  // expect_dirty: the value; save: expect_failure; quit: discard (unsaved changes)
 };
 

@@ -2,9 +2,12 @@
 // disk are in weather_document_disk.cpp.
 #include "editor/model/weather_document.h"
 
+#include "editor/model/edit_serial.h"
+
 #include <algorithm>
 #include <cmath>
 
+#include "editor/model/edit_serial.h"
 #include "editor/model/weather_params.h"
 #include "engine/core/error.h"
 
@@ -85,6 +88,7 @@ void WeatherDocument::apply(const std::map<std::string, Slot>& slots) {
 
 void WeatherDocument::push(Step step) {
   apply(step.after);
+  step.serial = next_edit_serial();
   undo_.push_back(std::move(step));
   if (undo_.size() > kMaxUndoSteps) undo_.erase(undo_.begin());
   redo_.clear();
@@ -230,7 +234,7 @@ void WeatherDocument::end_stroke() {
   auto it = entries_.find(s.id);
   if (it == entries_.end() || it->second.painted == s.before.painted) return;
   // The pixels are already in place: record the step without applying it again.
-  undo_.push_back({"paint " + s.id, {{s.id, s.before}}, {{s.id, it->second}}, {}});
+  undo_.push_back({"paint " + s.id, {{s.id, s.before}}, {{s.id, it->second}}, {}, next_edit_serial()});
   if (undo_.size() > kMaxUndoSteps) undo_.erase(undo_.begin());
   redo_.clear();
 }

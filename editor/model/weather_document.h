@@ -108,6 +108,11 @@ class WeatherDocument {
   bool can_redo() const { return !redo_.empty() && !stroke_changed(); }
   void undo();
   void redo();
+  // The edit serial (edit_serial.h) of the next step to undo / redo, 0 when none: how an editor orders
+  // the document's steps among its other edits.
+  uint64_t undo_serial() const { return undo_.empty() ? 0 : undo_.back().serial; }
+  uint64_t redo_serial() const { return redo_.empty() || stroke_changed() ? 0 : redo_.back().serial; }
+  void clear_redo() { redo_.clear(); }  // an edit elsewhere in the editor's history
   std::string undo_label() const;  // "set coverage of fair_cumulus", "paint storm"; "" when none
   std::string redo_label() const;
 
@@ -153,6 +158,7 @@ class WeatherDocument {
     std::string label;
     std::map<std::string, Slot> before, after;
     std::string merge_key;  // "id\nparam" for a merged set
+    uint64_t serial = 0;    // next_edit_serial() when made (a merge keeps the first)
   };
   struct Stroke {
     std::string id;

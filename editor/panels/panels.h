@@ -11,12 +11,13 @@
 //   Events & triggers  lightning at the camera's target, named events, dissipation reset, live lists
 //   Performance        per-pass GPU times, frame-time plot, budget mode, the render graph's passes
 #include <imgui.h>
+#include <imgui_internal.h>  // ImGui::GetItemID
 
 #include <vector>
 
-namespace cumulo::editor {
+#include "editor/editor.h"
 
-class Editor;
+namespace cumulo::editor {
 
 struct PanelInfo {
   const char* title;
@@ -36,6 +37,30 @@ void draw_events_panel(Editor& e, PanelInfo& p);
 void draw_performance_panel(Editor& e, PanelInfo& p);
 // Trigger volumes, zones and live lightning drawn over the viewport (the background draw list).
 void draw_viewport_overlay(Editor& e);
+// The cloudscapes' move handles in the viewport (drag with the left button; gizmo.cpp).
+void draw_cloudscape_handles(Editor& e);
+
+// Makes the last widget's change of `field` of component T on `entity` undoable: `before` is the field
+// as it was before the widget this frame, `changed` what the widget returned. A drag is one step (from
+// its activation to its release); a click (a checkbox, a combo item) is one step at once.
+template <class T, class V>
+void world_edit(Editor& e, ecs::Entity entity, V T::*field, const V& before, bool changed, const char* label) {
+  auto restore = [entity, field](V value) {
+    return [entity, field, value](ecs::World& w) {
+      if (T* c = w.try_get<T>(entity)) c->*field = value;
+    };
+  };
+  const ImGuiID id = ImGui::GetItemID();
+  if (ImGui::IsItemActivated()) e.world_drag = {{id, restore(before)}};
+  const T* now = static_cast<const ecs::World&>(e.world()).try_get<T>(entity);
+  if (!now) return;
+  if (ImGui::IsItemDeactivatedAfterEdit() && e.world_drag && e.world_drag->first == id) {
+    e.push_world_edit(label, e.world_drag->second, restore(now->*field));
+    e.world_drag.reset();
+  } else if (changed && !ImGui::IsItemActive()) {
+    e.push_world_edit(label, restore(before), restore(now->*field));
+  }
+}
 
 // ImGui::Begin at the panel's first-use place; false when collapsed (End() is still to be called).
 bool begin_panel(PanelInfo& p);

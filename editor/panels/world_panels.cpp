@@ -88,7 +88,9 @@ void draw_scheduler_panel(Editor& e, PanelInfo& panel) {
         }
       }
     }
-    ImGui::Checkbox("Encounter override", &s.encounter_active);
+    const bool was = s.encounter_active;
+    world_edit(e, ent, &clouds::weather::WeatherScheduler::encounter_active, was,
+               ImGui::Checkbox("Encounter override", &s.encounter_active), "encounter override");
     item_tooltip("The boss fight's cycle replaces the regional one while on (the 2017 talk's encounter override).");
     ImGui::Text("Camera's zone: %s", s.zone.empty() ? "(none: the regional cycle)" : s.zone.c_str());
     if (ImGui::TreeNode("Schedule")) {
@@ -125,15 +127,27 @@ void draw_time_panel(Editor& e, PanelInfo& panel) {
     return ImGui::End();
   }
   scene::TimeOfDay& t = *sun.time;
-  ImGui::SliderFloat("hours", &t.hours, 0.0f, 23.99f, "%.2f h");
+  // The time-of-day entity (the world resource, when the level has one, is not an entity: not undoable).
+  ecs::Entity owner = ecs::Entity::null();
+  e.world().view<const scene::TimeOfDay>().each([&](ecs::Entity ent, const scene::TimeOfDay& tod) {
+    if (&tod == sun.time) owner = ent;
+  });
+  auto undoable = [&](float scene::TimeOfDay::*field, float before, bool changed, const char* label) {
+    if (!owner.is_null()) world_edit(e, owner, field, before, changed, label);
+  };
+  float before = t.hours;
+  undoable(&scene::TimeOfDay::hours, before, ImGui::SliderFloat("hours", &t.hours, 0.0f, 23.99f, "%.2f h"), "time of day");
   item_tooltip("Local solar time: moves the sun, the atmosphere and the clouds' light.");
   static float paused_speed = 0.0f;
   bool paused = t.hours_per_second == 0.0f && paused_speed != 0.0f;
   float speed = paused ? paused_speed : t.hours_per_second;
-  if (ImGui::SliderFloat("speed", &speed, 0.0f, 0.5f, "%.4f h/s")) {
+  before = t.hours_per_second;
+  const bool speed_changed = ImGui::SliderFloat("speed", &speed, 0.0f, 0.5f, "%.4f h/s");
+  if (speed_changed) {
     if (paused) paused_speed = speed;
     else t.hours_per_second = speed;
   }
+  if (!paused) undoable(&scene::TimeOfDay::hours_per_second, before, speed_changed, "day speed");
   item_tooltip("Hours of the day per second of simulation (0: the sun stands still).");
   if (ImGui::Checkbox("pause", &paused)) {
     if (paused) {
@@ -167,23 +181,45 @@ void draw_cloudscape_panel(Editor& e, PanelInfo& panel) {
     ImGui::PushID(int(ent.index));
     if (ImGui::TreeNodeEx(entity_name(w, ent).c_str(), ImGuiTreeNodeFlags_DefaultOpen)) {
       ImGui::PushItemWidth(-90.0f);
-      ImGui::DragFloat3("position", &t.position.x, 5.0f, -100000.0f, 100000.0f, "%.0f m");
-      item_tooltip("Drag to move the cloudscape (the 2023 talk's cloudscape transforms).");
+      using scene::Transform;
+      using clouds::Cloudscape;
+      const glm::vec3 position = t.position;
+      world_edit(e, ent, &Transform::position, position,
+                 ImGui::DragFloat3("position", &t.position.x, 5.0f, -100000.0f, 100000.0f, "%.0f m"), "move cloudscape");
+      item_tooltip("Drag to move the cloudscape (the 2023 talk's cloudscape transforms), or drag its handle in the viewport.");
+      const glm::quat rotation = t.rotation;
       glm::vec3 euler = glm::degrees(glm::eulerAngles(t.rotation));
-      if (ImGui::DragFloat3("rotation", &euler.x, 0.5f, -180.0f, 180.0f, "%.1f deg"))
-        t.rotation = glm::quat(glm::radians(euler));
+      const bool turned = ImGui::DragFloat3("rotation", &euler.x, 0.5f, -180.0f, 180.0f, "%.1f deg");
+      if (turned) t.rotation = glm::quat(glm::radians(euler));
+      world_edit(e, ent, &Transform::rotation, rotation, turned, "turn cloudscape");
+      const glm::vec3 scale_before = t.scale;
       float scale = t.scale.x;
-      if (ImGui::DragFloat("scale", &scale, 0.01f, 0.05f, 20.0f, "%.2f")) t.scale = glm::vec3(scale);
+      const bool scaled = ImGui::DragFloat("scale", &scale, 0.01f, 0.05f, 20.0f, "%.2f");
+      if (scaled) t.scale = glm::vec3(scale);
+      world_edit(e, ent, &Transform::scale, scale_before, scaled, "scale cloudscape");
       item_tooltip("Uniform scale (the renderer takes uniform scales only).");
-      ImGui::SliderFloat("density", &c.density, 0.0f, 4.0f, "%.2f");
+      float before = c.density;
+      world_edit(e, ent, &Cloudscape::density, before, ImGui::SliderFloat("density", &c.density, 0.0f, 4.0f, "%.2f"),
+                 "cloudscape density");
       item_tooltip("The instance's density multiplier (the weather state's voxel_density multiplies it).");
-      ImGui::SliderFloat("dissipation", &c.dissipation, 0.0f, 1.0f, "%.2f");
-      ImGui::SliderFloat("rain", &c.rain, 0.0f, 1.0f, "%.2f");
+      before = c.dissipation;
+      world_edit(e, ent, &Cloudscape::dissipation, before,
+                 ImGui::SliderFloat("dissipation", &c.dissipation, 0.0f, 1.0f, "%.2f"), "cloudscape dissipation");
+      before = c.rain;
+      world_edit(e, ent, &Cloudscape::rain, before, ImGui::SliderFloat("rain", &c.rain, 0.0f, 1.0f, "%.2f"), "cloudscape rain");
       if (assets.size() > 1 && ImGui::BeginCombo("asset", c.asset.c_str())) {
         for (const auto& [name, resolved] : assets)
-          if (ImGui::Selectable(name.c_str(), name == c.asset)) {
+          if (ImGui::Selectable(name.c_str(), name == c.asset) && name != c.asset) {
+            const std::string old_asset = c.asset;
+            const std::filesystem::path old_resolved = c.resolved;
             c.asset = name;
             c.resolved = resolved;
+            auto set = [ent](std::string a, std::filesystem::path r) {
+              return [ent, a, r](ecs::World& w) {
+                if (auto* cs = w.try_get<Cloudscape>(ent)) cs->asset = a, cs->resolved = r;
+              };
+            };
+            e.push_world_edit("cloudscape asset", set(old_asset, old_resolved), set(name, resolved));
           }
         ImGui::EndCombo();
       }

@@ -15,6 +15,14 @@
 namespace cumulo::editor {
 namespace {
 
+// The layer whose window's key presses are being queued (one UI per process).
+ImGuiLayer* g_key_queue_owner = nullptr;
+
+void queue_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
+  if (g_key_queue_owner && action == GLFW_PRESS) g_key_queue_owner->on_key_press(key, mods);
+  ImGui_ImplGlfw_KeyCallback(window, key, scancode, action, mods);
+}
+
 void check_vk(VkResult r) {
   if (r != VK_SUCCESS) fail("editor: Dear ImGui's Vulkan backend failed (VkResult %d)", int(r));
 }
@@ -32,6 +40,10 @@ ImGuiLayer::ImGuiLayer(platform::Window& window, gpu::Context& ctx) : window_(wi
   ImGui::StyleColorsDark();
   ImGui::GetStyle().WindowRounding = 3.0f;
   ImGui_ImplGlfw_InitForVulkan(window.handle(), true);
+  // Dear ImGui 1.86 keeps only whether a key is down when the frame starts: a press and release between
+  // two slow frames (a CPU device's) would be lost, so shortcuts read this queue of presses instead.
+  g_key_queue_owner = this;
+  glfwSetKeyCallback(window.handle(), queue_key);
 
   const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
   VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -73,6 +85,8 @@ ImGuiLayer::~ImGuiLayer() {
     ImGui::EndFrame();
   }
   ImGui_ImplVulkan_Shutdown();
+  glfwSetKeyCallback(window_.handle(), ImGui_ImplGlfw_KeyCallback);
+  g_key_queue_owner = nullptr;
   ImGui_ImplGlfw_Shutdown();
   glfwSetCursor(window_.handle(), nullptr);
   for (auto& [shape, c] : cursors_)
@@ -113,6 +127,12 @@ void ImGuiLayer::end_frame() {
   ImGui::Render();
   frame_open_ = false;
   drawn_ = true;
+}
+
+std::vector<KeyPress> ImGuiLayer::take_key_presses() {
+  std::vector<KeyPress> out;
+  out.swap(key_presses_);
+  return out;
 }
 
 bool ImGuiLayer::wants_keyboard() const { return ImGui::GetIO().WantCaptureKeyboard || ImGui::GetIO().WantTextInput; }

@@ -30,6 +30,11 @@ class Window;
 
 namespace cumulo::editor {
 
+// A key that went down since the last frame, with its modifiers (GLFW key and mod codes).
+struct KeyPress {
+  int key = 0, mods = 0;
+};
+
 class ImGuiLayer {
  public:
   ImGuiLayer(platform::Window& window, gpu::Context& ctx);
@@ -42,6 +47,9 @@ class ImGuiLayer {
   // What ImGui took from the last frame's input (a text field, a drag over a panel).
   bool wants_keyboard() const;
   bool wants_mouse() const;
+  // Key presses since the last call, in order (shortcuts: none is lost between two slow frames).
+  std::vector<KeyPress> take_key_presses();
+  void on_key_press(int key, int mods) { key_presses_.push_back({key, mods}); }
   // The UI pass over f.output (Stage::AfterTonemap).
   void add_pass(render::StageContext& f);
 
@@ -61,6 +69,7 @@ class ImGuiLayer {
   std::map<VkFormat, Target> targets_;
   std::vector<std::pair<uint64_t, VkFramebuffer>> framebuffers_;  // (frame made, framebuffer)
   uint64_t frame_ = 0;
+  std::vector<KeyPress> key_presses_;
   int cursor_ = -1;                     // the ImGuiMouseCursor last set
   std::map<int, GLFWcursor*> cursors_;  // by GLFW standard shape
   bool frame_open_ = false, drawn_ = false;

@@ -264,6 +264,37 @@ TEST_F(EditorRun, AStateChangedOnDiskIsReloadedAndAMalformedOneKeepsTheLastGoodS
   EXPECT_NE(output.find("reloaded fair_cumulus"), std::string::npos) << output;
 }
 
+TEST_F(EditorRun, UndoAndRedoWalkOneHistoryOfWeatherAndWorldEdits) {
+  // A weather edit, a cloudscape moved (a world edit), another weather edit: undo takes them back newest
+  // first across both, redo brings them back oldest first.
+  const fs::path script = write_script(dir_, "history.json", R"([
+    {"do": "select_state", "name": "storm"},
+    {"do": "set", "param": "coverage", "value": 0.3},
+    {"do": "move_cloudscape", "name": "cloudscape", "position": [100, 0, -50]},
+    {"do": "set", "param": "haze", "value": 0.5},
+    {"do": "undo"},
+    {"do": "expect", "param": "haze", "value": 0.4},
+    {"do": "expect_cloudscape", "name": "cloudscape", "position": [100, 0, -50]},
+    {"do": "undo"},
+    {"do": "expect_cloudscape", "name": "cloudscape", "position": [0, 0, 0]},
+    {"do": "expect", "param": "coverage", "value": 0.3},
+    {"do": "undo"},
+    {"do": "expect", "param": "coverage", "value": 0.75},
+    {"do": "expect_dirty", "value": false},
+    {"do": "redo"}, {"do": "redo"},
+    {"do": "expect", "param": "coverage", "value": 0.3},
+    {"do": "expect_cloudscape", "name": "cloudscape", "position": [100, 0, -50]},
+    {"do": "redo"},
+    {"do": "expect", "param": "haze", "value": 0.5},
+    {"do": "wait", "frames": 2},
+    {"do": "quit", "discard": true}])");
+  const cumulo::clouds::weather::WeatherState storm = cumulo::clouds::weather::load_weather_state(weather_ / "storm.json");
+  ASSERT_FLOAT_EQ(storm.coverage, 0.75f) << "the script expects the shipped storm's coverage";
+  ASSERT_FLOAT_EQ(storm.haze, 0.4f) << "and its haze";
+  const CliResult r = run_edit_in_xvfb(args(script));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // These fail before any window opens.
 TEST(EditorCli, AnUnknownScriptActionIsRefusedBeforeTheEditorStarts) {
   const fs::path dir = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_edit_cli"));

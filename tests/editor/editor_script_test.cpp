@@ -37,11 +37,15 @@ TEST(EditorScript, ParsesEveryAction) {
     {"do": "time_of_day", "hours": 18.5},
     {"do": "expect_dirty", "value": true},
     {"do": "expect", "param": "description", "value": "x"},
-    {"do": "quit"}
+    {"do": "quit"},
+    {"do": "save", "expect_failure": true},
+    {"do": "quit", "discard": true},
+    {"do": "move_cloudscape", "name": "cloudscape", "position": [1, 2, 3]},
+    {"do": "expect_cloudscape", "name": "cloudscape", "position": [1, 2, 3]}
   ])";
   write_file_atomic(tmp.path / "s.json", text);
   const std::vector<ScriptAction> a = load_editor_script(tmp.path / "s.json");
-  ASSERT_EQ(a.size(), 20u);
+  ASSERT_EQ(a.size(), 24u);
   EXPECT_EQ(a[0].op, ScriptOp::SelectState);
   EXPECT_EQ(a[0].name, "storm");
   EXPECT_EQ(a[1].op, ScriptOp::Set);
@@ -75,18 +79,41 @@ TEST(EditorScript, ParsesEveryAction) {
   EXPECT_EQ(a[18].op, ScriptOp::Expect);
   EXPECT_EQ(a[18].value, "x");
   EXPECT_EQ(a[19].op, ScriptOp::Quit);
+  EXPECT_FALSE(a[19].flag);
+  EXPECT_FALSE(a[6].flag);
+  EXPECT_TRUE(a[20].flag) << "save expect_failure";
+  EXPECT_TRUE(a[21].flag) << "quit discard";
+  EXPECT_EQ(a[22].op, ScriptOp::MoveCloudscape);
+  EXPECT_EQ(a[22].name, "cloudscape");
+  EXPECT_EQ(a[22].position, glm::vec3(1, 2, 3));
+  EXPECT_EQ(a[23].op, ScriptOp::ExpectCloudscape);
   for (const ScriptAction& x : a) EXPECT_NE(std::string(script_op_name(x.op)), "?");
   EXPECT_TRUE(parse_editor_script("[]", "e.json").empty());
+  const std::vector<ScriptAction> w = parse_editor_script(R"([{"do": "wait", "seconds": 2.5}])", "w.json");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].frames, -1);
+  EXPECT_FLOAT_EQ(w[0].seconds, 2.5f);
+  const std::vector<ScriptAction> f = parse_editor_script(R"([{"do": "wait", "file": "done", "seconds": 30},
+                                                              {"do": "expect_camera", "position": [1, 2, 3]}])", "f.json");
+  ASSERT_EQ(f.size(), 2u);
+  EXPECT_EQ(f[0].path, "done");
+  EXPECT_FLOAT_EQ(f[0].seconds, 30.0f);
+  EXPECT_EQ(f[1].op, ScriptOp::ExpectCamera);
+  EXPECT_EQ(f[1].position, glm::vec3(1, 2, 3));
 }
 
 TEST(EditorScript, RefusesWithTheFileAndThePlace) {
   std::string e = error_of(R"([{"do": "quit"}, {"do": "fly"}])");
   EXPECT_EQ(e.rfind("s.json: $[1].do: unknown action \"fly\" (known: select_state, set, paint,", 0), 0u) << e;
-  EXPECT_NE(e.find("expect_dirty, expect)"), std::string::npos) << e;
+  EXPECT_NE(e.find("expect_dirty, expect, move_cloudscape, expect_cloudscape, expect_camera)"), std::string::npos) << e;
   e = error_of(R"([{"do": "undo", "steps": 2}])");
   EXPECT_NE(e.find("s.json: $[0]: unknown key \"steps\" for \"undo\""), std::string::npos) << e;
   e = error_of(R"([{"do": "paint", "channel": "coverage", "x": 0.5, "radius": 0.1, "value": 0}])");
   EXPECT_NE(e.find("s.json: $[0]: \"paint\" needs \"y\""), std::string::npos) << e;
+  e = error_of(R"([{"do": "wait"}])");
+  EXPECT_NE(e.find("s.json: $[0]: expected \"frames\" or \"seconds\""), std::string::npos) << e;
+  e = error_of(R"([{"do": "wait", "frames": 2, "seconds": 1}])");
+  EXPECT_NE(e.find("(one of them)"), std::string::npos) << e;
   e = error_of(R"([{"do": "wait", "frames": "ten"}])");
   EXPECT_NE(e.find("s.json: $[0].frames: expected"), std::string::npos) << e;
   e = error_of(R"([{"do": "paint", "channel": "coverage", "x": 1.5, "y": 0, "radius": 0.1, "value": 0}])");
