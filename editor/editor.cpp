@@ -32,14 +32,16 @@ PaintedCloudMap render_map(const clouds::weather::CloudMapSource& source) {
   return out;
 }
 
-constexpr double kDiskPollSeconds = 0.5;
+constexpr std::chrono::milliseconds kDiskPollPeriod{500};
 constexpr size_t kFramePlotSamples = 240;
 constexpr size_t kMessagesKept = 200;
 
 }  // namespace
 
 Editor::Editor(clouds::render::CloudFeature& clouds, const std::filesystem::path& weather_folder)
-    : clouds_(clouds), doc_(std::make_unique<WeatherDocument>(WeatherDocument::open(weather_folder, render_map))) {
+    : clouds_(clouds),
+      doc_(std::make_unique<WeatherDocument>(WeatherDocument::open(weather_folder, render_map))),
+      watch_(std::make_unique<FolderWatch>(weather_folder, kDiskPollPeriod)) {
   for (const std::string& p : doc_->problems()) message(EditorMessage::Level::Error, p);
   message(EditorMessage::Level::Info, strf("editing %zu weather states in %s", doc_->ids().size(),
                                            weather_folder.string().c_str()));
@@ -215,7 +217,6 @@ bool Editor::save() {
 }
 
 void Editor::poll_disk() {
-  last_poll_s_ = time_s_;
   std::vector<DiskEvent> events;
   try {
     events = doc_->poll_disk();
@@ -386,7 +387,7 @@ void Editor::frame(ecs::World& world, app::WindowServices& window, double dt_s,
   time_s_ += dt_s;
   frame_ms.push_back(float(dt_s * 1000.0));
   while (frame_ms.size() > kFramePlotSamples) frame_ms.pop_front();
-  if (last_poll_s_ < 0.0 || time_s_ - last_poll_s_ >= kDiskPollSeconds) poll_disk();
+  if (watch_->changed()) poll_disk();
   run_script_step();
   hotkeys(shortcuts);
 

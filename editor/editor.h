@@ -22,6 +22,7 @@
 #include <glm/glm.hpp>
 
 #include "editor/model/editor_script.h"
+#include "editor/model/folder_watch.h"
 #include "editor/model/weather_document.h"
 #include "engine/app/module.h"
 #include "engine/ecs/world.h"
@@ -114,6 +115,7 @@ class Editor {
 
   clouds::render::CloudFeature& clouds_;
   std::unique_ptr<WeatherDocument> doc_;
+  std::unique_ptr<FolderWatch> watch_;  // the folder's files, stat-ed off the UI thread
   ecs::World* world_ = nullptr;
   app::WindowServices* window_ = nullptr;
   std::deque<EditorMessage> messages_;
@@ -124,7 +126,7 @@ class Editor {
   };
   std::vector<WorldEdit> world_undo_, world_redo_;
   uint64_t newest_doc_serial_ = 0;  // a top step newer than this is a new document edit: the world's redo goes
-  double time_s_ = 0.0, last_poll_s_ = -1.0;
+  double time_s_ = 0.0;
   std::vector<std::string> conflicts_;  // changed on disk while edited here
   std::string last_shader_errors_;
   bool quit_prompt_ = false, quit_confirmed_ = false;

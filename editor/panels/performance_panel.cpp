@@ -24,7 +24,8 @@ void draw_performance_panel(Editor& e, PanelInfo& panel) {
   char overlay[96];
   std::snprintf(overlay, sizeof overlay, "frame %.1f ms avg, %.1f worst (budget %.1f); editor %.2f ms", ms.empty() ? 0.0f : sum / float(ms.size()),
                 worst, budget, e.ui_cpu_ms);
-  ImGui::PlotLines("##frames", ms.data(), int(ms.size()), 0, overlay, 0.0f, std::max(worst, budget) * 1.1f, ImVec2(-1.0f, 40.0f));
+  ImGui::PlotLines("##frames", ms.data(), int(ms.size()), 0, overlay, 0.0f, std::max(worst, budget) * 1.1f,
+                   ImVec2(ImGui::GetContentRegionAvail().x, 40.0f));  // 1.86 takes no negative width here
   int mode = ws.mode == render::BudgetMode::Hz30 ? 0 : ws.mode == render::BudgetMode::Hz40 ? 1 : 2;
   ImGui::SetNextItemWidth(90.0f);
   if (ImGui::Combo("budget mode", &mode, "30 Hz\0" "40 Hz\0" "60 Hz\0"))
