@@ -337,6 +337,7 @@ void Editor::draw_menu_bar() {
   if (ImGui::BeginMenu("View")) {
     for (PanelInfo& p : panels()) ImGui::MenuItem(p.title, nullptr, &p.open);
     ImGui::MenuItem("Overlay in the viewport", nullptr, &show_overlay);
+    ImGui::MenuItem("Messages", nullptr, &show_messages_);
     ImGui::EndMenu();
   }
   ImGui::TextDisabled("|  %s%s", doc_->folder().filename().string().c_str(), doc_->dirty() ? "  (unsaved changes)" : "");
@@ -364,6 +365,19 @@ void Editor::draw_shader_errors() {
 }
 
 void Editor::draw_status() {
+  if (show_messages_) {
+    ImGui::SetNextWindowSize(ImVec2(520.0f, 220.0f), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Messages", &show_messages_)) {
+      for (const EditorMessage& m : messages_) {
+        const ImVec4 c = m.level == EditorMessage::Level::Error     ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f)
+                         : m.level == EditorMessage::Level::Warning ? ImVec4(1.0f, 0.8f, 0.3f, 1.0f)
+                                                                    : ImVec4(0.8f, 0.85f, 0.9f, 1.0f);
+        ImGui::TextColored(c, "%7.1f s  %s", m.time_s, m.text.c_str());
+      }
+      if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);  // follow the newest
+    }
+    ImGui::End();
+  }
   if (messages_.empty()) return;
   const EditorMessage& m = messages_.back();
   const ImGuiViewport* vp = ImGui::GetMainViewport();

@@ -34,7 +34,7 @@ class CloudFeature;
 
 namespace cumulo::editor {
 
-// One line of the editor's message log (shown in the status bar and the Messages window).
+// One line of the editor's message log (the last in the status bar, all in View > Messages).
 struct EditorMessage {
   enum class Level { Info, Warning, Error } level = Level::Info;
   std::string text;
@@ -130,6 +130,7 @@ class Editor {
   std::vector<std::string> conflicts_;  // changed on disk while edited here
   std::string last_shader_errors_;
   bool quit_prompt_ = false, quit_confirmed_ = false;
+  bool show_messages_ = false;
   // The script.
   std::vector<ScriptAction> script_;
   std::filesystem::path script_file_;

@@ -121,7 +121,11 @@ void param_widget(Editor& e, const std::string& id, const Json& state, const Par
   switch (p.kind) {
     case ParamKind::Float: {
       float v = value.is_number() ? value.get<float>() : 0.0f;
-      changed = ImGui::SliderFloat(p.label.c_str(), &v, float(p.min), float(p.max), "%.3f");
+      // Wide ranges (absorption 1e-5..10, wind 0..200 m/s) on a logarithmic slider: the useful values are small.
+      const bool wide = p.max - p.min > 20.0;
+      const ImGuiSliderFlags flags =
+          wide ? ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_NoRoundToFormat : ImGuiSliderFlags_None;
+      changed = ImGui::SliderFloat(p.label.c_str(), &v, float(p.min), float(p.max), wide ? "%.4g" : "%.3f", flags);
       out = v;
       break;
     }
