@@ -111,7 +111,9 @@ TEST_F(EditorRun, AScriptEditsPaintsAHoleUndoesRedoesSavesAndTheSavedFileReloads
     {"do": "wait", "frames": 16},
     {"do": "screenshot", "path": ")" + (shots / "before.png").string() + R"("},
     )" + paint + R"(
-    {"do": "wait", "frames": 16},
+    {"do": "wait", "frames": 1},
+    {"do": "screenshot", "path": ")" + (shots / "next_frame.png").string() + R"("},
+    {"do": "wait", "frames": 15},
     {"do": "screenshot", "path": ")" + (shots / "hole.png").string() + R"("},
     {"do": "undo"}, {"do": "undo"}, {"do": "undo"}, {"do": "undo"},
     {"do": "wait", "frames": 16},
@@ -129,10 +131,13 @@ TEST_F(EditorRun, AScriptEditsPaintsAHoleUndoesRedoesSavesAndTheSavedFileReloads
   EXPECT_NE(r.output.find("editor CPU time per frame"), std::string::npos) << r.output;
 
   const double before = blue_sky_share(cumulo::test::load_png(shots / "before.png"));
+  const double next_frame = blue_sky_share(cumulo::test::load_png(shots / "next_frame.png"));
   const double hole = blue_sky_share(cumulo::test::load_png(shots / "hole.png"));
   const double undone = blue_sky_share(cumulo::test::load_png(shots / "undone.png"));
   const double redone = blue_sky_share(cumulo::test::load_png(shots / "redone.png"));
-  std::printf("blue sky share: before %.3f, hole %.3f, undone %.3f, redone %.3f\n", before, hole, undone, redone);
+  std::printf("blue sky share: before %.3f, the next frame %.3f, hole %.3f, undone %.3f, redone %.3f\n", before,
+              next_frame, hole, undone, redone);
+  EXPECT_GT(next_frame, before + 0.05) << "the edit shows in the viewport within a frame";
   EXPECT_GT(hole, before + 0.10) << "painting coverage 0 should open the overcast sky";
   EXPECT_NEAR(undone, before, 0.03) << "undoing the strokes should close it again";
   EXPECT_NEAR(redone, hole, 0.03) << "redoing them should open it again";
