@@ -17,16 +17,24 @@ function(cumulo_target_defaults tgt)
 endfunction()
 
 # Adds a GoogleTest executable and registers its tests with CTest.
-# cumulo_add_test(NAME sources... LIBS libs... [LABELS labels...])
+# cumulo_add_test(NAME SOURCES sources... LIBS libs... [LABELS labels...] [PROPERTIES "PROP value ..."])
+# gtest_discover_tests (CMake 3.25) splits list-valued PROPERTIES, so a second label or a second
+# ENVIRONMENT entry would never reach the tests: the properties are set from a file that CTest includes
+# after the discovery's, on every discovered test of the target.
 include(GoogleTest)
 function(cumulo_add_test name)
-  cmake_parse_arguments(T "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(T "" "PROPERTIES" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
   target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
   cumulo_target_defaults(${name})
-  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-    PROPERTIES LABELS "${T_LABELS}" ENVIRONMENT "CUMULO_VALIDATION=1;CUMULO_ROOT=${PROJECT_SOURCE_DIR}"
-    DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60)
+  set(props "${CMAKE_CURRENT_BINARY_DIR}/${name}_properties.cmake")
+  file(WRITE "${props}" "if(${name}_TESTS)
+  set_tests_properties(\${${name}_TESTS} PROPERTIES LABELS \"${T_LABELS}\" ${T_PROPERTIES}
+    ENVIRONMENT \"CUMULO_VALIDATION=1;CUMULO_ROOT=${PROJECT_SOURCE_DIR}\")
+endif()
+")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${props}")
 endfunction()
 
 # Adds every immediate subdirectory that has a CMakeLists.txt, in a fixed order when given,
