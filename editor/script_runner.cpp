@@ -61,6 +61,7 @@ void Editor::run_script_step() {
       return;
     }
     script_wait_file_.reset();
+    script_resume_s_ = 0.0;  // the file came: the limit no longer holds the script
   } else if (time_s_ < script_resume_s_) {
     return;
   }

@@ -300,6 +300,54 @@ TEST_F(EditorRun, UndoAndRedoWalkOneHistoryOfWeatherAndWorldEdits) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+TEST_F(EditorRun, AShaderThatFailsToHotReloadIsShownAndTheOldPipelineKeepsRunning) {
+  // A root of our own (CUMULO_ROOT): a copy of the shaders to break, the repository's content beside it.
+  const fs::path root = dir_ / "root";
+  fs::create_directories(root);
+  fs::copy(cumulo::repo_root() / "shaders", root / "shaders", fs::copy_options::recursive);
+  fs::create_directory_symlink(fs::absolute(cumulo::repo_root() / "content"), root / "content");
+  const fs::path shader = root / "shaders" / "engine" / "tonemap.frag";
+  const std::string good = cumulo::read_file_text(shader);
+  const fs::path done = dir_ / "done";
+  // The first screenshot says the pipelines are built (a shader that fails then is a hot reload's).
+  const fs::path script = write_script(dir_, "shader.json", R"([
+    {"do": "wait", "frames": 3},
+    {"do": "screenshot", "path": ")" + (dir_ / "before.png").string() + R"("},
+    {"do": "wait", "file": ")" + done.string() + R"(", "seconds": 300},
+    {"do": "screenshot", "path": ")" + (dir_ / "after.png").string() + R"("},
+    {"do": "quit"}])");
+  const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 CUMULO_ROOT=" + root.string() +
+                          " " + std::string(CUMULO_EXE) + " edit " + (cumulo::repo_root() / kLevel).string() +
+                          " --weather-dir " + weather_.string() + " --size 320x180 --camera ground --script " +
+                          script.string() + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string output;
+  char line[4096];
+  int stage = 0;  // 0: running, 1: broken, 2: mended
+  while (fgets(line, sizeof line, p)) {
+    output += line;
+    const std::string l = line;
+    if (stage == 0 && l.find("editor: wrote screenshot") != std::string::npos) {
+      cumulo::write_file_atomic(shader, good + "\nthis is not GLSL\n");
+      stage = 1;
+    } else if (stage == 1 && l.find("shader hot reload failed; the old pipeline keeps running") != std::string::npos) {
+      cumulo::write_file_atomic(shader, good);
+      stage = 2;
+    } else if (stage == 2 && l.find("editor: shaders reloaded") != std::string::npos) {
+      std::ofstream(done) << "mended";
+      stage = 3;
+    }
+  }
+  const int status = pclose(p);
+  EXPECT_EQ(stage, 3) << output;
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << output;
+  EXPECT_NE(output.find("tonemap.frag"), std::string::npos) << "the error names the shader: " << output;
+  EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
+  ASSERT_TRUE(fs::exists(dir_ / "after.png")) << "the run went on rendering after the failed reload";
+  EXPECT_GT(cumulo::test::load_png(dir_ / "after.png").w, 0);
+}
+
 // These fail before any window opens.
 TEST(EditorCli, AnUnknownScriptActionIsRefusedBeforeTheEditorStarts) {
   const fs::path dir = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_edit_cli"));
