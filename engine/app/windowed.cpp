@@ -151,8 +151,10 @@ int run_windowed(RunContext& rc) {
     if (title_clock.seconds() > 0.5) {
       // A failed hot reload keeps the old pipeline; say so where the user is looking (details in the log).
       std::string errors = renderer.shader_errors();
-      window->set_title(strf("cumulo - %s - %.1f ms (%s budget %.1f ms)%s", rc.sim.level().name.c_str(), dt * 1000.0,
-                             render::budget_mode_name(o.mode), target_s * 1000.0,
+      // The frame number lets a tool driving the window (tests/editor/editor_person_xvfb.sh) wait for frames.
+      window->set_title(strf("cumulo - %s - %.1f ms (%s budget %.1f ms) - frame %llu%s", rc.sim.level().name.c_str(),
+                             dt * 1000.0, render::budget_mode_name(o.mode), target_s * 1000.0,
+                             static_cast<unsigned long long>(rendered),
                              errors.empty() ? "" : " - SHADER ERROR, old pipeline kept (see log)"));
       title_clock.reset();
     }

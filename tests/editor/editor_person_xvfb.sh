@@ -34,35 +34,47 @@ for _ in $(seq 1 180); do
   sleep 1
 done
 [ -n "$win" ] || fail "no window"
-# Frames take about a second each on lavapipe at this size: every input is held over several of them.
-hold=4
+# Frames take a second or more each on lavapipe at this size: every step waits for frames to pass (the
+# window's title counts them), so two inputs never land in one frame whatever the machine's load.
+frame_now() { xdotool getwindowname "$win" 2>/dev/null | sed -n 's/.* - frame \([0-9]*\).*/\1/p'; }
+frames() {  # wait until $1 more frames have been rendered
+  local start now
+  start=$(frame_now)
+  for _ in $(seq 1 600); do
+    now=$(frame_now)
+    [ -n "$start" ] && [ -n "$now" ] && [ "$now" -ge $((start + $1)) ] && return 0
+    kill -0 "$pid" 2>/dev/null || fail "the editor ended"
+    sleep 0.2
+  done
+  fail "no frames for two minutes"
+}
 xdotool mousemove 150 267 mousedown 1
-sleep "$hold"
+frames 2
 xdotool mouseup 1
-sleep "$hold"
+frames 2
 xdotool keydown ctrl key s keyup ctrl
-sleep "$hold"
+frames 3
 grep -q '"coverage": 0.4,' "$work/weather/fair_cumulus.json" && fail "Ctrl+S after the slider's drag did not save"
 [ -f "$work/weather/fair_cumulus.json.bak" ] || fail "no backup of the saved state"
 # New state: its name field takes the keyboard.
 xdotool mousemove 22 153 mousedown 1
-sleep 1
+frames 1
 xdotool mouseup 1
-sleep "$hold"
+frames 2
 xdotool keydown w
-sleep "$hold"
+frames 3
 xdotool keyup w keydown Escape
-sleep "$hold"
+frames 2
 xdotool keyup Escape
-sleep "$hold"
+frames 2
 kill -0 "$pid" 2>/dev/null || fail "Esc in a text field ended the editor"
 # Close the popup (a click outside it), then undo the saved edit: coverage 0.4 again, unsaved.
 xdotool mousemove 700 120 mousedown 1
-sleep 1
+frames 1
 xdotool mouseup 1
-sleep "$hold"
+frames 2
 xdotool keydown ctrl key z keyup ctrl
-sleep "$hold"
+frames 3
 touch "$work/done"
 wait "$pid"
 rc=$?
