@@ -77,8 +77,9 @@ int EditorModule::run_edit(int argc, char** argv, const app::Modules& all) {
 void EditorModule::on_window_open(app::WindowServices& services) {
   if (!editing_) return;
   services_ = &services;
-  ui_ = std::make_unique<ImGuiLayer>(services.window, services.ctx);
+  // The document first: a folder that cannot be opened stops the run before any UI exists.
   editor_ = std::make_unique<Editor>(clouds_->feature(), clouds_->feature().weather_folder());
+  ui_ = std::make_unique<ImGuiLayer>(services.window, services.ctx);
   if (!script_.empty()) editor_->set_script(std::move(script_), script_file_);
   std::printf("cumulo: editor open (Ctrl+Z undo, Ctrl+Shift+Z redo, Ctrl+S save; right mouse or Tab flies)\n");
 }
@@ -104,9 +105,9 @@ app::InputClaim EditorModule::on_frame_input(ecs::World& world, const platform::
 bool EditorModule::allow_close(ecs::World&) { return !editor_ || editor_->allow_close(); }
 
 void EditorModule::on_window_close() {
-  if (!ui_) return;
+  if (!ui_ && !editor_) return;
   if (shot_path_) finish_screenshot();
-  if (!editor_->script_error().empty()) script_error_ = editor_->script_error();
+  if (editor_ && !editor_->script_error().empty()) script_error_ = editor_->script_error();
   editor_.reset();
   shot_buffer_.reset();
   ui_.reset();
