@@ -36,6 +36,12 @@ constexpr std::chrono::milliseconds kDiskPollPeriod{500};
 constexpr size_t kFramePlotSamples = 240;
 constexpr size_t kMessagesKept = 200;
 
+ImVec4 message_colour(EditorMessage::Level level) {
+  return level == EditorMessage::Level::Error     ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f)
+         : level == EditorMessage::Level::Warning ? ImVec4(1.0f, 0.8f, 0.3f, 1.0f)
+                                                  : ImVec4(0.8f, 0.85f, 0.9f, 1.0f);
+}
+
 }  // namespace
 
 Editor::Editor(clouds::render::CloudFeature& clouds, const std::filesystem::path& weather_folder)
@@ -369,10 +375,7 @@ void Editor::draw_status() {
     ImGui::SetNextWindowSize(ImVec2(520.0f, 220.0f), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Messages", &show_messages_)) {
       for (const EditorMessage& m : messages_) {
-        const ImVec4 c = m.level == EditorMessage::Level::Error     ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f)
-                         : m.level == EditorMessage::Level::Warning ? ImVec4(1.0f, 0.8f, 0.3f, 1.0f)
-                                                                    : ImVec4(0.8f, 0.85f, 0.9f, 1.0f);
-        ImGui::TextColored(c, "%7.1f s  %s", m.time_s, m.text.c_str());
+        ImGui::TextColored(message_colour(m.level), "%7.1f s  %s", m.time_s, m.text.c_str());
       }
       if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);  // follow the newest
     }
@@ -387,10 +390,7 @@ void Editor::draw_status() {
   ImGui::Begin("##status", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoSavedSettings |
                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
-  const ImVec4 colour = m.level == EditorMessage::Level::Error     ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f)
-                        : m.level == EditorMessage::Level::Warning ? ImVec4(1.0f, 0.8f, 0.3f, 1.0f)
-                                                                   : ImVec4(0.8f, 0.85f, 0.9f, 1.0f);
-  ImGui::TextColored(colour, "%s", m.text.c_str());
+  ImGui::TextColored(message_colour(m.level), "%s", m.text.c_str());
   ImGui::End();
 }
 

@@ -44,22 +44,13 @@ const char* when_name(clouds::gameplay::Trigger::When w) {
   return "?";
 }
 
-// A world point on screen (the last frame's camera); false when behind the camera.
-bool to_screen(const Editor& e, glm::vec3 p, ImVec2& out) {
-  const glm::vec4 c = e.camera.view_proj * glm::vec4(p, 1.0f);
-  if (c.w <= 1e-3f) return false;
-  const ImVec2 size = ImGui::GetMainViewport()->Size;
-  out = ImVec2((c.x / c.w * 0.5f + 0.5f) * size.x, (c.y / c.w * 0.5f + 0.5f) * size.y);
-  return true;
-}
-
 void draw_box(const Editor& e, ImDrawList* dl, glm::vec3 lo, glm::vec3 hi, ImU32 colour) {
   static const int kEdges[12][2] = {{0, 1}, {1, 3}, {3, 2}, {2, 0}, {4, 5}, {5, 7}, {7, 6}, {6, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
   glm::vec3 corner[8];
   for (int i = 0; i < 8; ++i) corner[i] = glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
   for (const auto& edge : kEdges) {
     ImVec2 a, b;
-    if (to_screen(e, corner[edge[0]], a) && to_screen(e, corner[edge[1]], b)) dl->AddLine(a, b, colour, 1.5f);
+    if (world_to_screen(e, corner[edge[0]], a) && world_to_screen(e, corner[edge[1]], b)) dl->AddLine(a, b, colour, 1.5f);
   }
 }
 
@@ -74,7 +65,7 @@ void draw_sphere(const Editor& e, ImDrawList* dl, glm::vec3 c, float r, ImU32 co
       o[axis] = std::cos(a) * r;
       o[(axis + 1) % 3] = std::sin(a) * r;
       ImVec2 s;
-      const bool ok = to_screen(e, c + o, s);
+      const bool ok = world_to_screen(e, c + o, s);
       if (ok && have) dl->AddLine(prev, s, colour, 1.5f);
       prev = s;
       have = ok;
@@ -158,7 +149,7 @@ void draw_viewport_overlay(Editor& e) {
   });
   w.view<const clouds::gameplay::LightningEvent>().each([&](const clouds::gameplay::LightningEvent& l) {
     ImVec2 s;
-    if (to_screen(e, l.position, s)) {
+    if (world_to_screen(e, l.position, s)) {
       dl->AddCircle(s, 10.0f, IM_COL32(200, 220, 255, 255), 16, 2.0f);
       dl->AddText(ImVec2(s.x + 12.0f, s.y - 6.0f), IM_COL32(200, 220, 255, 255), "lightning");
     }

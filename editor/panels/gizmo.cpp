@@ -20,14 +20,6 @@ struct HandleDrag {
   glm::vec3 offset{0.0f};  // from the plane hit under the cursor to the position
 };
 
-bool project(const Editor& e, glm::vec3 p, ImVec2& out) {
-  const glm::vec4 c = e.camera.view_proj * glm::vec4(p, 1.0f);
-  if (c.w <= 1e-3f) return false;
-  const ImVec2 size = ImGui::GetMainViewport()->Size;
-  out = ImVec2((c.x / c.w * 0.5f + 0.5f) * size.x, (c.y / c.w * 0.5f + 0.5f) * size.y);
-  return true;
-}
-
 // Where the ray through the cursor meets the plane y = height (none when parallel or behind).
 std::optional<glm::vec3> cursor_on_plane(const Editor& e, float height) {
   const ImVec2 size = ImGui::GetMainViewport()->Size;
@@ -51,7 +43,7 @@ void draw_cloudscape_handles(Editor& e) {
   w.view<const clouds::Cloudscape, scene::Transform>().each(
       [&](ecs::Entity ent, const clouds::Cloudscape&, scene::Transform& t) {
         ImVec2 s;
-        if (!project(e, t.position, s)) return;
+        if (!world_to_screen(e, t.position, s)) return;
         const bool dragging = drag && drag->entity == ent;
         const float dx = io.MousePos.x - s.x, dy = io.MousePos.y - s.y;
         const bool hovered = free_mouse && dx * dx + dy * dy < 144.0f;

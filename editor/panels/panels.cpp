@@ -26,6 +26,14 @@ bool begin_panel(PanelInfo& p) {
   return ImGui::Begin(p.title, &p.open);
 }
 
+bool world_to_screen(const Editor& e, glm::vec3 p, ImVec2& out) {
+  const glm::vec4 c = e.camera.view_proj * glm::vec4(p, 1.0f);
+  if (c.w <= 1e-3f) return false;
+  const ImVec2 size = ImGui::GetMainViewport()->Size;
+  out = ImVec2((c.x / c.w * 0.5f + 0.5f) * size.x, (c.y / c.w * 0.5f + 0.5f) * size.y);
+  return true;
+}
+
 void item_tooltip(const char* text) {
   if (text && *text && ImGui::IsItemHovered()) {
     ImGui::BeginTooltip();

@@ -62,6 +62,9 @@ void world_edit(Editor& e, ecs::Entity entity, V T::*field, const V& before, boo
   }
 }
 
+// A world point on the viewport (the last extracted frame's camera); false when behind the camera.
+bool world_to_screen(const Editor& e, glm::vec3 p, ImVec2& out);
+
 // ImGui::Begin at the panel's first-use place; false when collapsed (End() is still to be called).
 bool begin_panel(PanelInfo& p);
 // A "(?)" marker with `text` as its tooltip, or the last item's tooltip when hovered.

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -27,32 +28,26 @@ namespace {
 
 const std::string kLevel = "content/levels/sample/level.json";
 
-// `cumulo edit` in a window of an Xvfb display. xvfb-run -a races other servers started at the same
-// moment (parallel tests): a start that could not open its display is retried.
-CliResult run_edit(const std::string& args) {
-  CliResult r;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    r = run_cumulo("edit " + args, "CUMULO_VALIDATION=1");
-    if (r.output.find("Failed to open display") == std::string::npos &&
-        r.output.find("cannot open display") == std::string::npos)
-      return r;
-    sleep(unsigned(2 * (attempt + 1)));
-  }
-  return r;
-}
+// `cumulo edit` with no display needed (it fails before any window opens).
+CliResult run_edit(const std::string& args) { return run_cumulo("edit " + args, "CUMULO_VALIDATION=1"); }
 
-CliResult run_edit_in_xvfb(const std::string& args) {
-  // run_cumulo prefixes `env`; xvfb-run goes in front through the executable's path instead.
+// `cumulo edit` in a window of an Xvfb display; `on_line` sees each line of its output as it comes (a test
+// playing another program reacts to it). xvfb-run -a races other servers started at the same moment: a
+// start that could not open its display is retried.
+CliResult run_edit_in_xvfb(const std::string& args, const std::string& env = "",
+                           const std::function<void(const std::string&)>& on_line = {}) {
   CliResult r;
   for (int attempt = 0; attempt < 3; ++attempt) {
-    const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 " + std::string(CUMULO_EXE) +
-                            " edit " + args + " 2>&1";
+    const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 " + env + " " +
+                            std::string(CUMULO_EXE) + " edit " + args + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return r;
     r.output.clear();
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    char line[4096];
+    while (fgets(line, sizeof line, p)) {
+      r.output += line;
+      if (on_line) on_line(line);
+    }
     const int status = pclose(p);
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
     if (r.output.find("Failed to open display") == std::string::npos &&
@@ -242,28 +237,21 @@ TEST_F(EditorRun, AStateChangedOnDiskIsReloadedAndAMalformedOneKeepsTheLastGoodS
     {"do": "expect", "param": "coverage", "value": 0.55},
     {"do": "expect_dirty", "value": false},
     {"do": "quit"}])");
-  const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 " + std::string(CUMULO_EXE) +
-                          " edit " + kLevel + " --weather-dir " + weather_.string() +
-                          " --size 320x180 --camera ground --script " + script.string() + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string output;
-  char line[4096];
   bool wrote_malformed = false, wrote_changed = false;
-  while (fgets(line, sizeof line, p)) {
-    output += line;
-    const std::string l = line;
-    if (!wrote_malformed && l.find("editor: editing") != std::string::npos) {
-      cumulo::write_file_atomic(file, malformed);
-      wrote_malformed = true;
-    } else if (wrote_malformed && !wrote_changed && l.find("editor: wrote screenshot") != std::string::npos) {
-      cumulo::write_file_atomic(file, changed);
-      wrote_changed = true;
-    }
-  }
-  const int status = pclose(p);
+  const CliResult r = run_edit_in_xvfb(
+      kLevel + " --weather-dir " + weather_.string() + " --size 320x180 --camera ground --script " + script.string(), "",
+      [&](const std::string& l) {
+        if (!wrote_malformed && l.find("editor: editing") != std::string::npos) {
+          cumulo::write_file_atomic(file, malformed);
+          wrote_malformed = true;
+        } else if (wrote_malformed && !wrote_changed && l.find("editor: wrote screenshot") != std::string::npos) {
+          cumulo::write_file_atomic(file, changed);
+          wrote_changed = true;
+        }
+      });
+  const std::string& output = r.output;
   ASSERT_TRUE(wrote_malformed && wrote_changed) << output;
-  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << output;
+  EXPECT_EQ(r.exit_code, 0) << output;
   EXPECT_NE(output.find("fair_cumulus.json: $.coverage"), std::string::npos) << "the report names file and place: " << output;
   EXPECT_NE(output.find("the last good fair_cumulus keeps running"), std::string::npos) << output;
   EXPECT_NE(output.find("reloaded fair_cumulus"), std::string::npos) << output;
@@ -316,32 +304,25 @@ TEST_F(EditorRun, AShaderThatFailsToHotReloadIsShownAndTheOldPipelineKeepsRunnin
     {"do": "wait", "file": ")" + done.string() + R"(", "seconds": 300},
     {"do": "screenshot", "path": ")" + (dir_ / "after.png").string() + R"("},
     {"do": "quit"}])");
-  const std::string cmd = "xvfb-run -a -s '-screen 0 800x600x24' env CUMULO_VALIDATION=1 CUMULO_ROOT=" + root.string() +
-                          " " + std::string(CUMULO_EXE) + " edit " + (cumulo::repo_root() / kLevel).string() +
-                          " --weather-dir " + weather_.string() + " --size 320x180 --camera ground --script " +
-                          script.string() + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string output;
-  char line[4096];
-  int stage = 0;  // 0: running, 1: broken, 2: mended
-  while (fgets(line, sizeof line, p)) {
-    output += line;
-    const std::string l = line;
-    if (stage == 0 && l.find("editor: wrote screenshot") != std::string::npos) {
-      cumulo::write_file_atomic(shader, good + "\nthis is not GLSL\n");
-      stage = 1;
-    } else if (stage == 1 && l.find("shader hot reload failed; the old pipeline keeps running") != std::string::npos) {
-      cumulo::write_file_atomic(shader, good);
-      stage = 2;
-    } else if (stage == 2 && l.find("editor: shaders reloaded") != std::string::npos) {
-      std::ofstream(done) << "mended";
-      stage = 3;
-    }
-  }
-  const int status = pclose(p);
+  int stage = 0;  // 0: running, 1: broken, 2: mended, 3: told the script
+  const CliResult r = run_edit_in_xvfb(
+      (cumulo::repo_root() / kLevel).string() + " --weather-dir " + weather_.string() +
+          " --size 320x180 --camera ground --script " + script.string(),
+      "CUMULO_ROOT=" + root.string(), [&](const std::string& l) {
+        if (stage == 0 && l.find("editor: wrote screenshot") != std::string::npos) {
+          cumulo::write_file_atomic(shader, good + "\nthis is not GLSL\n");
+          stage = 1;
+        } else if (stage == 1 && l.find("shader hot reload failed; the old pipeline keeps running") != std::string::npos) {
+          cumulo::write_file_atomic(shader, good);
+          stage = 2;
+        } else if (stage == 2 && l.find("editor: shaders reloaded") != std::string::npos) {
+          std::ofstream(done) << "mended";
+          stage = 3;
+        }
+      });
+  const std::string& output = r.output;
   EXPECT_EQ(stage, 3) << output;
-  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << output;
+  EXPECT_EQ(r.exit_code, 0) << output;
   EXPECT_NE(output.find("tonemap.frag"), std::string::npos) << "the error names the shader: " << output;
   EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
   ASSERT_TRUE(fs::exists(dir_ / "after.png")) << "the run went on rendering after the failed reload";
