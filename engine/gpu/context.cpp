@@ -1,5 +1,7 @@
 #include "engine/gpu/context.h"
 
+#include "engine/core/file_lock.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
@@ -64,12 +66,7 @@ static bool env_flag(const char* name, bool* value) {
   return true;
 }
 
-fs::path default_cache_dir() {
-  if (const char* d = std::getenv("CUMULO_CACHE_DIR"); d && *d) return d;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "cumulo";
-  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "cumulo";
-  return fs::temp_directory_path() / "cumulo-cache";
-}
+fs::path default_cache_dir() { return cumulo::cache_dir(); }
 
 static bool has_extension(const std::vector<VkExtensionProperties>& exts, const char* name) {
   for (auto& e : exts)

@@ -1,6 +1,7 @@
 #include "modules/clouds/clouds_module.h"
 
 #include "modules/clouds/bake/bake_command.h"
+#include "modules/clouds/bake/grow/grow_command.h"
 #include "modules/clouds/bench_command.h"
 #include "modules/clouds/reference/reference_command.h"
 #include "modules/clouds/noise/noise_command.h"
@@ -22,6 +23,7 @@ void CloudsModule::register_commands(CommandRegistry& registry) {
   register_noise_command(registry);
   register_import_command(registry);
   register_bake_command(registry);
+  register_grow_command(registry);
   register_bench_command(registry);
   register_reference_command(registry);
   register_fidelity_command(registry);

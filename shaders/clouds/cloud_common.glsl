@@ -6,6 +6,11 @@
 //   SDF_BC1             1: the field is the conservative BC1 form, unpacked with dot(rgb, (1, 9/255, 45/65025))
 //                       (seed 003 "Decompress BC1": float3(1.0, 0.03529415, 0.00069204)); 0: R16 unorm
 //   NOISE_MIP_DISTANCE  1: noise mip from the distance to the camera (talk: about 15 % faster); 0: mip 0
+//   COVERAGE_TEXTURE    1: the modeling NVDF is BC1 (three channels): the coverage thresholds come from each asset's
+//                       half-resolution coverage texture (one more fetch); 0: the RGBA8 modeling texel's alpha
+//                       (the same fetch). Functions that sample an asset take CLOUD_MODELING_PARAMS (its
+//                       modeling and, with COVERAGE_TEXTURE, coverage samplers) and are called with
+//                       CLOUD_MODELING(modeling, coverage), CLOUD_ASSET_0 or CLOUD_ASSET_1.
 #ifndef CUMULO_CLOUD_COMMON_GLSL
 #define CUMULO_CLOUD_COMMON_GLSL
 #include "shared/cloud_params.h"
@@ -31,6 +36,22 @@ layout(set = 0, binding = CLOUD_BINDING_NOISE) uniform sampler3D noise_tex;
 layout(set = 0, binding = CLOUD_BINDING_MODELING_1) uniform sampler3D modeling_tex_1;
 layout(set = 0, binding = CLOUD_BINDING_FIELD_1) uniform sampler3D field_tex_1;
 #endif
+#ifndef COVERAGE_TEXTURE
+#define COVERAGE_TEXTURE 0
+#endif
+#if COVERAGE_TEXTURE
+layout(set = 0, binding = CLOUD_BINDING_COVERAGE) uniform sampler3D coverage_tex;
+#if CLOUD_ASSET_SLOTS > 1
+layout(set = 0, binding = CLOUD_BINDING_COVERAGE_1) uniform sampler3D coverage_tex_1;
+#endif
+#define CLOUD_MODELING_PARAMS sampler3D modeling, sampler3D coverage
+#define CLOUD_MODELING(m, c) m, c
+#else
+#define CLOUD_MODELING_PARAMS sampler3D modeling
+#define CLOUD_MODELING(m, c) m
+#endif
+#define CLOUD_ASSET_0 CLOUD_MODELING(modeling_tex, coverage_tex)
+#define CLOUD_ASSET_1 CLOUD_MODELING(modeling_tex_1, coverage_tex_1)
 
 // lavapipe (LAVAPIPE.md) runs both sides of an `if` for its 8-lane group even when no lane takes it,
 // but stops a loop once every lane is done. So an expensive block that is often empty for the whole
@@ -81,20 +102,31 @@ float cloud_distance(sampler3D field, vec3 uvw) {
   return kSdfMin + kSdfRange * v;
 }
 
-// Modeling NVDF: r dimensional profile, g detail type (0 wispy .. 1 billowy), b density scale.
+// Modeling NVDF: r dimensional profile, g detail type (0 wispy .. 1 billowy), b density scale, a coverage threshold.
 struct ModelingData {
   float profile;
   float type;
   float density_scale;
 };
 
+// The presence 0..1 of cloud whose coverage threshold is `threshold` at the weather's `coverage`
+// (CLOUD_COVERAGE_RAMP, cloud_params.h; the CPU's is density_query.h coverage_presence).
+float coverage_presence(float coverage, float threshold) { return saturate(1.0 + (coverage - threshold) / CLOUD_COVERAGE_RAMP); }
+
 // Dissipation (issue 8; the Stormbird's death drives it later): removes low-profile, wispy regions
 // first. The profile is re-ranged above a threshold that wispy cloud (type 0) reaches at dissipation
 // 2/3 and billowy cloud (type 1) at 1, so at 1 every cloud is gone.
-ModelingData modeling_data(sampler3D modeling, vec3 uvw, float dissipation) {
-  vec3 m = textureLod(modeling, uvw, 0.0).rgb;
+// Coverage (issue 20) removes cloud the same way: a presence p re-ranges the profile above 1 - p (gone at
+// p = 0). The two re-rangings compose into one: above t = 1 - (1 - t_dissipation) * p, written so that t is
+// exactly t_dissipation where p = 1 (every cloud of a default recipe: threshold 0).
+ModelingData modeling_data(CLOUD_MODELING_PARAMS, vec3 uvw, float dissipation, float weather_coverage) {
+  vec4 m = textureLod(modeling, uvw, 0.0);
+#if COVERAGE_TEXTURE
+  m.a = textureLod(coverage, uvw, 0.0).r;
+#endif
   ModelingData d;
-  float threshold = saturate(dissipation * mix(1.5, 1.0, m.g));
+  float dissipated = saturate(dissipation * mix(1.5, 1.0, m.g));
+  float threshold = dissipated + (1.0 - dissipated) * (1.0 - coverage_presence(weather_coverage, m.a));
   d.profile = threshold > 0.0 ? saturate((m.r - threshold) / max(1.0 - threshold, kEpsilon)) : m.r;
   d.type = m.g;
   d.density_scale = m.b;
@@ -166,8 +198,8 @@ struct DensitySample {
   float profile;  // profile * density scale: the scattering-probability fields
   float raw_profile;
 };
-DensitySample sample_density(sampler3D modeling, CloudInstanceParams inst, vec3 asset_pos, float dist, float mip, bool details) {
-  ModelingData m = modeling_data(modeling, asset_uvw(inst, asset_pos), inst.sky_dir.w);
+DensitySample sample_density(CLOUD_MODELING_PARAMS, CloudInstanceParams inst, vec3 asset_pos, float dist, float mip, bool details) {
+  ModelingData m = modeling_data(CLOUD_MODELING(modeling, coverage), asset_uvw(inst, asset_pos), inst.sky_dir.w, inst.weather.x);
   DensitySample s;
   s.raw_profile = m.profile;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;
@@ -178,8 +210,8 @@ DensitySample sample_density(sampler3D modeling, CloudInstanceParams inst, vec3 
 
 // The same with a given noise value (no noise fetch): where the caller's resolution is far coarser than
 // the noise, which then contributes only its mean (the light-grid sweep).
-DensitySample sample_density_with_noise(sampler3D modeling, CloudInstanceParams inst, vec3 asset_pos, vec4 noise) {
-  ModelingData m = modeling_data(modeling, asset_uvw(inst, asset_pos), inst.sky_dir.w);
+DensitySample sample_density_with_noise(CLOUD_MODELING_PARAMS, CloudInstanceParams inst, vec3 asset_pos, vec4 noise) {
+  ModelingData m = modeling_data(CLOUD_MODELING(modeling, coverage), asset_uvw(inst, asset_pos), inst.sky_dir.w, inst.weather.x);
   DensitySample s;
   s.raw_profile = m.profile;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;

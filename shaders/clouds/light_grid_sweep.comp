@@ -56,7 +56,7 @@ float sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y
   // `clear`: no cloud within this distance of the voxel centre, so a shorter stretch needs no samples.
   int k = clear > len ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
   float sum = 0.0;
-  for (int j = 0; j < k; ++j) sum += sample_density_with_noise(modeling_tex, inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise).full;
+  for (int j = 0; j < k; ++j) sum += sample_density_with_noise(CLOUD_ASSET_0, inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise).full;
   sum *= len / float(max(k, 1));
   int next = y + int(up);
   if (delta < t_exit && next >= 0 && next < layers_y) {

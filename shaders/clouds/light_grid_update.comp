@@ -34,7 +34,7 @@ float summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxe
     float sdf = cloud_distance(field_tex, uvw);
     float step_len = max(sdf, voxel);
     CLOUD_WHERE(sdf < 0.0) {
-      DensitySample ds = sample_density(modeling_tex, inst, p, 1e4, mip, false);
+      DensitySample ds = sample_density(CLOUD_ASSET_0, inst, p, 1e4, mip, false);
       sum += ds.full * min(step_len, t_exit - t);
     }
     t += step_len;

@@ -30,7 +30,7 @@
 // Output: rgb in-scattered radiance, a transmittance; depth image x = distance where opacity reached
 // 0.5 (else the first cloud sample, else 1e6), y = steps taken, z = end of the clipped segment.
 //
-// Defines: ABLATION (cloud_params.h CLOUD_ABLATION_*), SEGMENT (CLOUD_SEGMENT_*), SDF_BC1, NOISE_MIP_DISTANCE,
+// Defines: ABLATION (cloud_params.h CLOUD_ABLATION_*), SEGMENT (CLOUD_SEGMENT_*), SDF_BC1, COVERAGE_TEXTURE, NOISE_MIP_DISTANCE,
 //   LIGHT_SAMPLE_NOISE_MEAN (1: the two marched light samples take the noise's mean instead of sampling it;
 //   a 24 m sample integrates over far more than a noise texel, and it saves two trilinear mip fetches per
 //   sample, ~20 % of the march on lavapipe; 0: the talk's "taken as we did before").
@@ -98,7 +98,7 @@ float terrain_visibility(vec3 world) { return 1.0; }
 #endif
 
 // Optical depth toward the sun from an asset-space point (world metres of density x extinction).
-float sun_optical_depth(sampler3D modeling, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
+float sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
   vec3 sun = inst.sun_dir.xyz;
   float scale = inst.bounds_min.w, inv_scale = inst.bounds_max.w;
   float sum = 0.0;
@@ -107,16 +107,16 @@ float sun_optical_depth(sampler3D modeling, int i, CloudInstanceParams inst, vec
   uint n = uint(P.light.w);
   for (uint k = 0u; k < n; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
-    sum += sample_density(modeling, inst, q, dist, mip, false).full * seg;
+    sum += sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false).full * seg;
   }
 #else
   float seg = P.light.x;
   for (int k = 0; k < 2; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
 #if LIGHT_SAMPLE_NOISE_MEAN
-    sum += sample_density_with_noise(modeling, inst, q, mean_noise).full * seg;
+    sum += sample_density_with_noise(CLOUD_MODELING(modeling, coverage), inst, q, mean_noise).full * seg;
 #else
-    sum += sample_density(modeling, inst, q, dist, mip, false).full * seg;
+    sum += sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false).full * seg;
 #endif
   }
   if ((P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u) sum += light_grid(i, p + sun * (2.0 * seg * inv_scale)).x;
@@ -127,7 +127,7 @@ float sun_optical_depth(sampler3D modeling, int i, CloudInstanceParams inst, vec
 // `t_front`: transmittance in front of this segment (the near layer's, for the far march; 1 otherwise).
 // It only ends the march early (where the near layer is already opaque the far one cannot show); the
 // far layer's own radiance and transmittance stay unattenuated for the merge.
-void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
+void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
                     float t_front, vec4 mean_noise, inout PixelData px) {
   CloudInstanceParams inst = P.instances[i];
   vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
@@ -176,12 +176,12 @@ void march_instance(sampler3D modeling, sampler3D field, int i, vec3 ro, vec3 rd
     CLOUD_WHERE(inside && ts < t1) {
       vec3 q = ao + ad * ts;
       float mip = noise_mip(ts);
-      DensitySample ds = sample_density(modeling, inst, q, ts, mip, true);
+      DensitySample ds = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, ts, mip, true);
       CLOUD_WHERE(ds.full > 0.0) {
 #if ABLATION != CLOUD_ABLATION_FULL
         sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
-        float od_sun = sun_optical_depth(modeling, i, inst, q, ts, mip, mean_noise);
+        float od_sun = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
         float od_sky = ambient_direction ? light_grid(i, q).y * ext * P.light.y : 0.0;
         float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
         vec3 world_q = ro + rd * ts;
@@ -315,10 +315,10 @@ void main() {
         // A lane marching the other slot's instance leaves this call's loop at once (lavapipe runs a loop
         // only while some lane is in it), so the two calls cost about one march.
         if (P.instances[i].wind_offset.w > 0.5)
-          march_instance(modeling_tex_1, field_tex_1, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+          march_instance(CLOUD_ASSET_1, field_tex_1, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
         else
 #endif
-          march_instance(modeling_tex, field_tex, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+          march_instance(CLOUD_ASSET_0, field_tex, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
       }
       p0 = p1;
     }

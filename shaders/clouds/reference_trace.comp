@@ -128,9 +128,9 @@ float instance_sigma(CloudInstanceParams inst, vec3 q, vec3 x) {
   float dist = distance(x, P.camera_pos.xyz);
   float mip = noise_mip(dist);
 #if CLOUD_ASSET_SLOTS > 1
-  if (inst.wind_offset.w > 0.5) return sample_density(modeling_tex_1, inst, q, dist, mip, true).full * P.march.x;
+  if (inst.wind_offset.w > 0.5) return sample_density(CLOUD_ASSET_1, inst, q, dist, mip, true).full * P.march.x;
 #endif
-  return sample_density(modeling_tex, inst, q, dist, mip, true).full * P.march.x;
+  return sample_density(CLOUD_ASSET_0, inst, q, dist, mip, true).full * P.march.x;
 }
 // One instance along o + d t, t in [0, tmax]: delta tracking (returns the first real collision, or -1)
 // or ratio tracking (ratio: multiplies T, returns -1), cell by cell of its majorant grid.

@@ -20,7 +20,7 @@ CUMULO_SHARED_BEGIN
 
 // light_grid_update.comp and march_render.comp
 #define CLOUD_BINDING_PARAMS 0      // uniform CloudParams
-#define CLOUD_BINDING_MODELING 1    // sampler3D: r profile, g detail type, b density scale
+#define CLOUD_BINDING_MODELING 1    // sampler3D: r profile, g detail type, b density scale, a coverage threshold (RGBA8)
 #define CLOUD_BINDING_FIELD 2       // sampler3D: signed distance (R16 0..1, or the conservative BC1 rgb)
 #define CLOUD_BINDING_NOISE 3       // sampler3D: voxel noise (R/G Curly-Alligator low/high, B/A Alligator low/high)
 #define CLOUD_BINDING_LIGHT_GRID 4  // sampler3D: x summed density toward the sun, y toward the sky; instance i in z slab i
@@ -32,6 +32,10 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_MODELING_1 10 // sampler3D: the second asset's modeling NVDF (CLOUD_ASSET_SLOTS 2)
 #define CLOUD_BINDING_FIELD_1 11    // sampler3D: the second asset's signed distance
 #define CLOUD_BINDING_TERRAIN_DEPTH 13  // sampler2D (TERRAIN_SHADOW 1): the geometry's depth from the key light
+// COVERAGE_TEXTURE 1 (the BC1 modeling NVDF has no alpha): each asset's coverage thresholds (coverage.nvdf, R8)
+// (14..24 are the path tracer's, reference_params.h)
+#define CLOUD_BINDING_COVERAGE 25    // sampler3D: slot 0's coverage thresholds
+#define CLOUD_BINDING_COVERAGE_1 26  // sampler3D: slot 1's
 // shadow_map.comp (reads PARAMS and LIGHT_GRID)
 #define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp
@@ -83,6 +87,14 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_SEGMENT_NEAR 1  // [0, split) at half resolution
 #define CLOUD_SEGMENT_FAR 2   // [split, end) at full resolution
 
+// Weather coverage (issue 20): every voxel holds a coverage threshold (the recipe's per-edit "coverage",
+// bake/recipe.h; the modeling NVDF's alpha, or coverage.nvdf on the BC1 path). Its cloud's presence at the
+// weather's coverage c is saturate(1 + (c - threshold) / CLOUD_COVERAGE_RAMP): whole at c >= threshold, gone at
+// c <= threshold - CLOUD_COVERAGE_RAMP, linear between (a transition, which blends c, thins a cloud smoothly).
+// Threshold 0 is present at every coverage (the default). The profile is re-ranged like dissipation's, so a
+// fading cloud shrinks from the outside in and an absent one has profile 0 everywhere.
+#define CLOUD_COVERAGE_RAMP 0.2
+
 struct CloudInstanceParams {
   mat4 world_to_asset;  // inverse of the instance transform
   vec4 bounds_min;      // xyz: asset bounds (the NVDF header's world box); w: uniform scale (world m per asset m)
@@ -90,8 +102,9 @@ struct CloudInstanceParams {
   vec4 sun_dir;         // xyz: unit vector toward the sun in asset space; w: density multiplier
   vec4 sky_dir;         // xyz: unit vector up (world +Y) in asset space; w: dissipation 0..1
   vec4 wind_offset;     // xyz: noise scroll (asset metres), wind direction * speed * time; w: asset slot (0 or 1)
+  vec4 weather;         // x: the weather's coverage 0..1 (CLOUD_COVERAGE_RAMP; 1 without a weather); y, z, w: unused
 };
-CUMULO_SHARED_SIZE(CloudInstanceParams, 144)
+CUMULO_SHARED_SIZE(CloudInstanceParams, 160)
 
 struct CloudParams {
   mat4 view_proj;       // world -> clip (reversed-Z: near 1, far 0)
@@ -120,7 +133,7 @@ struct CloudParams {
                         // y at the surface and away from the sun (talk 0.25); z, w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1216)
+CUMULO_SHARED_SIZE(CloudParams, 1280)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

@@ -16,6 +16,6 @@ void main() {
   vec3 a = (inst.world_to_asset * vec4(points[i].xyz, 1.0)).xyz;
   vec3 uvw = asset_uvw(inst, a);
   float d = 0.0;
-  if (all(greaterThanEqual(uvw, vec3(0.0))) && all(lessThanEqual(uvw, vec3(1.0)))) d = sample_density(modeling_tex, inst, a, 1e4, 0.0, false).full;
+  if (all(greaterThanEqual(uvw, vec3(0.0))) && all(lessThanEqual(uvw, vec3(1.0)))) d = sample_density(CLOUD_ASSET_0, inst, a, 1e4, 0.0, false).full;
   densities[i] = d;
 }

@@ -52,14 +52,16 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
   r.grid = make_grid(recipe, settings.dims);
   const BakeGrid& g = r.grid;
   {
-    // Peak bytes per voxel, counted from the buffers below: composed sdf/detail/density (12), field
+    // Peak bytes per voxel, counted from the buffers below: composed sdf/detail/density/profile depth (16), field
     // and its EDT scratch (4 + 8), field16 (2), modeling floats (12), BC1 blocks (1), the serialized
     // RGBA8 + R16 files and their zstd copies (12), rounded up.
-    constexpr uint64_t kBakeBytesPerVoxel = 56;
+    constexpr uint64_t kBakeBytesPerVoxel = 60;
     const std::string source = settings.dims.x ? "--dims"
                                : settings.voxel_size > 0.0f ? strf("--voxel-size %g", settings.voxel_size)
                                                             : strf("$.voxel_size %g", recipe.voxel_size);
-    check_memory_budget(saturating_product({g.dims.x, g.dims.y, g.dims.z, kBakeBytesPerVoxel}),
+    // The coverage threshold: composed (4) and clamped (4); its half-resolution R8 file is a rounding error.
+    constexpr uint64_t kCoverageBytesPerVoxel = 8;
+    check_memory_budget(saturating_product({g.dims.x, g.dims.y, g.dims.z, kBakeBytesPerVoxel + kCoverageBytesPerVoxel}),
                         strf("%s: a bake grid of %ux%ux%u voxels (%s)", recipe.file.c_str(), g.dims.x, g.dims.y,
                              g.dims.z, source.c_str()));
   }
@@ -99,11 +101,14 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
   r.modeling.resize(n * 3);
   parallel_for(n, [&](size_t b, size_t e) {
     for (size_t i = b; i < e; ++i) {
-      r.modeling[3 * i + 0] = profile_from_field(r.field[i], recipe.profile);
+      // Each voxel's own ramp depth: the recipe's, or a grown cloud's local-thickness depth.
+      r.modeling[3 * i + 0] = profile_from_field(r.field[i], {composed.profile_depth[i], recipe.profile.exponent});
       r.modeling[3 * i + 1] = std::clamp(composed.detail_type[i], 0.0f, 1.0f);
       r.modeling[3 * i + 2] = std::clamp(composed.density_scale[i], 0.0f, 1.0f);
     }
   }, 4096);
+  r.coverage.resize(n);
+  for (size_t i = 0; i < n; ++i) r.coverage[i] = std::clamp(composed.coverage[i], 0.0f, 1.0f);
   r.timings.modeling = sw.seconds();
 
   sw.reset();
@@ -158,6 +163,9 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
       modeling.levels[0][4 * i + c] = static_cast<uint8_t>(std::lround(std::clamp(r.modeling[3 * i + c], 0.0f, 1.0f) * 255.0f));
+  for (size_t i = 0; i < n; ++i) modeling.levels[0][4 * i + 3] = static_cast<uint8_t>(std::lround(r.coverage[i] * 255.0f));
+  // The BC1 path's coverage thresholds (BC1 has three channels): the alpha, box-filtered to half resolution.
+  Volume coverage = coverage_from_modeling(modeling);
   Volume modeling_bc1 = place(Volume::create(dims, g.spacing.x, VolumeEncoding::BC1,
                                              {{"r", std::string(kDimensionalProfile)},
                                               {"g", std::string(kDetailType)},
@@ -179,11 +187,14 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
     const Volume* v;
     const char* format;
     const char* purpose;
+    glm::uvec3 dims;
   };
-  const Out outs[] = {{"modeling.nvdf", &modeling, "rgba8", "modeling NVDF, uncompressed (CPU devices)"},
-                      {"modeling_bc1.nvdf", &modeling_bc1, "bc1", "modeling NVDF, BC1 (GPUs)"},
-                      {"field.nvdf", &field, "r16", "field NVDF, 16-bit SDF"},
-                      {"field_bc1.nvdf", &field_bc1, "bc1", "field NVDF, conservative BC1 SDF"}};
+  const Out outs[] = {{"modeling.nvdf", &modeling, "rgba8", "modeling NVDF, uncompressed (CPU devices)", dims},
+                      {"modeling_bc1.nvdf", &modeling_bc1, "bc1", "modeling NVDF, BC1 (GPUs)", dims},
+                      {"coverage.nvdf", &coverage, "r8", "coverage thresholds at half resolution (the BC1 path)",
+                       coverage.size},
+                      {"field.nvdf", &field, "r16", "field NVDF, 16-bit SDF", dims},
+                      {"field_bc1.nvdf", &field_bc1, "bc1", "field NVDF, conservative BC1 SDF", dims}};
   // One set: a failed write (of any file, the report included) leaves the previous bake untouched.
   FileSet files;
   nlohmann::ordered_json outputs = nlohmann::ordered_json::array();
@@ -193,11 +204,11 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
     outputs.push_back({{"file", o.file},
                        {"format", o.format},
                        {"purpose", o.purpose},
-                       {"gpu_bytes", bake_gpu_bytes(o.format, dims)},
+                       {"gpu_bytes", bake_gpu_bytes(o.format, o.dims)},
                        {"file_bytes", bytes.size()}});
   }
 
-  const uint64_t compressed = bake_gpu_bytes("bc1", dims) * 2;
+  const uint64_t compressed = bake_gpu_bytes("bc1", dims) * 2 + bake_gpu_bytes("r8", coverage.size);
   const uint64_t uncompressed = bake_gpu_bytes("rgba8", dims) + bake_gpu_bytes("r16", dims);
   const glm::uvec3 ref(512, 64, 512);
   nlohmann::ordered_json rep;
@@ -216,10 +227,10 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
   rep["outputs"] = outputs;
   rep["gpu_memory"] = {
       {"compressed_path_bytes", compressed},
-      {"compressed_path", "modeling_bc1 + field_bc1"},
+      {"compressed_path", "modeling_bc1 + coverage + field_bc1"},
       {"uncompressed_path_bytes", uncompressed},
       {"uncompressed_path", "modeling (rgba8) + field (r16)"},
-      {"compressed_path_bytes_at_512x64x512", bake_gpu_bytes("bc1", ref) * 2},
+      {"compressed_path_bytes_at_512x64x512", bake_gpu_bytes("bc1", ref) * 2 + bake_gpu_bytes("r8", coverage_nvdf_size(ref))},
       {"talk_bytes_at_512x64x512", kTalkBytes512},
       {"budget_bytes_at_512x64x512", kBudgetBytes512}};
   const Bc1SdfReport& f = r.field_bc1_report;

@@ -8,8 +8,9 @@
 // (conservative, verified texel by texel) -> BC1 modeling -> files.
 //
 // Output folder (names from modules/clouds/volume/nvdf.h):
-//   modeling.nvdf      RGBA8  r profile, g detail type, b density scale   (4 B/texel: CPU devices)
-//   modeling_bc1.nvdf  BC1    the same three channels                      (0.5 B/texel: GPUs)
+//   modeling.nvdf      RGBA8  r profile, g detail type, b density scale, a coverage threshold  (4 B/texel: CPU devices)
+//   modeling_bc1.nvdf  BC1    the first three channels                     (0.5 B/texel: GPUs)
+//   coverage.nvdf      R8     coverage threshold at half resolution per axis (1/8 B/texel: the BC1 path's alpha)
 //   field.nvdf         R16    sdf 0..1 <-> -256..4096 m, rounded down      (2 B/texel)
 //   field_bc1.nvdf     BC1    conservative 5:6:5 split, unpack with dot(rgb, (1, 9/255, 45/65025))
 //   bake_report.json   dims, bytes per output, memory totals, BC1 errors, timings
@@ -18,7 +19,7 @@
 // GPU memory choice (LAVAPIPE.md: BC6H fetches are ~75x slower on CPU devices): the talk's modeling
 // NVDF is BC6H at 1 B/texel; ours is BC1 at 0.5 B/texel (three channels of smooth or piecewise
 // constant data, RMSE in bake_report.json). Compressed path per 512x512x64 cloudscape: 8.389 MB
-// modeling + 8.389 MB field = 16.777 MB (talk: 25.166 MB; target <= 25.2 MB).
+// modeling + 2.097 MB coverage + 8.389 MB field = 18.874 MB (talk: 25.166 MB; target <= 25.2 MB).
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -52,6 +53,7 @@ struct BakeResult {
   std::vector<uint8_t> field_bc1;     // BC1 blocks (volume layout)
   std::vector<float> modeling;        // 3 floats per voxel: profile, detail type, density scale
   std::vector<uint8_t> modeling_bc1;  // BC1 blocks
+  std::vector<float> coverage;        // coverage threshold per voxel, 0..1 (recipe.h Edit::coverage)
   Bc1SdfReport field_bc1_report;
   Bc1RgbReport modeling_bc1_report;
   double field16_max_error_m = 0.0;   // float field minus R16 decode
@@ -64,7 +66,7 @@ BakeResult bake_recipe(const Recipe& recipe, const BakeSettings& settings = {});
 // GPU bytes of one level in a format ("rgba8", "r16", "bc1", "bc4", "r8", ...), dims in texels.
 uint64_t bake_gpu_bytes(const char* format, glm::uvec3 dims);
 
-// Writes the four .nvdf files and bake_report.json into `dir` (created if missing); returns the
+// Writes the five .nvdf files and bake_report.json into `dir` (created if missing); returns the
 // report text.
 std::string write_bake_outputs(const Recipe& recipe, const BakeResult& result, const std::filesystem::path& dir);
 

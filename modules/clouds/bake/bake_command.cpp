@@ -7,6 +7,7 @@
 #include "engine/core/message.h"
 #include "engine/core/parallel.h"
 #include "modules/clouds/bake/bake.h"
+#include "modules/clouds/volume/nvdf.h"
 
 namespace cumulo::clouds {
 
@@ -29,6 +30,7 @@ int run_bake_command(int argc, char** argv) {
   float voxel = 0.0f;
   glm::uvec3 dims(0);
   bool no_verify = false;
+  std::string grown_attributes = "simulated";
   ArgParser p("cumulo bake", "Bake a cloudscape recipe (JSON edit list) into modeling and field NVDFs.");
   p.positional("RECIPE", "cloudscape recipe (.json), e.g. content/levels/sample/cloudscape.json", &recipe_path)
       .option("-o", "DIR", "output folder (modeling*.nvdf, field*.nvdf, bake_report.json)", &out_dir)
@@ -38,12 +40,18 @@ int run_bake_command(int argc, char** argv) {
       .range(0.0, 1024.0, Open::Low)
       .option("--dims", "X,Y,Z", "override the grid resolution over the same bounds (Y up)",
               [&dims](const std::string& v) { dims = parse_dims(v); })
+      .option("--grown-attributes", "simulated|constant",
+              "grown edits' attributes: from the simulation (default) or the faithful constant per edit",
+              &grown_attributes)
       .flag("--no-verify", "skip decoding every BC1 texel (faster; the bound is then unchecked)", &no_verify);
   if (!p.parse(argc, argv)) return 0;
   if (out_dir.empty()) fail("cumulo bake: -o DIR is required");
 
   bake::RecipeOptions ro;
   if (p.was_set("--seed")) ro.seed = seed;
+  if (grown_attributes != "simulated" && grown_attributes != "constant")
+    fail("--grown-attributes: expected simulated or constant, got %s", quote(grown_attributes).c_str());
+  ro.grown_constant = grown_attributes == "constant";
   bake::Recipe recipe = bake::load_recipe(recipe_path, ro);
   bake::BakeSettings settings;
   settings.dims = dims;
@@ -55,17 +63,20 @@ int run_bake_command(int argc, char** argv) {
   const glm::uvec3 d = r.grid.dims;
   const uint64_t mod_bc1 = bake::bake_gpu_bytes("bc1", d), mod8 = bake::bake_gpu_bytes("rgba8", d);
   const uint64_t f16 = bake::bake_gpu_bytes("r16", d), fbc1 = bake::bake_gpu_bytes("bc1", d);
+  const uint64_t cov = bake::bake_gpu_bytes("r8", coverage_nvdf_size(d));
   std::printf("baked %s: %u x %u x %u voxels (x, y up, z) of %.2f x %.2f x %.2f m, %zu edits, %u threads\n",
               recipe.file.c_str(), d.x, d.y, d.z, r.grid.spacing.x, r.grid.spacing.y, r.grid.spacing.z,
               recipe.edits.size(), worker_count());
   std::printf("  time: %.2f s (compose %.2f, field %.2f, modeling %.2f, bc1 field %.2f, bc1 modeling %.2f, verify %.2f)\n",
               r.timings.total, r.timings.compose, r.timings.field, r.timings.modeling, r.timings.bc1_field,
               r.timings.bc1_modeling, r.timings.verify);
-  std::printf("  GPU bytes: modeling.nvdf rgba8 %.3f MB | modeling_bc1.nvdf bc1 %.3f MB | field.nvdf r16 %.3f MB | "
-              "field_bc1.nvdf bc1 %.3f MB\n",
-              mb(mod8), mb(mod_bc1), mb(f16), mb(fbc1));
-  std::printf("  compressed path (modeling_bc1 + field_bc1): %.3f MB; at 512x64x512: %.3f MB (talk 25.166 MB, budget 25.2 MB)\n",
-              mb(mod_bc1 + fbc1), mb(bake::bake_gpu_bytes("bc1", {512, 64, 512}) * 2));
+  std::printf("  GPU bytes: modeling.nvdf rgba8 %.3f MB | modeling_bc1.nvdf bc1 %.3f MB | coverage.nvdf r8 %.3f MB | "
+              "field.nvdf r16 %.3f MB | field_bc1.nvdf bc1 %.3f MB\n",
+              mb(mod8), mb(mod_bc1), mb(cov), mb(f16), mb(fbc1));
+  std::printf("  compressed path (modeling_bc1 + coverage + field_bc1): %.3f MB; at 512x64x512: %.3f MB (talk 25.166 MB, "
+              "budget 25.2 MB)\n",
+              mb(mod_bc1 + cov + fbc1),
+              mb(bake::bake_gpu_bytes("bc1", {512, 64, 512}) * 2 + bake::bake_gpu_bytes("r8", coverage_nvdf_size({512, 64, 512}))));
   if (settings.verify) {
     const auto& f = r.field_bc1_report;
     std::printf("  field BC1: %llu texels, %llu above the 16-bit value, %llu filtered points checked, %llu above; "

@@ -7,6 +7,7 @@
 #include "engine/core/parallel.h"
 #include "engine/core/progress.h"
 #include "modules/clouds/bake/grid_sdf.h"
+#include "modules/clouds/bake/grow/grown_attributes.h"
 #include "modules/clouds/bake/sdf_primitives.h"
 #include "modules/clouds/noise/noise.h"
 
@@ -53,6 +54,8 @@ void combine(EvalSample& acc, const Edit& e, const EvalSample& v) {
   }
   acc.detail_type += (v.detail_type - acc.detail_type) * w;
   acc.density_scale += (v.density_scale - acc.density_scale) * w;
+  acc.profile_depth += (v.profile_depth - acc.profile_depth) * w;
+  acc.coverage += (v.coverage - acc.coverage) * w;
 }
 
 // An edit outside its box: unions and cutouts change nothing; an intersection empties the point.
@@ -64,7 +67,10 @@ EvalSample evaluate_edit(const Edit& e, glm::vec3 p_parent, glm::vec3 p_world);
 
 EvalSample evaluate_list(const std::vector<Edit>& edits, glm::vec3 p, glm::vec3 p_world, const Edit* defaults) {
   EvalSample acc;
-  if (defaults) acc.detail_type = defaults->detail_type, acc.density_scale = defaults->density_scale;
+  if (defaults)
+    acc.detail_type = defaults->detail_type, acc.density_scale = defaults->density_scale,
+    acc.profile_depth = defaults->profile_depth;
+  if (defaults) acc.coverage = defaults->coverage;
   for (const Edit& e : edits) {
     if (e.parent_bounds.contains(p))
       combine(acc, e, evaluate_edit(e, p, p_world));
@@ -85,6 +91,8 @@ EvalSample evaluate_edit(const Edit& e, glm::vec3 p_parent, glm::vec3 p_world) {
   EvalSample s;
   s.detail_type = e.detail_type;
   s.density_scale = e.density_scale;
+  s.profile_depth = e.profile_depth;
+  s.coverage = e.coverage;
   switch (e.kind) {
     case EditKind::Sphere: s.d = sd_sphere(q, e.radius); break;
     case EditKind::Ellipsoid: s.d = sd_ellipsoid(q, e.radii); break;
@@ -94,6 +102,14 @@ EvalSample evaluate_edit(const Edit& e, glm::vec3 p_parent, glm::vec3 p_world) {
     case EditKind::Mesh:
     case EditKind::Volume: s.d = e.grid->sample(q); break;
     case EditKind::Group: s = evaluate_list(e.children, q, p_world, &e); break;
+    case EditKind::Grown:
+      s.d = e.grown->signed_distance(q);
+      if (e.grown_simulated) {
+        s.detail_type = e.grown->detail_type.sample(q);
+        s.density_scale = e.grown->density_scale.sample(q);
+        s.profile_depth = e.grown->profile_depth.sample(q) * e.transform.min_scale();
+      }
+      break;
   }
   if (s.d < kFarDistance) s.d *= e.transform.min_scale();
   if (e.erosion.enabled() && s.d < kFarDistance)
@@ -138,6 +154,8 @@ EvalSample evaluate_point(const Recipe& recipe, glm::vec3 p) {
   Edit defaults;
   defaults.detail_type = recipe.default_detail_type;
   defaults.density_scale = recipe.default_density_scale;
+  defaults.profile_depth = recipe.profile.depth;
+  defaults.coverage = recipe.default_coverage;
   return evaluate_list(recipe.edits, p, p, &defaults);
 }
 
@@ -147,6 +165,8 @@ Composed compose(const Recipe& recipe, const BakeGrid& grid, Progress* progress)
   out.sdf.assign(n, kFarDistance);
   out.detail_type.assign(n, recipe.default_detail_type);
   out.density_scale.assign(n, recipe.default_density_scale);
+  out.coverage.assign(n, recipe.default_coverage);
+  out.profile_depth.assign(n, recipe.profile.depth);
   const size_t rows = size_t(grid.dims.y) * grid.dims.z;
   std::vector<uint64_t> evals(rows, 0);
 
@@ -184,6 +204,8 @@ Composed compose(const Recipe& recipe, const BakeGrid& grid, Progress* progress)
             EvalSample acc;
             acc.detail_type = recipe.default_detail_type;
             acc.density_scale = recipe.default_density_scale;
+            acc.profile_depth = recipe.profile.depth;
+            acc.coverage = recipe.default_coverage;
             bool touched = false;
             for (const Active& a : active) {
               if (static_cast<int>(x) >= a.x0 && static_cast<int>(x) <= a.x1) {
@@ -199,6 +221,8 @@ Composed compose(const Recipe& recipe, const BakeGrid& grid, Progress* progress)
             out.sdf[i] = acc.d;
             out.detail_type[i] = acc.detail_type;
             out.density_scale[i] = acc.density_scale;
+            out.coverage[i] = acc.coverage;
+            out.profile_depth[i] = acc.profile_depth;
           }
           evals[row] = count;
           if (progress) progress->add(1.0);

@@ -1,6 +1,7 @@
 #pragma once
 // Evaluation of a recipe's edit list: the composed signed distance plus the per-voxel modeling
-// attributes (detail type, density scale) blended with the same soft-min weights, on a bake grid.
+// attributes (detail type, density scale, coverage threshold) blended with the same soft-min weights, on a
+// bake grid.
 //
 // Index:  BakeGrid  EvalSample  evaluate_point  compose  ParticleBins  erosion_noise
 //
@@ -47,6 +48,8 @@ struct EvalSample {
   float d = kFarDistance;  // metres, negative inside
   float detail_type = 0.0f;
   float density_scale = 0.0f;
+  float profile_depth = 96.0f;  // metres (grown clouds: from the cloud's local thickness)
+  float coverage = 0.0f;        // coverage threshold 0..1 (recipe.h Edit::coverage)
 };
 
 // The composed field at one world point (no row culling; edits are still skipped outside their box).
@@ -56,6 +59,8 @@ struct Composed {
   std::vector<float> sdf;  // metres
   std::vector<float> detail_type;
   std::vector<float> density_scale;
+  std::vector<float> coverage;  // coverage threshold per voxel
+  std::vector<float> profile_depth;
   uint64_t edit_evaluations = 0;  // how many (voxel, edit) pairs were evaluated (culling statistic)
 };
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <set>
+#include <unordered_map>
 
 #include "engine/core/random.h"
 #include "engine/core/error.h"
@@ -11,6 +13,8 @@
 #include "engine/core/message.h"
 #include "modules/clouds/bake/compose.h"
 #include "modules/clouds/bake/grid_sdf.h"
+#include "modules/clouds/bake/grow/grow_cache.h"
+#include "modules/clouds/bake/grow/grown_attributes.h"
 
 namespace cumulo::clouds::bake {
 
@@ -27,6 +31,8 @@ constexpr int kMaxDepth = 16;  // group nesting
 struct Ctx {
   std::filesystem::path base_dir;
   bool allow_files = true;
+  bool grown_constant = false;
+  bool grow_progress = true;
   size_t edit_count = 0;
   size_t particle_count = 0;
 };
@@ -105,6 +111,23 @@ std::vector<Particle> generate_particles(const JsonView& g, uint64_t seed) {
   return out;
 }
 
+// A grown cloud's attributes, derived once per process for each spec key (a recipe places one grown
+// cloud many times, rotated and scaled: frankenclouding).
+std::shared_ptr<const grow::GrownModeling> grown_modeling_for(const std::filesystem::path& spec_path, bool progress,
+                                                              uint64_t* key) {
+  static std::mutex mutex;
+  static std::unordered_map<uint64_t, std::shared_ptr<const grow::GrownModeling>> cache;
+  const grow::GrowSpec spec = grow::load_grow_spec(spec_path);
+  *key = spec.key;
+  std::lock_guard lock(mutex);
+  auto it = cache.find(spec.key);
+  if (it != cache.end()) return it->second;
+  const grow::ResolvedGrown where = grow::resolve_grown(spec, spec_path, progress);
+  auto m = grow::derive_modeling(grow::load_grown(where.dir / "grown.nvdf"));
+  cache.emplace(spec.key, m);
+  return m;
+}
+
 Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64_t seed, int depth) {
   if (depth > kMaxDepth) e.fail(strf("groups nested deeper than %d", kMaxDepth));
   if (++ctx.edit_count > kMaxEdits) e.fail(strf("more than %zu edits", kMaxEdits));
@@ -113,14 +136,14 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
   out.json_path = e.path();
   out.noise_seed = static_cast<uint32_t>(hash64(out.json_path, seed ^ 0x5EEDull));
   static const std::vector<std::string> kKinds = {"sphere", "metaball", "ellipsoid", "box",   "capsule",
-                                                  "mesh",   "particles", "volume",   "group"};
+                                                  "mesh",   "particles", "volume",   "group",  "grown"};
   size_t kind = e["type"].as_enum(kKinds);
   static const EditKind kKindMap[] = {EditKind::Sphere, EditKind::Sphere,    EditKind::Ellipsoid,
                                       EditKind::Box,    EditKind::Capsule,   EditKind::Mesh,
-                                      EditKind::Particles, EditKind::Volume, EditKind::Group};
+                                      EditKind::Particles, EditKind::Volume, EditKind::Group, EditKind::Grown};
   out.kind = kKindMap[kind];
   std::set<std::string> keys = {"type", "name",  "op",    "blend",  "position",    "rotation",      "scale",
-                                "shear", "erode", "detail_type", "density_scale", "comment"};
+                                "shear", "erode", "detail_type", "density_scale", "coverage", "comment"};
   out.name = e.get<std::string>("name", "");
   if (e.has("op")) out.op = static_cast<EditOp>(e["op"].as_enum({"union", "subtract", "intersect"}));
   // A metaball is a sphere that blends by default.
@@ -139,6 +162,8 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
   out.detail_type = e.has("detail_type") ? e["detail_type"].as_float_in(0.0f, 1.0f) : parent_defaults.detail_type;
   out.density_scale =
       e.has("density_scale") ? e["density_scale"].as_float_in(0.0f, 1.0f) : parent_defaults.density_scale;
+  out.coverage = e.has("coverage") ? e["coverage"].as_float_in(0.0f, 1.0f) : parent_defaults.coverage;
+  out.profile_depth = parent_defaults.profile_depth;
 
   switch (out.kind) {
     case EditKind::Sphere:
@@ -210,6 +235,20 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
       }
       break;
     }
+    case EditKind::Grown: {
+      keys.insert({"spec", "attributes"});
+      if (!ctx.allow_files) e["spec"].fail("file edits are not allowed here");
+      const std::filesystem::path file = ctx.base_dir / e["spec"].as<std::string>();
+      out.grown_simulated = !ctx.grown_constant;
+      if (e.has("attributes")) out.grown_simulated = e["attributes"].as_enum({"simulated", "constant"}) == 0 && !ctx.grown_constant;
+      out.source = file.string();
+      try {
+        out.grown = grown_modeling_for(file, ctx.grow_progress, &out.grown_key);
+      } catch (const Error& err) {
+        e["spec"].fail(err.what());
+      }
+      break;
+    }
     case EditKind::Group: {
       keys.insert("edits");
       for (const JsonView& c : e["edits"].elements()) out.children.push_back(parse_edit(c, ctx, out, seed, depth + 1));
@@ -238,6 +277,7 @@ Aabb shape_bounds(const Edit& e) {
       break;
     case EditKind::Mesh:
     case EditKind::Volume: b = grid_bounds(*e.grid); break;
+    case EditKind::Grown: b = {e.grown->bounds_min, e.grown->bounds_max}; break;
     case EditKind::Group:
       for (const Edit& c : e.children)
         if (c.op != EditOp::Subtract) b.add(c.parent_bounds);
@@ -291,9 +331,10 @@ Recipe parse_root(const JsonView& root, const std::filesystem::path& base_dir, c
   }
   if (root.has("defaults")) {
     JsonView d = root["defaults"];
-    check_keys(d, {"detail_type", "density_scale"});
+    check_keys(d, {"detail_type", "density_scale", "coverage"});
     if (d.has("detail_type")) r.default_detail_type = d["detail_type"].as_float_in(0.0f, 1.0f);
     if (d.has("density_scale")) r.default_density_scale = d["density_scale"].as_float_in(0.0f, 1.0f);
+    if (d.has("coverage")) r.default_coverage = d["coverage"].as_float_in(0.0f, 1.0f);
   }
   if (root.has("profile")) {
     JsonView p = root["profile"];
@@ -321,10 +362,12 @@ Recipe parse_root(const JsonView& root, const std::filesystem::path& base_dir, c
         r.slices.vertical.push_back(vs);
       }
   }
-  Ctx ctx{base_dir, opt.allow_files};
+  Ctx ctx{base_dir, opt.allow_files, opt.grown_constant, opt.grow_progress};
   Edit defaults;
+  defaults.profile_depth = r.profile.depth;
   defaults.detail_type = r.default_detail_type;
   defaults.density_scale = r.default_density_scale;
+  defaults.coverage = r.default_coverage;
   for (const JsonView& e : root["edits"].elements()) r.edits.push_back(parse_edit(e, ctx, defaults, r.seed, 0));
   finalize_edits(r, 3.0f * r.voxel_size);
   return r;
@@ -342,6 +385,7 @@ const char* edit_kind_name(EditKind k) {
     case EditKind::Particles: return "particles";
     case EditKind::Volume: return "volume";
     case EditKind::Group: return "group";
+    case EditKind::Grown: return "grown";
   }
   return "?";
 }

@@ -13,14 +13,18 @@
 //
 // JSON shape (content/schemas/cloudscape.schema.json is the reference):
 //   { "name": "...", "seed": 7, "voxel_size": 8, "bounds": {"min": [x,y,z], "max": [x,y,z]},
-//     "defaults": {"detail_type": 0.5, "density_scale": 1.0},
+//     "defaults": {"detail_type": 0.5, "density_scale": 1.0, "coverage": 0.0},
 //     "profile": {"depth": 96, "exponent": 1.0},
 //     "edits": [ { "type": "sphere|metaball|ellipsoid|box|capsule|mesh|particles|volume|group",
 //                  "op": "union|subtract|intersect", "blend": 40,
 //                  "position": [..], "rotation": [deg x, deg y, deg z], "scale": s | [sx, sy, sz],
 //                  "shear": [sx, sz], "erode": {"amplitude": 30, "frequency": 0.01, "octaves": 3},
-//                  "detail_type": 0.8, "density_scale": 0.9, ...shape parameters... } ],
+//                  "detail_type": 0.8, "density_scale": 0.9, "coverage": 0.6, ...shape parameters... } ],
 //     "slices": {"heights": [..], "vertical": [{"name": "hero", "axis": "x", "at": 120}]} }
+// A "grown" edit places a cloud grown by the cloud-formation simulation (grow/grow_spec.h): its "spec"
+// (a grow spec beside the recipe), "attributes": "simulated" (default: SDF, detail type, density
+// scale and a thickness-following profile depth from the simulation, grow/grown_attributes.h) or
+// "constant" (the faithful per-edit detail_type / density_scale and the recipe's profile depth).
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -82,8 +86,13 @@ struct Particle {
 
 struct ParticleBins;  // compose.h
 class GridSdf;  // grid_sdf.h: a sampled distance grid (a voxelized glTF mesh or an imported .nvdf)
+}  // namespace cumulo::clouds::bake
+namespace cumulo::clouds::grow {
+struct GrownModeling;  // grow/grown_attributes.h
+}
+namespace cumulo::clouds::bake {
 
-enum class EditKind { Sphere, Ellipsoid, Box, Capsule, Mesh, Particles, Volume, Group };
+enum class EditKind { Sphere, Ellipsoid, Box, Capsule, Mesh, Particles, Volume, Group, Grown };
 enum class EditOp { Union, Subtract, Intersect };
 
 struct Edit {
@@ -95,6 +104,11 @@ struct Edit {
   float blend = 0.0f;  // soft-min blend radius, metres (parent space)
   float detail_type = 0.5f;    // 0 = wispy, 1 = billowy (2023 talk)
   float density_scale = 1.0f;  // multiplies density after the up-rez
+  // Coverage threshold 0..1: the weather coverage this edit's cloud needs (fully present at coverage >=
+  // threshold, gone at threshold - CLOUD_COVERAGE_RAMP and below: shaders/shared/cloud_params.h). 0: at any
+  // coverage. Inherited from the group or the recipe's defaults, like detail_type.
+  float coverage = 0.0f;
+  float profile_depth = 96.0f; // metres below the surface where the profile reaches 1 (the recipe's by default)
   Erosion erosion;
   Shear shear;
 
@@ -109,6 +123,9 @@ struct Edit {
   std::shared_ptr<const GridSdf> grid;  // mesh, volume: distances in local space
   std::string source;                   // mesh/volume file, as resolved
   std::vector<Edit> children;           // group
+  std::shared_ptr<const grow::GrownModeling> grown;  // grown: attributes in local space
+  bool grown_simulated = true;          // grown: attributes from the simulation (false: constant, the faithful form)
+  uint64_t grown_key = 0;               // grown: the spec's key (spec content + solver version)
   uint32_t noise_seed = 0;              // erosion noise stream: hash of (recipe seed, json_path)
   std::shared_ptr<const ParticleBins> bins;        // particles: spatial hash, built by finalize_edits()
 
@@ -146,6 +163,7 @@ struct Recipe {
   float voxel_size = 8.0f;
   float default_detail_type = 0.5f;
   float default_density_scale = 1.0f;
+  float default_coverage = 0.0f;
   ProfileParams profile;
   std::vector<Edit> edits;
   SliceSpec slices;
@@ -156,7 +174,9 @@ struct Recipe {
 // against the recipe's folder.
 struct RecipeOptions {
   std::optional<uint64_t> seed;  // overrides the recipe's "seed" (particles and noise derive from it)
-  bool allow_files = true;       // false: mesh and volume edits are refused (fuzzing untrusted text)
+  bool allow_files = true;       // false: mesh, volume and grown edits are refused (fuzzing untrusted text)
+  bool grown_constant = false;   // every grown edit takes the constant (faithful) attributes
+  bool grow_progress = true;     // a progress line when a grown cloud must be grown first
 };
 Recipe load_recipe(const std::filesystem::path& path, const RecipeOptions& options = {});
 Recipe parse_recipe_text(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,

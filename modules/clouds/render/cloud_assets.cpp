@@ -1,6 +1,7 @@
 #include "modules/clouds/render/cloud_assets.h"
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "engine/core/error.h"
@@ -50,10 +51,11 @@ void check_sampleable(gpu::Context& ctx, VkFormat format, const fs::path& file) 
 }
 
 
-bool same_box(const Volume& a, const Volume& b) {
+bool same_bounds(const Volume& a, const Volume& b) {
   auto close = [](glm::vec3 x, glm::vec3 y) { return glm::all(glm::lessThan(glm::abs(x - y), glm::vec3(1e-3f))); };
-  return a.size == b.size && close(a.bounds_min, b.bounds_min) && close(a.bounds_max, b.bounds_max);
+  return close(a.bounds_min, b.bounds_min) && close(a.bounds_max, b.bounds_max);
 }
+bool same_box(const Volume& a, const Volume& b) { return a.size == b.size && same_bounds(a, b); }
 
 }  // namespace
 
@@ -104,6 +106,27 @@ std::shared_ptr<CloudAsset> load_cloud_asset(gpu::Context& ctx, const fs::path& 
   check_channel(modeling, 0, kDimensionalProfile, modeling_file);
   check_channel(modeling, 1, kDetailType, modeling_file);
   check_channel(modeling, 2, kDensityScale, modeling_file);
+  // The coverage thresholds: the RGBA8 alpha where the file declares it (older bakes and imports leave it
+  // undeclared: threshold 0, whatever the bytes), else (BC1) coverage.nvdf when the folder has it.
+  if (!formats.bc1_modeling && !(modeling.channels.size() > 3 && modeling.channels[3].semantic == kCoverageThreshold))
+    for (auto& level : modeling.levels)
+      for (size_t i = 3; i < level.size(); i += 4) level[i] = 0;
+  std::optional<Volume> coverage;
+  const fs::path coverage_file = folder / kCoverageFileName;
+  if (formats.bc1_modeling) {
+    std::error_code ec;
+    if (fs::is_regular_file(coverage_file, ec)) {
+      coverage = load_volume(coverage_file);
+      if (coverage->encoding != VolumeEncoding::R8)
+        fail("%s: encoding %s, the renderer expects r8 here", coverage_file.string().c_str(), encoding_name(coverage->encoding));
+      check_channel(*coverage, 0, kCoverageThreshold, coverage_file);
+      if (!same_bounds(*coverage, modeling))
+        fail("%s: its world box differs from %s's", coverage_file.string().c_str(), modeling_file.filename().string().c_str());
+    } else {
+      coverage = Volume::create({1, 1, 1}, modeling.voxel_size, VolumeEncoding::R8, {{"r", std::string(kCoverageThreshold)}});
+      coverage->bounds_min = modeling.bounds_min, coverage->bounds_max = modeling.bounds_max;
+    }
+  }
 
   const VolumeEncoding want_field = formats.bc1_field ? VolumeEncoding::BC1 : VolumeEncoding::R16;
   if (field.encoding != want_field)
@@ -129,10 +152,11 @@ std::shared_ptr<CloudAsset> load_cloud_asset(gpu::Context& ctx, const fs::path& 
   asset->modeling = upload_volume(ctx, modeling, formats.bc1_modeling ? VK_FORMAT_BC1_RGB_UNORM_BLOCK : VK_FORMAT_R8G8B8A8_UNORM,
                                   modeling_file);
   asset->field = upload_volume(ctx, field, formats.bc1_field ? VK_FORMAT_BC1_RGB_UNORM_BLOCK : VK_FORMAT_R16_UNORM, field_file);
-  asset->gpu_bytes = modeling.payload_bytes() + field.payload_bytes();
-  LOG_INFO("clouds: %s on the GPU (%s + %s, %ux%ux%u, %.2f MB)", folder.string().c_str(),
-           std::string(modeling_name).c_str(), std::string(field_name).c_str(), asset->dims.x, asset->dims.y,
-           asset->dims.z, double(asset->gpu_bytes) / 1e6);
+  if (coverage) asset->coverage = upload_volume(ctx, *coverage, VK_FORMAT_R8_UNORM, coverage_file);
+  asset->gpu_bytes = modeling.payload_bytes() + field.payload_bytes() + (coverage ? coverage->payload_bytes() : 0);
+  LOG_INFO("clouds: %s on the GPU (%s%s + %s, %ux%ux%u, %.2f MB)", folder.string().c_str(),
+           std::string(modeling_name).c_str(), coverage ? " + coverage" : "", std::string(field_name).c_str(), asset->dims.x,
+           asset->dims.y, asset->dims.z, double(asset->gpu_bytes) / 1e6);
   return asset;
 }
 

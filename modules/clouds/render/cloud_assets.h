@@ -11,8 +11,11 @@
 //
 // Format sets (LAVAPIPE.md: BC1 fetches are ~1.7x slower than R8/R16 on a CPU device; on GPUs the
 // compressed set is the talk's memory budget):
-//   compressed    modeling_bc1.nvdf (BC1 RGB)  + field_bc1.nvdf (conservative BC1 SDF)   GPUs
-//   uncompressed  modeling.nvdf (RGBA8)        + field.nvdf (R16 unorm)                  CPU devices
+//   compressed    modeling_bc1.nvdf (BC1 RGB)  + coverage.nvdf (R8, half resolution) + field_bc1.nvdf
+//                 (conservative BC1 SDF)                                                 GPUs
+//   uncompressed  modeling.nvdf (RGBA8, a = coverage threshold) + field.nvdf (R16 unorm)   CPU devices
+// Coverage thresholds (nvdf.h): a folder without coverage.nvdf, or a modeling.nvdf without the alpha channel
+// (imports, older bakes), loads with threshold 0 everywhere.
 // The modeling and SDF choices are independent (CloudFormats), so the 16-bit vs BC1 SDF ablation keeps
 // the modeling data fixed. Every error is a cumulo::Error naming the file.
 #include <cstdint>
@@ -57,7 +60,8 @@ inline CloudFormats default_cloud_formats(const gpu::DeviceInfo& device) {
 struct CloudAsset {
   std::filesystem::path folder;  // canonical
   CloudFormats formats;
-  gpu::Image modeling;  // 3D: r profile, g detail type, b density scale
+  gpu::Image modeling;  // 3D: r profile, g detail type, b density scale (RGBA8: a coverage threshold)
+  gpu::Image coverage;  // 3D R8: the coverage thresholds of the BC1 modeling (compressed only; 1 texel of 0 without the file)
   gpu::Image field;     // 3D: signed distance (R16 0..1 <-> -256..4096 m, or conservative BC1 rgb)
   glm::uvec3 dims{0};
   float voxel_size = 0.0f;

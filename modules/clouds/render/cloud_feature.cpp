@@ -60,6 +60,7 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-shadows", "on|off", "the clouds' shadow on the terrain and the ocean (default on)", &shadows_text_)
       .option("--cloud-terrain-shadow", "on|off", "the terrain's shadow on the clouds (default on)", &terrain_shadow_text_)
       .option("--cloud-light-shafts", "on|off", "light shafts through gaps in the clouds (default on)", &shafts_text_)
+      .option("--cloud-rain", "on|off", "the rain columns under precipitating clouds (default on)", &rain_text_)
       .option("--cloud-sky", "auto|on|off",
               "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
               &sky_text_)
@@ -98,6 +99,7 @@ void CloudFeature::check_run_options() {
   options_.temporal = parse_on_off("--cloud-temporal", temporal_text_);
   options_.shadows = parse_on_off("--cloud-shadows", shadows_text_);
   options_.light_shafts = parse_on_off("--cloud-light-shafts", shafts_text_);
+  options_.rain = parse_on_off("--cloud-rain", rain_text_);
   options_.terrain_shadow = parse_on_off("--cloud-terrain-shadow", terrain_shadow_text_);
   options_.sky.reset();
   if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
@@ -355,7 +357,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   for (size_t k = 0; k < frame->instances.size(); ++k) {
     const CloudInstanceFrame& i = frame->instances[k];
     const float intensity = i.rain * (1.0f - std::clamp(i.dissipation, 0.0f, 1.0f));
-    if (!(intensity > 0.0f)) continue;
+    if (!(intensity > 0.0f) || !options_.rain) continue;
     const CloudAsset& a = *in.instances[k].asset;
     const glm::vec3 base(0.5f * (a.bounds_min.x + a.bounds_max.x), a.bounds_min.y, 0.5f * (a.bounds_min.z + a.bounds_max.z));
     const glm::vec3 extent = a.bounds_max - a.bounds_min;

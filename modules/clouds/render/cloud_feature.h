@@ -18,6 +18,7 @@
 //   --cloud-shadows on|off     the clouds' shadow on the terrain and the ocean (default on)
 //   --cloud-terrain-shadow on|off  the terrain's shadow on the clouds (the key light's depth map; default on)
 //   --cloud-light-shafts on|off  light shafts through gaps in the clouds (light_shafts.h; default on)
+//   --cloud-rain on|off        the rain columns under precipitating clouds (default on)
 //   --cloud-effects-off LIST   lighting effects of the talks switched off in the march (cumulo fidelity measures each)
 //   --cloud-lighting talk|tuned  the lighting constants: the talks' (default) or tuned against the reference
 //   --cloud-ms-strength X, --cloud-ambient-occlusion X   override those two constants of the preset
@@ -85,6 +86,7 @@ struct CloudRunOptions {
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
   bool light_shafts = true;  // --cloud-light-shafts
+  bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
   CloudLightingPreset lighting = CloudLightingPreset::Talk;  // --cloud-lighting talk|tuned
@@ -155,7 +157,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
-      shafts_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "talk", weather_dir_text_;
+      shafts_text_ = "on", rain_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "talk", weather_dir_text_;
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   gpu::PipelineLibrary* library_ = nullptr;

@@ -55,8 +55,9 @@ struct CloudResources {
     glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
     uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
   };
-  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow
-  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool>;
+  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow,
+  // coverage texture (the BC1 modeling NVDF)
+  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool, bool>;
 
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
@@ -98,8 +99,8 @@ struct CloudResources {
   CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
 
   gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise,
-                       int asset_slots = 1, bool terrain_shadow = false) {
-    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow};
+                       int asset_slots = 1, bool terrain_shadow = false, bool coverage_texture = false) {
+    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow, coverage_texture};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     static const char* kSegments[] = {"all", "near", "far"};
@@ -111,32 +112,39 @@ struct CloudResources {
                  {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"},
                  {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"},
                  {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)},
-                 {"TERRAIN_SHADOW", terrain_shadow ? "1" : "0"}};
+                 {"TERRAIN_SHADOW", terrain_shadow ? "1" : "0"},
+                 {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}};
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
              (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
-             (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") + ")";
+             (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") +
+             (coverage_texture ? ", coverage texture" : "") + ")";
     gpu::Pipeline& p = library.compute(d);
     march_pipes[key] = &p;
     return p;
   }
-  gpu::Pipeline& sweep(bool bc1) {
-    MarchKey key{-2, 0, bc1, true, true, 1, false};
+  gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
+    MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
-                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}},
-                                        .name = bc1 ? "clouds.light_grid (sweep, bc1 sdf)" : "clouds.light_grid (sweep)"});
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
+                                        .name = std::string("clouds.light_grid (sweep") + (bc1 ? ", bc1 sdf" : "") +
+                                                (coverage_texture ? ", coverage texture" : "") + ")"});
     march_pipes[key] = &p;
     return p;
   }
-  gpu::Pipeline& grid(bool bc1) {
+  gpu::Pipeline& grid(bool bc1, bool coverage_texture = false) {
     // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true, true, 1, false};
+    MarchKey key{-1, 0, bc1, true, true, 1, false, coverage_texture};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
-                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}},
-                                        .name = bc1 ? "clouds.light_grid (bc1 sdf)" : "clouds.light_grid"});
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
+                                        .name = std::string("clouds.light_grid") +
+                                                (bc1 || coverage_texture ? std::string(" (") + (bc1 ? "bc1 sdf" : "") +
+                                                                               (bc1 && coverage_texture ? ", " : "") +
+                                                                               (coverage_texture ? "coverage texture" : "") + ")"
+                                                                         : std::string())});
     march_pipes[key] = &p;
     return p;
   }
@@ -170,7 +178,7 @@ uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
   k.asset = inst.asset.get();
   const glm::quat q = glm::normalize(inst.rotation);
   const float vals[12] = {inst.position.x, inst.position.y, inst.position.z, q.x, q.y, q.z, q.w,
-                          inst.scale, inst.density, inst.dissipation, 0.0f, 0.0f};
+                          inst.scale, inst.density, inst.dissipation, inst.coverage, 0.0f};
   std::memcpy(k.v, vals, sizeof vals);
   k.grid[0] = d.light_grid_size.x, k.grid[1] = d.light_grid_size.y, k.grid[2] = d.light_grid_size.z;
   return hash64(&k, sizeof k);
@@ -188,6 +196,7 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
   ip.sun_dir = glm::vec4(glm::normalize(inv_rot * glm::normalize(sun)), inst.density);
   ip.sky_dir = glm::vec4(glm::normalize(inv_rot * glm::vec3(0.0f, 1.0f, 0.0f)), std::clamp(inst.dissipation, 0.0f, 1.0f));
   ip.wind_offset = glm::vec4(wind_offset_asset(inst, time), 0.0f);  // asset metres
+  ip.weather = glm::vec4(std::clamp(inst.coverage, 0.0f, 1.0f), 0.0f, 0.0f, 0.0f);
   return ip;
 }
 
@@ -488,13 +497,15 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
     slots.push_back(uint32_t(it - assets.begin()));
   }
   for (const CloudAsset* a : assets)
-    if (a->formats.bc1_field != assets[0]->formats.bc1_field)
-      fail("clouds: the cloudscape assets %s and %s use different SDF formats in one frame", assets[0]->folder.string().c_str(),
+    if (a->formats != assets[0]->formats)
+      fail("clouds: the cloudscape assets %s and %s use different formats in one frame", assets[0]->folder.string().c_str(),
            a->folder.string().c_str());
   const int asset_slots = int(assets.size());
   const CloudSettings& s = in.settings;
   const VkExtent2D size = graph.output_size();
   const bool bc1 = assets[0]->formats.bc1_field;
+  // The BC1 modeling NVDF has no alpha: its coverage thresholds come from the asset's coverage texture.
+  const bool coverage_texture = assets[0]->formats.bc1_modeling;
   gpu::Context& ctx = res.ctx;
   CloudResources* r = &res;
 
@@ -506,11 +517,12 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
     d.mips = img.mips();
     return graph.import_texture(name, d, img.handle(), img.view(), sampled_state());
   };
-  std::vector<TextureHandle> modelings, fields;
+  std::vector<TextureHandle> modelings, fields, coverages;
   for (size_t a = 0; a < assets.size(); ++a) {
     const std::string suffix = a ? "." + std::to_string(a) : "";
     modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling));
     fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field));
+    if (coverage_texture) coverages.push_back(import_3d("clouds.coverage" + suffix, assets[a]->coverage));
   }
   const TextureHandle noise = import_3d("clouds.noise", res.noise->image);
 
@@ -580,7 +592,7 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
 
   // ---- 1. Light grid ----
   const bool sweep = s.light_grid_method == CloudLightGridMethod::Sweep;
-  gpu::Pipeline* grid_pipe = sweep ? &res.sweep(bc1) : &res.grid(bc1);
+  gpu::Pipeline* grid_pipe = sweep ? &res.sweep(bc1, coverage_texture) : &res.grid(bc1, coverage_texture);
   const CloudResourcesDesc rdesc = res.desc;
   // Sweep order per instance: levels from the light's side; the sun and the sky share one sweep when
   // both point up (or both down), else each channel gets its own.
@@ -603,23 +615,26 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
           b.read(modelings[a], Usage::Sampled);
           b.read(fields[a], Usage::Sampled);
         }
+        for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
         b.read(noise, Usage::Sampled);
         grid = b.read_write(grid, Usage::StorageWrite);
       },
-      [r, grid_pipe, grids, plans, sweep, grid, modelings, fields, slots, noise, ubo_handle, rdesc](PassContext& c) {
+      [r, grid_pipe, grids, plans, sweep, grid, modelings, fields, coverages, slots, noise, ubo_handle, rdesc](PassContext& c) {
         const VkExtent3D e = c.extent(grid);
         // Each instance's dispatches read its own asset (push descriptors: rebound when the asset changes).
         uint32_t bound = UINT32_MAX;
         auto bind = [&](uint32_t a) {
           if (a == bound) return;
           bound = a;
-          Bindings(*grid_pipe)
-              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
+          Bindings bindings(*grid_pipe);
+          bindings.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
               .sampled(CLOUD_BINDING_MODELING, c.view(modelings[a]), r->linear_clamp, c.layout(modelings[a]))
               .sampled(CLOUD_BINDING_FIELD, c.view(fields[a]), r->linear_clamp, c.layout(fields[a]))
               .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
-              .storage(CLOUD_BINDING_GRID_OUT, c.view(grid))
-              .push(r->ctx, c.cmd());
+              .storage(CLOUD_BINDING_GRID_OUT, c.view(grid));
+          if (!coverages.empty())
+            bindings.sampled(CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp, c.layout(coverages[a]));
+          bindings.push(r->ctx, c.cmd());
         };
         for (uint32_t i = 0; i < grids.size(); ++i) {
           if (grids[i].layers == 0 || (sweep && grids[i].level_count == 0)) continue;
@@ -699,10 +714,12 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
   out.grid = grid;
   out.modelings = std::move(modelings);
   out.fields = std::move(fields);
+  out.coverages = std::move(coverages);
   out.noise = noise;
   out.slots = std::move(slots);
   out.asset_slots = asset_slots;
   out.bc1 = bc1;
+  out.coverage_texture = coverage_texture;
   return out;
 }
 
@@ -716,6 +733,8 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   }
   const std::vector<TextureHandle>& modelings = light->modelings;
   const std::vector<TextureHandle>& fields = light->fields;
+  const std::vector<TextureHandle>& coverages = light->coverages;
+  const bool coverage_texture = light->coverage_texture;
   const TextureHandle modeling = modelings[0], field = fields[0], noise = light->noise, grid = light->grid;
   const std::vector<uint32_t>& slots = light->slots;
   const int asset_slots = light->asset_slots;
@@ -754,13 +773,15 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
                        TextureHandle front = {}, uint32_t sub_block = 1) {
     gpu::Pipeline* pipe =
-        &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean, asset_slots, terrain);
+        &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean, asset_slots, terrain,
+                   coverage_texture);
     graph.add_pass(name, Queue::Compute,
         [&](PassBuilder& b) {
           for (size_t a = 0; a < modelings.size(); ++a) {
             b.read(modelings[a], Usage::Sampled);
             b.read(fields[a], Usage::Sampled);
           }
+          for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
           b.read(noise, Usage::Sampled);
           b.read(grid, Usage::Sampled);
           b.read(depth, Usage::Sampled);
@@ -769,7 +790,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           color = b.write(color, Usage::StorageWrite);
           cdepth = b.write(cdepth, Usage::StorageWrite);
         },
-        [r, pipe, grid, modeling, field, modelings, fields, noise, depth, color, cdepth, front, ubo_handle, sub_block,
+        [r, pipe, grid, modeling, field, modelings, fields, coverages, noise, depth, color, cdepth, front, ubo_handle, sub_block,
          sub_offset, size, terrain, terrain_depth](PassContext& c) {
           Bindings bind(*pipe);
           bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
@@ -786,6 +807,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           if (modelings.size() > 1)
             bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), r->linear_clamp, c.layout(modelings[1]))
                 .sampled(CLOUD_BINDING_FIELD_1, c.view(fields[1]), r->linear_clamp, c.layout(fields[1]));
+          for (size_t a = 0; a < coverages.size(); ++a)
+            bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp,
+                         c.layout(coverages[a]));
           bind.push(r->ctx, c.cmd());
           const VkExtent3D e = c.extent(color);
           if (sub_block > 1) {

@@ -191,14 +191,14 @@ inline uint32_t reprojection_block(const CloudSettings& s) {
 // One placed cloudscape. A Cloudscape ECS component (+ its entity's Transform) maps onto this 1:1;
 // several instances may share one asset (one GPU copy; each gets its own light grid); a frame may hold
 // two distinct assets (a cloudscape and a hero cloud: the march binds both, see CLOUD_ASSET_SLOTS).
-// The placement (position, rotation, uniform scale, density, wind, dissipation: CloudPlacement,
+// The placement (position, rotation, uniform scale, density, wind, dissipation, coverage: CloudPlacement,
 // scene/density_query.h, which the CPU density query shares) plus the asset on the GPU.
 struct CloudInstance : CloudPlacement {
   std::shared_ptr<const CloudAsset> asset;
 };
 
 // Its block of CloudParams (transform, box, sun and sky in asset space, density, dissipation, wind
-// scroll) for a frame at `time` with the sun toward `sun_direction`.
+// scroll, coverage) for a frame at `time` with the sun toward `sun_direction`.
 shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun_direction, double time);
 // World AABB of an instance's transformed box (conservative for a rotated box).
 void instance_world_bounds(const CloudInstance& inst, glm::vec3& lo, glm::vec3& hi);
@@ -309,10 +309,12 @@ struct CloudLightOutputs {
   TextureHandle grid;                      // the light grid after this frame's update
   cumulo::render::LightShadowMap shadow;   // texture invalid: no shadow this frame (light too low, off)
   std::vector<TextureHandle> modelings, fields;  // the assets' imports, by slot
+  std::vector<TextureHandle> coverages;          // their coverage textures (coverage_texture only), by slot
   TextureHandle noise;
   std::vector<uint32_t> slots;  // asset slot of each instance
   int asset_slots = 1;
   bool bc1 = false;
+  bool coverage_texture = false;  // the BC1 modeling NVDF: the coverage thresholds are a texture of their own (COVERAGE_TEXTURE)
 };
 CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
 TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,

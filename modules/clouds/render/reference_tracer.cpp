@@ -80,14 +80,19 @@ ReferenceTracer::ReferenceTracer(gpu::Context& ctx, gpu::PipelineLibrary& librar
 
 ReferenceTracer::~ReferenceTracer() { ctx_.wait_idle(); }
 
-gpu::Pipeline& ReferenceTracer::trace_pipeline(bool analytic, int asset_slots) {
-  const auto key = std::make_pair(analytic, analytic ? 1 : asset_slots);
+gpu::Pipeline& ReferenceTracer::trace_pipeline(bool analytic, int asset_slots, bool coverage_texture) {
+  const auto key = std::make_tuple(analytic, analytic ? 1 : asset_slots, coverage_texture && !analytic);
   auto it = trace_pipes_.find(key);
   if (it != trace_pipes_.end()) return *it->second;
+  const int slots = std::get<1>(key);
+  const bool coverage = std::get<2>(key);
   gpu::Pipeline& p = library_.compute(
       {.shader = "clouds/reference_trace.comp",
-       .defines = {{"MEDIUM", analytic ? "1" : "0"}, {"CLOUD_ASSET_SLOTS", std::to_string(key.second)}},
-       .name = std::string("clouds.reference_trace") + (analytic ? " (analytic medium)" : key.second > 1 ? " (2 assets)" : "")});
+       .defines = {{"MEDIUM", analytic ? "1" : "0"},
+                   {"CLOUD_ASSET_SLOTS", std::to_string(slots)},
+                   {"COVERAGE_TEXTURE", coverage ? "1" : "0"}},
+       .name = std::string("clouds.reference_trace") +
+               (analytic ? " (analytic medium)" : slots > 1 ? " (2 assets)" : "") + (coverage ? " (coverage texture)" : "")});
   trace_pipes_[key] = &p;
   return p;
 }
@@ -266,14 +271,16 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
   }
 
   // ---- Trace ----
-  gpu::Pipeline* trace = &trace_pipeline(analytic, int(std::max<size_t>(1, light.modelings.size())));
+  gpu::Pipeline* trace = &trace_pipeline(analytic, int(std::max<size_t>(1, light.modelings.size())), light.coverage_texture);
   cumulo::render::TextureHandle accum = graph.import_persistent(accum_), aux = graph.import_persistent(aux_);
   const std::vector<cumulo::render::TextureHandle> modelings = light.modelings;
+  const std::vector<cumulo::render::TextureHandle> coverages = analytic ? std::vector<cumulo::render::TextureHandle>{} : light.coverages;
   const cumulo::render::TextureHandle noise = light.noise;
   graph.add_pass("clouds.reference_trace", Queue::Compute,
       [&](PassBuilder& b) {
         if (!analytic) {
           for (cumulo::render::TextureHandle m : modelings) b.read(m, Usage::Sampled);
+          for (cumulo::render::TextureHandle m : coverages) b.read(m, Usage::Sampled);
           for (cumulo::render::TextureHandle m : majorants) b.read(m, Usage::Sampled);
           b.read(noise, Usage::Sampled);
         }
@@ -284,7 +291,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
         accum = b.read_write(accum, Usage::StorageWrite);
         aux = b.read_write(aux, Usage::StorageWrite);
       },
-      [this, trace, analytic, modelings, majorants, noise, depth, terrain_tex, sky_tex, aerial_tex, accum, aux, cloud_ubo,
+      [this, trace, analytic, modelings, coverages, majorants, noise, depth, terrain_tex, sky_tex, aerial_tex, accum, aux, cloud_ubo,
        ref_ubo](PassContext& c) {
         PassBindings bind(*trace);
         bind.ubo(CLOUD_BINDING_PARAMS, cloud_ubo, sizeof(shared::CloudParams))
@@ -302,6 +309,9 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
           if (modelings.size() > 1)
             bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), linear_clamp_, c.layout(modelings[1]))
                 .sampled(REF_BINDING_MAJORANT_1, c.view(majorants[1]), nearest_clamp_, c.layout(majorants[1]));
+          for (size_t a = 0; a < coverages.size(); ++a)
+            bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), linear_clamp_,
+                         c.layout(coverages[a]));
         }
         bind.push(ctx_, c.cmd());
         const VkExtent3D e = c.extent(accum);

@@ -20,6 +20,7 @@
 #include <map>
 #include <optional>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -122,13 +123,13 @@ class ReferenceTracer {
     cumulo::render::PersistentTexture texture;
     bool built = false;
   };
-  gpu::Pipeline& trace_pipeline(bool analytic, int asset_slots);
+  gpu::Pipeline& trace_pipeline(bool analytic, int asset_slots, bool coverage_texture = false);
   void prepare_scene(const cumulo::render::FrameSnapshot& snapshot);
 
   gpu::Context& ctx_;
   gpu::PipelineLibrary& library_;
   ReferenceSettings settings_;
-  std::map<std::pair<bool, int>, gpu::Pipeline*> trace_pipes_;
+  std::map<std::tuple<bool, int, bool>, gpu::Pipeline*> trace_pipes_;
   gpu::Pipeline* majorant_pipe_ = nullptr;
   gpu::Pipeline* resolve_pipe_ = nullptr;
   gpu::Buffer cloud_ubo_[gpu::kFramesInFlight], ref_ubo_[gpu::kFramesInFlight];

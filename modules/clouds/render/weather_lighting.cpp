@@ -13,6 +13,7 @@ void apply_weather(const weather::WeatherState& w, CloudFrameInputs& in) {
   in.ambient_color *= w.lighting.ambient;
   for (CloudInstance& i : in.instances) {
     i.density *= w.voxel_density;
+    i.coverage = w.coverage;
     i.wind_direction = w.wind_direction;
     i.wind_speed = w.wind_speed;
   }

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <functional>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -23,6 +24,9 @@ namespace {
 
 // The files the renderer reads from a cloudscape folder (both format sets).
 constexpr const char* kAssetFiles[] = {"modeling.nvdf", "modeling_bc1.nvdf", "field.nvdf", "field_bc1.nvdf"};
+// Read when present: the BC1 path's coverage thresholds (volume/nvdf.h). A folder without it (an import, an
+// older bake) has threshold 0 everywhere; every bake writes it, so a bake-cache folder is complete with it.
+constexpr const char* kOptionalAssetFiles[] = {"coverage.nvdf"};
 
 // An exclusive lock on `path` for the lifetime of the object (flock: released if the process dies).
 class FileLock {
@@ -67,8 +71,18 @@ fs::path bake_cache_folder(const fs::path& recipe) {
   h = hash64(read_file_text(recipe), h);
   // Mesh and volume edits read other files: their size and time are part of the key.
   bake::Recipe r = bake::load_recipe(recipe);
-  for (const bake::Edit& e : r.edits)
-    if (!e.source.empty()) h = file_stamp(e.source, h);
+  // Grown edits are keyed by their spec's content and the solver version; mesh and volume edits by
+  // their files' size and time. Groups are walked: an edit inside one counts as much as a top-level one.
+  std::function<void(const std::vector<bake::Edit>&)> walk = [&](const std::vector<bake::Edit>& edits) {
+    for (const bake::Edit& e : edits) {
+      if (e.kind == bake::EditKind::Grown)
+        h = hash64(&e.grown_key, sizeof e.grown_key, hash64(std::string_view(e.grown_simulated ? "sim" : "const"), h));
+      else if (!e.source.empty())
+        h = file_stamp(e.source, h);
+      walk(e.children);
+    }
+  };
+  walk(r.edits);
   char key[17];
   std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(h));
   return gpu::default_cache_dir() / "bakes" / (recipe.stem().string() + "-" + key);
@@ -95,10 +109,16 @@ fs::path prepare_cloudscape_asset(const fs::path& asset, const std::string& wher
   } catch (const Error& e) {
     fail("%s: %s", where.c_str(), e.what());
   }
-  if (complete_folder(dir)) return dir;
+  auto baked = [&dir] {
+    std::error_code ec;
+    for (const char* f : kOptionalAssetFiles)
+      if (!fs::is_regular_file(dir / f, ec)) return false;
+    return complete_folder(dir);
+  };
+  if (baked()) return dir;
   fs::create_directories(dir.parent_path());
   FileLock lock(dir.string() + ".lock");
-  if (complete_folder(dir)) return dir;  // another process baked it while we waited
+  if (baked()) return dir;  // another process baked it while we waited
   std::printf("cumulo: baking %s into the bake cache %s (first use; later runs reuse it)\n", asset.string().c_str(),
               dir.string().c_str());
   std::fflush(stdout);

@@ -8,6 +8,7 @@
 #include "engine/core/error.h"
 #include "modules/clouds/noise/noise_encode.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "shaders/shared/cloud_params.h"
 
 namespace cumulo::clouds {
 namespace {
@@ -39,6 +40,10 @@ float saturate(float x) { return std::clamp(x, 0.0f, 1.0f); }
 
 }  // namespace
 
+float coverage_presence(float coverage, float threshold) {
+  return saturate(1.0f + (coverage - threshold) / float(CLOUD_COVERAGE_RAMP));
+}
+
 glm::mat4 placement_matrix(const CloudPlacement& p) {
   return glm::translate(glm::mat4(1.0f), p.position) * glm::mat4_cast(glm::normalize(p.rotation)) *
          glm::scale(glm::mat4(1.0f), glm::vec3(p.scale));
@@ -62,6 +67,7 @@ CloudDensityQuery::CloudDensityQuery(Volume modeling, Volume noise) : modeling_(
   profile_ = modeling_.channel(kDimensionalProfile, "modeling NVDF");
   type_ = modeling_.channel(kDetailType, "modeling NVDF");
   scale_ = modeling_.channel(kDensityScale, "modeling NVDF");
+  coverage_ = modeling_.find_channel(kCoverageThreshold);
 }
 
 CloudDensityQuery CloudDensityQuery::load(const std::filesystem::path& folder, const std::filesystem::path& noise_file) {
@@ -75,8 +81,11 @@ float CloudDensityQuery::density(const CloudPlacement& p, glm::vec3 world, doubl
   float profile = trilinear(modeling_, uvw, profile_, false);
   const float type = trilinear(modeling_, uvw, type_, false);
   const float density_scale = trilinear(modeling_, uvw, scale_, false);
-  // Dissipation: the same re-ranging as cloud_common.glsl's modeling_data().
-  const float threshold = saturate(std::clamp(p.dissipation, 0.0f, 1.0f) * (1.5f + (1.0f - 1.5f) * type));
+  // Dissipation and coverage: the same re-ranging as cloud_common.glsl's modeling_data().
+  const float dissipated = saturate(std::clamp(p.dissipation, 0.0f, 1.0f) * (1.5f + (1.0f - 1.5f) * type));
+  const float coverage_threshold = coverage_ >= 0 ? trilinear(modeling_, uvw, uint32_t(coverage_), false) : 0.0f;
+  const float presence = coverage_presence(std::clamp(p.coverage, 0.0f, 1.0f), coverage_threshold);
+  const float threshold = dissipated + (1.0f - dissipated) * (1.0f - presence);
   if (threshold > 0.0f) profile = saturate((profile - threshold) / std::max(1.0f - threshold, 1e-4f));
   if (!(profile > 0.0f)) return 0.0f;
   const glm::vec3 n = (asset - wind_offset_asset(p, time)) * 0.01f;  // the noise tiles every 100 m

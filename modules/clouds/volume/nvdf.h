@@ -3,8 +3,11 @@
 // importers, the renderer), so a baked and an imported cloudscape are interchangeable in a level.
 //
 // A cloudscape folder holds (2023 talk, "NVDF's"):
-//   modeling.nvdf      RGBA8: dimensional_profile, detail_type, density_scale (0..1 each), a unused
-//   modeling_bc1.nvdf  the same three channels in BC1 (GPUs)
+//   modeling.nvdf      RGBA8: dimensional_profile, detail_type, density_scale, coverage_threshold (0..1 each)
+//   modeling_bc1.nvdf  the first three channels in BC1 (GPUs)
+//   coverage.nvdf      R8 at half the resolution per axis (same world box): coverage_threshold, for the BC1
+//                      path (BC1 has no room for a fourth channel). Optional: a folder without it (older bakes,
+//                      imports) has threshold 0 everywhere, as does a modeling.nvdf without the alpha channel.
 //   field.nvdf         R16, channel sdf: signed distance stored 0..1 (rounded down), decoded -256..4096 m
 //   field_bc1.nvdf     the same SDF in the conservative BC1 form (bc1.h: unpack weights)
 // Axes (bake/recipe.h): texel (i, j, k) is world (x, y up, z); bounds are the world box.
@@ -20,9 +23,19 @@ inline constexpr std::string_view kModelingFileName = "modeling.nvdf";
 inline constexpr std::string_view kModelingBc1FileName = "modeling_bc1.nvdf";
 inline constexpr std::string_view kFieldFileName = "field.nvdf";
 inline constexpr std::string_view kFieldBc1FileName = "field_bc1.nvdf";
+inline constexpr std::string_view kCoverageFileName = "coverage.nvdf";
 
-// An empty modeling NVDF (RGBA8; r = dimensional profile, g = detail type, b = density scale, a unused).
+// An empty modeling NVDF (RGBA8; r = dimensional profile, g = detail type, b = density scale, a = coverage
+// threshold, kCoverageThreshold; all 0).
 Volume make_modeling_volume(glm::uvec3 size, float voxel_size, glm::vec3 bounds_min);
+// The coverage NVDF of the BC1 path: R8 kCoverageThreshold at coverage_nvdf_size(modeling size), over the
+// modeling's world box.
+glm::uvec3 coverage_nvdf_size(glm::uvec3 modeling_size);  // half per axis, rounded up
+Volume make_coverage_volume(glm::uvec3 modeling_size, float modeling_voxel_size, glm::vec3 bounds_min,
+                            glm::vec3 bounds_max);
+// A modeling volume's coverage thresholds downsampled to coverage_nvdf_size (box filter over each 2x2x2
+// block, clamped at the edges); 0 everywhere when it has no kCoverageThreshold channel.
+Volume coverage_from_modeling(const Volume& modeling);
 // An empty field NVDF (R16 unorm, decode range kSdfRangeMin..kSdfRangeMax metres).
 Volume make_field_volume(glm::uvec3 size, float voxel_size, glm::vec3 bounds_min);
 

@@ -26,6 +26,9 @@ namespace cumulo::clouds {
 inline constexpr std::string_view kDimensionalProfile = "dimensional_profile";
 inline constexpr std::string_view kDetailType = "detail_type";
 inline constexpr std::string_view kDensityScale = "density_scale";
+// The weather coverage a voxel's cloud needs (bake/recipe.h Edit::coverage; the ramp is CLOUD_COVERAGE_RAMP in
+// shaders/shared/cloud_params.h): the modeling NVDF's alpha, and coverage.nvdf's one channel.
+inline constexpr std::string_view kCoverageThreshold = "coverage_threshold";
 inline constexpr std::string_view kSignedDistance = "sdf";
 inline constexpr std::string_view kNoise = "noise";
 

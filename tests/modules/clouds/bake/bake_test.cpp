@@ -172,6 +172,75 @@ TEST(Bake, FilesLoadBackWithTheirChannelsAndPlacement) {
   std::filesystem::remove_all(dir);
 }
 
+// The coverage threshold (issue 20) reaches both modeling paths: the RGBA8 modeling NVDF's alpha at full
+// resolution, and coverage.nvdf (R8, half resolution per axis, listed in bake_report.json) for the BC1 path.
+TEST(Bake, CoverageThresholdIsTheModelingAlphaAndAHalfResolutionR8) {
+  std::filesystem::path dir = cumulo::test::unique_temp_path("cumulo_bake_coverage");
+  std::filesystem::remove_all(dir);
+  Recipe r = parse_recipe_text(R"({
+    "voxel_size": 8, "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
+    "edits": [
+      {"type": "sphere", "radius": 60, "position": [-120, 128, 0], "coverage": 0.6},
+      {"type": "sphere", "radius": 60, "position": [120, 128, 0]},
+      {"type": "group", "coverage": 0.3, "edits": [{"type": "sphere", "radius": 40, "position": [0, 128, 160]}]},
+      {"type": "box", "size": [30, 30, 30], "position": [-120, 128, 0], "op": "subtract", "coverage": 0.9}
+    ]})",
+                               "coverage.json", ".");
+  BakeResult b = bake_recipe(r, quiet());
+  const std::string report = write_bake_outputs(r, b, dir);
+  cc::Volume m = cc::load_volume(dir / "modeling.nvdf");
+  const uint32_t a = m.channel(cc::kCoverageThreshold, "modeling");
+  EXPECT_EQ(a, 3u);
+  auto alpha_at = [&](glm::vec3 p) {
+    const glm::uvec3 t((p - glm::vec3(-256, 0, -256)) / 8.0f);
+    return m.texel(t.x, t.y, t.z, a);
+  };
+  // Inside the threshold-0.6 sphere (around the cutout, which carries no attributes), everywhere in it.
+  for (glm::vec3 p : {glm::vec3(-120, 128, 40), glm::vec3(-160, 128, 0), glm::vec3(-120, 170, 0), glm::vec3(-120, 100, -30)})
+    EXPECT_NEAR(alpha_at(p), 0.6f, 0.5f / 255.0f) << p.x << " " << p.y << " " << p.z;
+  EXPECT_NEAR(alpha_at({-120, 128, 0}), 0.6f, 0.5f / 255.0f);  // the cutout's 0.9 is not carried
+  EXPECT_EQ(alpha_at({120, 128, 0}), 0.0f);            // the default sphere
+  EXPECT_NEAR(alpha_at({0, 128, 160}), 0.3f, 0.5f / 255.0f);  // inherited from its group
+  EXPECT_EQ(alpha_at({-240, 10, -240}), 0.0f);         // air far from every edit
+  EXPECT_EQ(alpha_at({0, 240, -200}), 0.0f);
+  // Inside or out, each voxel's threshold follows the nearest edit within its box: compare with the profile.
+  size_t inside_a = 0;
+  for (uint32_t z = 0; z < 64; ++z)
+    for (uint32_t y = 0; y < 32; ++y)
+      for (uint32_t x = 0; x < 64; ++x) {
+        const glm::vec3 p = glm::vec3(-256, 0, -256) + (glm::vec3(x, y, z) + 0.5f) * 8.0f;
+        if (m.texel(x, y, z, 0) > 0.0f && glm::distance(p, glm::vec3(-120, 128, 0)) < 55.0f) {
+          ++inside_a;
+          EXPECT_NEAR(m.texel(x, y, z, a), 0.6f, 0.5f / 255.0f);
+        }
+      }
+  EXPECT_GT(inside_a, 100u);
+
+  cc::Volume c = cc::load_volume(dir / "coverage.nvdf");
+  EXPECT_EQ(c.encoding, cc::VolumeEncoding::R8);
+  EXPECT_EQ(c.size, glm::uvec3(32, 16, 32));
+  EXPECT_EQ(c.bounds_min, m.bounds_min);
+  EXPECT_EQ(c.bounds_max, m.bounds_max);
+  EXPECT_EQ(c.channel(cc::kCoverageThreshold, "coverage"), 0u);
+  auto half_at = [&](glm::vec3 p) {
+    const glm::uvec3 t((p - glm::vec3(-256, 0, -256)) / 16.0f);
+    return c.texel(t.x, t.y, t.z, 0);
+  };
+  EXPECT_NEAR(half_at({-150, 136, 24}), 0.6f, 1.0f / 255.0f);
+  EXPECT_EQ(half_at({120, 128, 0}), 0.0f);
+  EXPECT_EQ(half_at({-240, 10, -240}), 0.0f);
+  // Listed with its bytes; the compressed path counts it.
+  EXPECT_NE(report.find("\"file\": \"coverage.nvdf\",\n      \"format\": \"r8\""), std::string::npos) << report;
+  EXPECT_NE(report.find("\"gpu_bytes\": 16384"), std::string::npos) << report;
+  EXPECT_NE(report.find(std::string("\"compressed_path_bytes\": ") + std::to_string(2 * 64 * 32 * 64 / 2 + 16384)),
+            std::string::npos)
+      << report;
+  // A recipe without thresholds bakes zeros (threshold 0: present at any coverage).
+  BakeResult plain = bake_recipe(small_recipe(), quiet());
+  EXPECT_TRUE(std::all_of(plain.coverage.begin(), plain.coverage.end(), [](float v) { return v == 0.0f; }));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Bake, MemoryAccountingMatchesTheTalkAndTheBudget) {
   const glm::uvec3 talk(512, 64, 512);  // the talk's 512 x 512 x 64, Y up
   EXPECT_EQ(bake_gpu_bytes("bc1", talk), 8388608u);    // talk: field BC1 8.389 MB
@@ -227,7 +296,8 @@ TEST(SampleCloudscape, HasTheAuthoredFeatures) {
 
 TEST(SampleStormCloud, HasTheAuthoredFeatures) {
   Recipe r = load_recipe(cumulo::repo_root() / "content/levels/sample/storm_cloud.json");
-  EXPECT_EQ(make_grid(r).dims, glm::uvec3(140, 64, 140));
+  const glm::uvec3 dims = make_grid(r).dims;
+  EXPECT_EQ(dims, glm::uvec3(180, 162, 160));  // the grown cumulonimbus and its anvil rise to 1896 m
   auto inside = [&](glm::vec3 p) { return evaluate_point(r, p).d < 0.0f; };
   // Base (1000, 620, -700), egg (45 x 60 x 45 m) at y = 840 inside a hollow chamber.
   EXPECT_TRUE(inside({1000, 840, -700})) << "egg";
@@ -236,18 +306,24 @@ TEST(SampleStormCloud, HasTheAuthoredFeatures) {
   for (float y = 606; y < 776; y += 8) EXPECT_FALSE(inside({1000, y, -700})) << "lightning hole under the egg at y " << y;
   EXPECT_FALSE(inside({1075, 1020, -650})) << "opening to the sky";
   EXPECT_TRUE(inside({1000, 1000, -580})) << "crown";
-  EXPECT_TRUE(inside({1000, 860, -340})) << "plume wall around the chamber, 190 m thick";
+  for (float a = 0.0f; a < 6.28f; a += 0.785f)
+    for (float r_m = 150.0f; r_m <= 230.0f; r_m += 20.0f) {
+      const glm::vec3 wall(1000.0f + r_m * std::cos(a), 845.0f, -700.0f + r_m * std::sin(a));
+      EXPECT_TRUE(inside(wall)) << "plume wall around the chamber (135 m), at least 95 m thick, at " << wall.x << ", " << wall.z;
+    }
   EXPECT_FALSE(inside({1090, 860, -700})) << "the level's lair camera stands in the chamber";
   // Everything the group makes lies inside the asset's box (nothing cut off at its faces).
   BakeResult b = bake_recipe(r, quiet());
   EXPECT_GT(b.field_stats.inside_voxels, 20000u);
   int cut = 0;
-  for (uint32_t side = 0; side < 140; side += 139)
-    for (uint32_t y = 0; y < 64; ++y)
-      for (uint32_t k = 0; k < 140; ++k) {
+  for (uint32_t y = 0; y < dims.y; ++y) {
+    for (uint32_t k = 0; k < dims.z; ++k)
+      for (uint32_t side : {0u, dims.x - 1})
         cut += evaluate_point(r, r.bounds_min + (glm::vec3(side, y, k) + 0.5f) * 8.0f).d < 0.0f;
-        cut += evaluate_point(r, r.bounds_min + (glm::vec3(k, y, side) + 0.5f) * 8.0f).d < 0.0f;
-      }
+    for (uint32_t i = 0; i < dims.x; ++i)
+      for (uint32_t side : {0u, dims.z - 1})
+        cut += evaluate_point(r, r.bounds_min + (glm::vec3(i, y, side) + 0.5f) * 8.0f).d < 0.0f;
+  }
   EXPECT_EQ(cut, 0) << "voxels inside cloud on the box's side faces";
 }
 

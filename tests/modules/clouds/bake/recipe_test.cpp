@@ -86,6 +86,37 @@ TEST(Recipe, ErrorsNameTheFileAndJsonPath) {
   EXPECT_NE(error_of(R"({})").find("test.json: $: missing required member \"edits\""), std::string::npos);
 }
 
+// The coverage threshold (issue 20): per edit, inherited from the group and the recipe's defaults like
+// detail_type; 0..1, every bad value named by file and JSON path.
+TEST(Recipe, CoverageThresholdsAreInheritedAndRangeChecked) {
+  Recipe r = parse_recipe_text(R"({
+    "defaults": {"coverage": 0.25},
+    "edits": [
+      {"type": "sphere", "radius": 10, "coverage": 0.6},
+      {"type": "sphere", "radius": 10},
+      {"type": "group", "coverage": 0.8, "edits": [{"type": "sphere", "radius": 5}, {"type": "sphere", "radius": 5, "coverage": 0}]}
+    ]})",
+                               "t.json", ".");
+  EXPECT_EQ(r.default_coverage, 0.25f);
+  EXPECT_EQ(r.edits[0].coverage, 0.6f);
+  EXPECT_EQ(r.edits[1].coverage, 0.25f);  // the recipe's default
+  EXPECT_EQ(r.edits[2].children[0].coverage, 0.8f);  // the group's
+  EXPECT_EQ(r.edits[2].children[1].coverage, 0.0f);
+  EXPECT_EQ(parse_recipe_text(R"({"edits": [{"type": "sphere", "radius": 1}]})", "t.json", ".").edits[0].coverage, 0.0f);
+
+  EXPECT_EQ(error_of(R"({"edits": [{"type": "sphere", "radius": 3, "coverage": 1.5}]})"),
+            "test.json: $.edits[0].coverage: value 1.5 out of range [0, 1]");
+  EXPECT_EQ(error_of(R"({"edits": [{"type": "sphere", "radius": 3, "coverage": -0.1}]})"),
+            "test.json: $.edits[0].coverage: value -0.1 out of range [0, 1]");
+  EXPECT_NE(error_of(R"({"edits": [{"type": "sphere", "radius": 3, "coverage": "high"}]})")
+                .find("test.json: $.edits[0].coverage: expected a number"),
+            std::string::npos);
+  EXPECT_EQ(error_of(R"({"edits": [{"type": "group", "edits": [{"type": "sphere", "radius": 1, "coverage": 2}]}]})"),
+            "test.json: $.edits[0].edits[0].coverage: value 2 out of range [0, 1]");
+  EXPECT_EQ(error_of(R"({"defaults": {"coverage": 7}, "edits": []})"), "test.json: $.defaults.coverage: value 7 out of range [0, 1]");
+  EXPECT_NE(error_of(R"({"defaults": {"coverag": 0.5}, "edits": []})").find("$.defaults.coverag: unknown member"), std::string::npos);
+}
+
 #ifdef CUMULO_BAKE_TEST_HAS_SCENE
 namespace {
 float sd_round_box_ref(glm::vec3 p) {

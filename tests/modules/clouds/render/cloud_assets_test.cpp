@@ -54,7 +54,10 @@ TEST_F(CloudAssets, BothFormatSetsLoadWithTheBakedBoxAndFormats) {
   std::shared_ptr<CloudAsset> c = load_cloud_asset(ctx(), data.cloudscape, CloudFormats::from_set(CloudFormatSet::Compressed));
   EXPECT_EQ(c->modeling.format(), VK_FORMAT_BC1_RGB_UNORM_BLOCK);
   EXPECT_EQ(c->field.format(), VK_FORMAT_BC1_RGB_UNORM_BLOCK);
-  EXPECT_EQ(c->gpu_bytes, 64u * 32 * 64 / 2 * 2);  // 0.5 byte per texel each
+  EXPECT_EQ(c->coverage.format(), VK_FORMAT_R8_UNORM);
+  EXPECT_EQ(c->coverage.extent().width, 32u);  // half resolution per axis
+  EXPECT_EQ(c->coverage.extent().height, 16u);
+  EXPECT_EQ(c->gpu_bytes, 64u * 32 * 64 / 2 * 2 + 32u * 16 * 32);  // 0.5 byte per texel each + the R8 coverage
   // The GPU holds the file's bytes: read the BC1 field back and compare with the file.
   Volume f = load_volume(data.cloudscape / kFieldBc1FileName);
   EXPECT_EQ(gpu::read_image_bytes(ctx(), c->field), f.levels[0]);
@@ -130,4 +133,36 @@ TEST_F(CloudAssets, MissingAndBadFilesNameTheFile) {
 
   e = error_of([&] { load_cloud_asset(ctx(), data.noise, {}); });  // a file, not a folder
   EXPECT_NE(e.find("voxel_noise.nvdf"), std::string::npos) << e;
+}
+
+// Coverage thresholds (nvdf.h): a folder from before them (no coverage.nvdf, a modeling.nvdf whose alpha is not
+// declared) loads with threshold 0 everywhere, whatever its alpha bytes hold; a bad coverage.nvdf names itself.
+TEST_F(CloudAssets, FoldersWithoutCoverageThresholdsLoadWithThresholdZero) {
+  const auto& data = test_data();
+  const fs::path old = copy_folder(data.cloudscape, "before_coverage");
+  fs::remove(old / kCoverageFileName);
+  Volume m = load_volume(old / kModelingFileName);
+  ASSERT_EQ(m.channels.size(), 4u);
+  m.channels.pop_back();  // as bakes before issue 20 wrote it: three channels, alpha unused
+  for (size_t i = 3; i < m.levels[0].size(); i += 4) m.levels[0][i] = 200;
+  save_volume(old / kModelingFileName, m);
+  std::shared_ptr<CloudAsset> u = load_cloud_asset(ctx(), old, CloudFormats::from_set(CloudFormatSet::Uncompressed));
+  const std::vector<uint8_t> texels = gpu::read_image_bytes(ctx(), u->modeling);
+  ASSERT_EQ(texels.size(), m.levels[0].size());
+  size_t nonzero_alpha = 0, same_rgb = 0;
+  for (size_t i = 0; i < texels.size(); i += 4) {
+    nonzero_alpha += texels[i + 3] != 0;
+    same_rgb += texels[i] == m.levels[0][i] && texels[i + 1] == m.levels[0][i + 1] && texels[i + 2] == m.levels[0][i + 2];
+  }
+  EXPECT_EQ(nonzero_alpha, 0u);
+  EXPECT_EQ(same_rgb, texels.size() / 4);
+  if (!ctx().info().texture_compression_bc) GTEST_SKIP() << "no BC texture support";
+  std::shared_ptr<CloudAsset> c = load_cloud_asset(ctx(), old, CloudFormats::from_set(CloudFormatSet::Compressed));
+  EXPECT_EQ(c->coverage.extent().width, 1u);  // one texel of threshold 0
+  EXPECT_EQ(gpu::read_image_bytes(ctx(), c->coverage), std::vector<uint8_t>{0});
+
+  const fs::path bad = copy_folder(data.cloudscape, "bad_coverage");
+  fs::copy_file(bad / kFieldFileName, bad / kCoverageFileName, fs::copy_options::overwrite_existing);
+  const std::string e = error_of([&] { load_cloud_asset(ctx(), bad, CloudFormats::from_set(CloudFormatSet::Compressed)); });
+  EXPECT_NE(e.find("bad_coverage/coverage.nvdf: encoding r16"), std::string::npos) << e;
 }

@@ -15,11 +15,13 @@
 #include <cstdio>
 
 #include <cstring>
+#include <map>
 #include "engine/core/random.h"
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/descriptors.h"
 #include "engine/gpu/sampler.h"
 #include "engine/gpu/pipeline_library.h"
+#include "modules/clouds/render/weather_lighting.h"
 #include "modules/clouds/scene/density_query.h"
 #include "tests/modules/clouds/render/cloud_test_util.h"
 
@@ -30,8 +32,17 @@ using namespace cumulo::clouds::render::test;
 
 namespace {
 
+// The comparison of CpuDensityQueryMatchesTheGpuSampler: mean and largest |cpu - gpu| density, and how many
+// points the GPU found in cloud (> 0.05).
+struct DensityComparison {
+  double mean = 0, worst = 0;
+  size_t cloudy = 0;
+};
+
 class CloudRender : public CloudRenderFixture {
  protected:
+  DensityComparison compare_density(const CloudInstance& inst, const fs::path& folder, const std::vector<glm::vec3>& centres,
+                                    float radius, uint32_t n);
   // Pixel centre and radius (pixels) of the sphere's projection.
   void sphere_on_screen(const scene::CameraView& cam, glm::vec2* centre, float* radius) const {
     const glm::vec4 c = cam.project(kCloudCentre);
@@ -487,24 +498,12 @@ TEST_F(CloudRender, SplitSkipsAnEmptyNearSegment) {
   EXPECT_GT(pass_ms("clouds.march_near"), 0.0);
 }
 
-// The CPU density query (scene/density_query.h) against the GPU sampler it mirrors, at 4096 points of a
-// moved, rotated, scaled, partly dissipated instance with wind after 7.5 s. Tolerance: the GPU filters
-// 8-bit texels with 8-bit weights and the up-rez's sharpening pow is steep near 0, so a mean absolute
-// difference under 0.005 and a maximum under 0.06 (densities here reach ~1). Measured: 0.0005 / 0.038;
-// a query 3 s of wind off: 0.007 / 0.41.
-TEST_F(CloudRender, CpuDensityQueryMatchesTheGpuSampler) {
-  CloudInstance inst;
-  inst.asset = asset();
-  inst.position = glm::vec3(10.0f, 5.0f, -20.0f);
-  inst.rotation = glm::angleAxis(glm::radians(30.0f), glm::vec3(0, 1, 0));
-  inst.scale = 1.2f;
-  inst.density = 1.3f;
-  inst.wind_direction = glm::vec3(1.0f, 0.0f, 0.5f);
-  inst.wind_speed = 3.0f;
-  inst.dissipation = 0.2f;
+// `n` points of `inst` (its asset baked in `folder`), a quarter anywhere in the box and the rest around
+// `centres` (asset space, within `radius` per axis), sampled by the GPU probe and the CPU query.
+DensityComparison CloudRender::compare_density(const CloudInstance& inst, const fs::path& folder,
+                                               const std::vector<glm::vec3>& centres, float radius, uint32_t n) {
   const double time = 7.5;
-  const uint32_t n = 4096;
-  // Points in the instance's box (asset space), most of them in the sphere's neighbourhood.
+  // Points in the instance's box (asset space), most of them in the clouds' neighbourhood.
   std::vector<glm::vec4> points(n);
   SplitMix64 rng{99};
   auto unit = [&rng] { return rng.uniform(); };
@@ -512,7 +511,7 @@ TEST_F(CloudRender, CpuDensityQueryMatchesTheGpuSampler) {
   for (uint32_t i = 0; i < n; ++i) {
     const glm::vec3 lo = inst.asset->bounds_min, hi = inst.asset->bounds_max;
     glm::vec3 a = i % 4 == 0 ? lo + (hi - lo) * glm::vec3(unit(), unit(), unit())
-                             : kCloudCentre + (glm::vec3(unit(), unit(), unit()) * 2.0f - 1.0f) * (0.9f * kCloudRadius);
+                             : centres[i % centres.size()] + (glm::vec3(unit(), unit(), unit()) * 2.0f - 1.0f) * radius;
     points[i] = m * glm::vec4(a, 1.0f);
   }
   shared::CloudParams params{};
@@ -540,21 +539,138 @@ TEST_F(CloudRender, CpuDensityQueryMatchesTheGpuSampler) {
   });
   std::vector<float> gpu_d(n);
   out_buf.download(gpu_d.data(), n * sizeof(float));
-  const CloudDensityQuery q = CloudDensityQuery::load(test_data().cloudscape, test_data().noise);
-  double sum = 0, worst = 0;
-  size_t cloudy = 0;
+  const CloudDensityQuery q = CloudDensityQuery::load(folder, test_data().noise);
+  DensityComparison out;
+  double sum = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const float c = q.density(inst, glm::vec3(points[i]), time);
     const double e = std::abs(double(c) - double(gpu_d[i]));
     sum += e;
-    worst = std::max(worst, e);
-    cloudy += gpu_d[i] > 0.05f;
+    out.worst = std::max(out.worst, e);
+    out.cloudy += gpu_d[i] > 0.05f;
   }
-  std::printf("  %u points, %zu in cloud: mean |cpu - gpu| %.5f, max %.4f\n", n, cloudy, sum / n, worst);
-  EXPECT_GT(cloudy, n / 20);  // the comparison covers cloud, not only air
-  EXPECT_LT(sum / n, 0.005);
-  EXPECT_LT(worst, 0.06);
+  out.mean = sum / n;
+  return out;
 }
+
+// The CPU density query (scene/density_query.h) against the GPU sampler it mirrors, at 4096 points of a
+// moved, rotated, scaled, partly dissipated instance with wind after 7.5 s. Tolerance: the GPU filters
+// 8-bit texels with 8-bit weights and the up-rez's sharpening pow is steep near 0, so a mean absolute
+// difference under 0.005 and a maximum under 0.06 (densities here reach ~1). Measured: 0.0005 / 0.038;
+// a query 3 s of wind off: 0.007 / 0.41.
+TEST_F(CloudRender, CpuDensityQueryMatchesTheGpuSampler) {
+  CloudInstance inst;
+  inst.asset = asset();
+  inst.position = glm::vec3(10.0f, 5.0f, -20.0f);
+  inst.rotation = glm::angleAxis(glm::radians(30.0f), glm::vec3(0, 1, 0));
+  inst.scale = 1.2f;
+  inst.density = 1.3f;
+  inst.wind_direction = glm::vec3(1.0f, 0.0f, 0.5f);
+  inst.wind_speed = 3.0f;
+  inst.dissipation = 0.2f;
+  const uint32_t n = 4096;
+  DensityComparison d = compare_density(inst, test_data().cloudscape, {kCloudCentre}, 0.9f * kCloudRadius, n);
+  std::printf("  %u points, %zu in cloud: mean |cpu - gpu| %.5f, max %.4f\n", n, d.cloudy, d.mean, d.worst);
+  EXPECT_GT(d.cloudy, n / 20);  // the comparison covers cloud, not only air
+  EXPECT_LT(d.mean, 0.005);
+  EXPECT_LT(d.worst, 0.06);
+  // Weather coverage (issue 20) at 0.5: the threshold-0.6 sphere half there (re-ranged from the outside in),
+  // the threshold-0 one whole; both samplers read the threshold from the same modeling texel's alpha.
+  CloudInstance cov = inst;
+  cov.asset = asset({}, coverage_cloudscape());
+  cov.coverage = 0.5f;
+  cov.dissipation = 0.1f;
+  d = compare_density(cov, coverage_cloudscape(), {kCoverageLeft, kCoverageRight}, 0.9f * kCoverageRadius, n);
+  std::printf("  coverage 0.5: %u points, %zu in cloud: mean |cpu - gpu| %.5f, max %.4f\n", n, d.cloudy, d.mean, d.worst);
+  EXPECT_GT(d.cloudy, n / 20);
+  EXPECT_LT(d.mean, 0.005);
+  EXPECT_LT(d.worst, 0.06);
+}
+
+// Weather coverage (issue 20) on the two-sphere cloudscape (coverage_cloudscape: threshold 0 on the left,
+// 0.6 on the right), both format sets (the RGBA8 alpha; the BC1 path's half-resolution coverage texture): at
+// coverage 0.3 the right cloud is gone and the left one whole; at 0.9 both are there; 0.5 (half presence)
+// lies between, and the left cloud does not change with coverage.
+TEST_F(CloudRender, WeatherCoverageDecidesWhichPlacedCloudsExist) {
+  const scene::CameraView cam = camera({0.0f, 128.0f, 300.0f}, {0.0f, 128.0f, 0.0f});
+  auto halves = [&](const Frame& f) {
+    glm::dvec2 sum(0.0);  // mean opacity of the left and right halves
+    double right_max = 0.0;
+    for (uint32_t y = 0; y < f.height; ++y)
+      for (uint32_t x = 0; x < f.width; ++x) {
+        const double o = f.opacity(x, y);
+        (x < f.width / 2 ? sum.x : sum.y) += o;
+        if (x >= f.width / 2) right_max = std::max(right_max, o);
+      }
+    return glm::dvec3(sum / (0.5 * f.width * f.height), right_max);
+  };
+  for (const bool compressed : {false, true}) {
+    if (compressed && !ctx().info().texture_compression_bc) continue;
+    const CloudFormats formats = CloudFormats::from_set(compressed ? CloudFormatSet::Compressed : CloudFormatSet::Uncompressed);
+    CloudFrameInputs in = inputs(asset(formats, coverage_cloudscape()), cam);
+    std::map<float, glm::dvec3> o;
+    for (float c : {0.3f, 0.5f, 0.9f}) {
+      in.instances[0].coverage = c;
+      const Frame f = render(in);
+      maybe_write_png(std::string("coverage_") + (compressed ? "bc1_" : "") + std::to_string(int(c * 10)), width_, height_,
+                      f.hdr);
+      o[c] = halves(f);
+      std::printf("  %s, coverage %.1f: mean opacity left %.4f, right %.4f (max %.4f)\n", format_set_name(compressed ? CloudFormatSet::Compressed : CloudFormatSet::Uncompressed), c,
+                  o[c].x, o[c].y, o[c].z);
+    }
+    EXPECT_GT(o[0.3f].x, 0.03) << "the threshold-0 cloud is there at low coverage";
+    EXPECT_LT(o[0.3f].z, 0.002) << "the threshold-0.6 cloud is gone at coverage 0.3";
+    EXPECT_GT(o[0.9f].y, 0.5 * o[0.9f].x) << "and there at 0.9";
+    EXPECT_GT(o[0.5f].y, 0.05 * o[0.9f].y);
+    EXPECT_LT(o[0.5f].y, 0.8 * o[0.9f].y);
+    EXPECT_NEAR(o[0.3f].x, o[0.9f].x, 0.1 * o[0.9f].x) << "the left cloud keeps its shape (its light may change)";
+  }
+}
+
+// The CPU query sees what the renderer draws: the threshold-0.6 cloud gone at coverage 0.3, there at 0.9
+// (1 without a weather); the threshold-0 one at both.
+TEST(CloudDensity, CoverageRemovesCloudAboveItsThreshold) {
+  const CloudDensityQuery q = CloudDensityQuery::load(coverage_cloudscape(), test_data().noise);
+  auto total = [&](glm::vec3 centre, float coverage) {
+    CloudPlacement p;
+    p.coverage = coverage;
+    double sum = 0;
+    for (int z = -4; z <= 4; ++z)
+      for (int y = -4; y <= 4; ++y)
+        for (int x = -4; x <= 4; ++x) sum += q.density(p, centre + glm::vec3(x, y, z) * 10.0f, 0.0);
+    return sum;
+  };
+  const double left = total(kCoverageLeft, 0.9f), right = total(kCoverageRight, 0.9f);
+  EXPECT_GT(left, 10.0);
+  EXPECT_GT(right, 10.0);
+  EXPECT_EQ(total(kCoverageRight, 0.3f), 0.0);
+  EXPECT_EQ(total(kCoverageLeft, 0.3f), left);
+  EXPECT_EQ(total(kCoverageRight, 1.0f), right);  // the default (no weather): every cloud
+  const double half = total(kCoverageRight, 0.5f);
+  EXPECT_GT(half, 0.0);
+  EXPECT_LT(half, 0.8 * right);
+  EXPECT_FLOAT_EQ(coverage_presence(0.3f, 0.6f), 0.0f);
+  EXPECT_FLOAT_EQ(coverage_presence(0.5f, 0.6f), 0.5f);
+  EXPECT_FLOAT_EQ(coverage_presence(0.6f, 0.6f), 1.0f);
+  EXPECT_FLOAT_EQ(coverage_presence(0.0f, 0.0f), 1.0f);  // threshold 0: at any coverage
+}
+
+// The weather's coverage reaches every instance and its parameter block (weather_lighting.h).
+TEST(CloudInputs, WeatherCoverageReachesEveryInstance) {
+  CloudFrameInputs in;
+  in.instances.resize(2);
+  EXPECT_EQ(in.instances[0].coverage, 1.0f);  // no weather: every cloud
+  weather::WeatherState w;
+  w.coverage = 0.35f;
+  w.voxel_density = 1.0f;
+  apply_weather(w, in);
+  for (const CloudInstance& i : in.instances) EXPECT_EQ(i.coverage, 0.35f);
+  auto asset = std::make_shared<CloudAsset>();
+  asset->bounds_max = glm::vec3(1.0f);
+  in.instances[1].asset = asset;
+  EXPECT_EQ(cloud_instance_params(in.instances[1], glm::vec3(0, 1, 0), 0.0).weather.x, 0.35f);
+}
+
 
 TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   cumulo::render::FrameSnapshot snap;

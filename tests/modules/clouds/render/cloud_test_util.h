@@ -82,6 +82,32 @@ inline const TestData& test_data() {
   return d;
 }
 
+// Weather coverage (issue 20): two spheres in the test box, both r = 60 m at y = 128, left (x = -120) with
+// coverage threshold 0 (present at any coverage), right (x = +120) with 0.6 (whole at coverage >= 0.6, gone at
+// <= 0.4). Baked on first use in this process.
+inline constexpr glm::vec3 kCoverageLeft{-120.0f, 128.0f, 0.0f}, kCoverageRight{120.0f, 128.0f, 0.0f};
+inline constexpr float kCoverageRadius = 60.0f;
+inline const fs::path& coverage_cloudscape() {
+  static fs::path dir = [] {
+    const fs::path out = test_data().root / "coverage";
+    bake::Recipe recipe = bake::parse_recipe_text(R"({
+      "name": "coverage_test", "seed": 3, "voxel_size": 8,
+      "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
+      "profile": {"depth": 48, "exponent": 1.0},
+      "defaults": {"detail_type": 0.8},
+      "edits": [
+        {"type": "sphere", "radius": 60, "position": [-120, 128, 0]},
+        {"type": "sphere", "radius": 60, "position": [120, 128, 0], "coverage": 0.6}
+      ]})",
+                                                  "coverage_test.json", test_data().root);
+    bake::BakeSettings settings;
+    settings.show_progress = false;
+    bake::write_bake_outputs(recipe, bake::bake_recipe(recipe, settings), out);
+    return out;
+  }();
+  return dir;
+}
+
 // Per-pixel results of one frame (row-major, top row first).
 struct Frame {
   uint32_t width = 0, height = 0;

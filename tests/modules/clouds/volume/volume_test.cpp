@@ -96,7 +96,7 @@ TEST(Volume, ChannelLookupNamesWhatIsMissing) {
     check_field_volume(m, "m.nvdf");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "m.nvdf: no channel with semantic 'sdf' (has: dimensional_profile, detail_type, density_scale)");
+    EXPECT_STREQ(e.what(), "m.nvdf: no channel with semantic 'sdf' (has: dimensional_profile, detail_type, density_scale, coverage_threshold)");
   }
 }
 
