@@ -107,6 +107,7 @@ struct ModelingData {
   float profile;
   float type;
   float density_scale;
+  float presence;  // the weather coverage's presence of this voxel's cloud (0: removed by coverage)
 };
 
 // The presence 0..1 of cloud whose coverage threshold is `threshold` at the weather's `coverage`
@@ -126,7 +127,8 @@ ModelingData modeling_data(CLOUD_MODELING_PARAMS, vec3 uvw, float dissipation, f
 #endif
   ModelingData d;
   float dissipated = saturate(dissipation * mix(1.5, 1.0, m.g));
-  float threshold = dissipated + (1.0 - dissipated) * (1.0 - coverage_presence(weather_coverage, m.a));
+  d.presence = coverage_presence(weather_coverage, m.a);
+  float threshold = dissipated + (1.0 - dissipated) * (1.0 - d.presence);
   d.profile = threshold > 0.0 ? saturate((m.r - threshold) / max(1.0 - threshold, kEpsilon)) : m.r;
   d.type = m.g;
   d.density_scale = m.b;
@@ -197,11 +199,13 @@ struct DensitySample {
   float full;     // up-rezzed density: extinction and lighting
   float profile;  // profile * density scale: the scattering-probability fields
   float raw_profile;
+  float presence;  // ModelingData.presence: 0 where the weather's coverage removed the cloud
 };
 DensitySample sample_density(CLOUD_MODELING_PARAMS, CloudInstanceParams inst, vec3 asset_pos, float dist, float mip, bool details) {
   ModelingData m = modeling_data(CLOUD_MODELING(modeling, coverage), asset_uvw(inst, asset_pos), inst.sky_dir.w, inst.weather.x);
   DensitySample s;
   s.raw_profile = m.profile;
+  s.presence = m.presence;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;
   s.full = 0.0;
   CLOUD_WHERE(m.profile > 0.0) s.full = uprez_density(m, asset_pos, inst.wind_offset.xyz, dist, mip, details) * inst.sun_dir.w;
@@ -214,6 +218,7 @@ DensitySample sample_density_with_noise(CLOUD_MODELING_PARAMS, CloudInstancePara
   ModelingData m = modeling_data(CLOUD_MODELING(modeling, coverage), asset_uvw(inst, asset_pos), inst.sky_dir.w, inst.weather.x);
   DensitySample s;
   s.raw_profile = m.profile;
+  s.presence = m.presence;
   s.profile = m.profile * m.density_scale * inst.sun_dir.w;
   s.full = m.profile > 0.0 ? uprez_density_from(m, noise, 1e4, false) * inst.sun_dir.w : 0.0;
   return s;

@@ -1,14 +1,11 @@
 #include "modules/clouds/scene/cloudscape_assets.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <functional>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/file_lock.h"
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
 #include "engine/core/progress.h"
@@ -27,26 +24,6 @@ constexpr const char* kAssetFiles[] = {"modeling.nvdf", "modeling_bc1.nvdf", "fi
 // Read when present: the BC1 path's coverage thresholds (volume/nvdf.h). A folder without it (an import, an
 // older bake) has threshold 0 everywhere; every bake writes it, so a bake-cache folder is complete with it.
 constexpr const char* kOptionalAssetFiles[] = {"coverage.nvdf"};
-
-// An exclusive lock on `path` for the lifetime of the object (flock: released if the process dies).
-class FileLock {
- public:
-  explicit FileLock(const fs::path& path) {
-    fd_ = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
-    if (fd_ < 0) fail("%s: cannot create lock file", path.string().c_str());
-    while (::flock(fd_, LOCK_EX) != 0) {
-      if (errno != EINTR) fail("%s: cannot lock", path.string().c_str());
-    }
-  }
-  ~FileLock() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FileLock(const FileLock&) = delete;
-  FileLock& operator=(const FileLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
 
 bool complete_folder(const fs::path& dir) {
   std::error_code ec;

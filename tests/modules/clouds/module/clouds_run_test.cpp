@@ -100,6 +100,58 @@ TEST_F(CloudsRun, ImportedVolumeRendersLikeABakedOne) {
   EXPECT_LT(di, 2.0 * db);
 }
 
+// A grown cloud (issue 20): a recipe that places the committed humilis of the sample level (its spec and
+// grown folder copied beside the recipe, so nothing is grown) bakes and renders without validation errors,
+// where it is placed, as cloud of its own simulated attributes.
+TEST_F(CloudsRun, AGrownCloudRendersWhereItIsPlaced) {
+  const fs::path grown = "content/levels/sample/grown";
+  fs::copy_file(grown / "humilis.json", dir_ / "humilis.json");
+  fs::copy(grown / "humilis", dir_ / "humilis", fs::copy_options::recursive);
+  write_file_atomic(dir_ / "grown_cloud.json", R"({"name": "grown_test", "seed": 3, "voxel_size": 8,
+    "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
+    "edits": [{"type": "grown", "spec": "humilis.json", "position": [0, 60, 0]}]})");
+  // The camera looks up at the cloud, so it stands against the sky rather than the bright horizon.
+  auto grown_level = [&](const std::string& name, const std::string& position) {
+    fs::path file = level(name, "\"asset\": \"small_cloud.json\"", "\"asset\": \"grown_cloud.json\"");
+    std::string text = read_file_text(file);
+    auto replace = [&](const std::string& from, const std::string& to) {
+      const size_t p = text.find(from);
+      EXPECT_NE(p, std::string::npos) << from;
+      if (p != std::string::npos) text.replace(p, from.size(), to);
+    };
+    replace("\"position\": [0, 500, 0]", "\"position\": " + position);
+    replace("\"look_at\": [0, 628, 0]", "\"look_at\": [0, 700, 0]");
+    replace("\"position\": [0, 628, 450]", "\"position\": [0, 520, 450]");
+    write_file_atomic(file, text);
+    return file;
+  };
+  fs::path with = grown_level("grown", "[0, 500, 0]");
+  fs::path right = grown_level("grown_right", "[100, 500, 0]");
+  fs::path without = grown_level("without_grown", "[0, 500, 0]");
+  {
+    std::string text = read_file_text(without);
+    const std::string entity = "{\"name\": \"cloud\", \"components\": {\"Transform\": {\"position\": [0, 500, 0]}, \"Cloudscape\": {\"asset\": \"grown_cloud.json\"}}},";
+    const size_t p = text.find(entity);
+    ASSERT_NE(p, std::string::npos);
+    text.erase(p, entity.size());
+    write_file_atomic(without, text);
+  }
+  ASSERT_EQ(run(with, "grown.png"), 0);  // 3: validation errors
+  ASSERT_EQ(run(right, "grown_right.png"), 0);
+  ASSERT_EQ(run(without, "none.png"), 0);
+  Png g = load_png(dir_ / "grown.png"), r = load_png(dir_ / "grown_right.png"), n = load_png(dir_ / "none.png");
+  int cloud_px = 0;
+  for (int y = 0; y < g.h; ++y)
+    for (int x = 0; x < g.w; ++x)
+      cloud_px += std::abs(g.at(x, y, 0) - n.at(x, y, 0)) + std::abs(g.at(x, y, 1) - n.at(x, y, 1)) +
+                      std::abs(g.at(x, y, 2) - n.at(x, y, 2)) > 24;
+  EXPECT_GT(cloud_px, 300) << "the grown cloud (about 310 x 130 m at 450 m) covers part of the 160x90 view";
+  EXPECT_LT(cloud_px, 160 * 90 / 3);
+  EXPECT_NEAR(diff_centroid_x(g, n), 80.0, 12.0);
+  EXPECT_GT(diff_centroid_x(r, n), diff_centroid_x(g, n) + 8.0) << "placed 100 m to the right";
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(g.at(1, 1, c), n.at(1, 1, c), 3) << "the corners stay sky";
+}
+
 TEST_F(CloudsRun, DebugViewsRunClean) {
   fs::path with = level("with");
   for (const char* view : {"profile", "steps", "light-grid", "split"})
