@@ -62,6 +62,18 @@ layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH) uniform sampler2D scene_dep
 layout(set = 0, binding = CLOUD_BINDING_OUT_COLOR, rgba16f) uniform writeonly image2D out_color;
 layout(set = 0, binding = CLOUD_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
+layout(set = 0, binding = CLOUD_BINDING_FIELD_FAIR) uniform sampler3D field_fair_tex;
+#if CLOUD_ASSET_SLOTS > 1
+layout(set = 0, binding = CLOUD_BINDING_FIELD_FAIR_1) uniform sampler3D field_fair_tex_1;
+#endif
+
+// The distance the march steps through air by: in fair weather (inst.weather.y, CLOUD_COVERAGE_BAND) the
+// fair-weather field's, which ignores the clouds the weather has removed; where that reads inside (or without
+// one: its stand-in reads -256 m) the field's, so sampling and the in-cloud step are as before.
+float march_distance(sampler3D field, sampler3D fair, CloudInstanceParams inst, vec3 uvw) {
+  float d = inst.weather.y > 0.5 ? kSdfMin + kSdfRange * textureLod(fair, uvw, 0.0).r : -1.0;
+  return d >= 0.0 ? d : cloud_distance(field, uvw);
+}
 #if SEGMENT == CLOUD_SEGMENT_FAR
 layout(set = 0, binding = CLOUD_BINDING_NEAR_IN) uniform sampler2D near_color;
 #endif
@@ -127,7 +139,7 @@ float sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, 
 // `t_front`: transmittance in front of this segment (the near layer's, for the far march; 1 otherwise).
 // It only ends the march early (where the near layer is already opaque the far one cannot show); the
 // far layer's own radiance and transmittance stay unattenuated for the merge.
-void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
+void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
                     float t_front, vec4 mean_noise, inout PixelData px) {
   CloudInstanceParams inst = P.instances[i];
   vec3 ao = (inst.world_to_asset * vec4(ro, 1.0)).xyz;
@@ -156,7 +168,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, int i, vec3 ro, vec3
     if (t >= t1 || px.transmittance * t_front < P.march.z) break;
     px.steps += 1.0;
 #if ABLATION == CLOUD_ABLATION_FULL
-    float sdf = cloud_distance(field, asset_uvw(inst, ao + ad * t)) * scale;  // world metres
+    float sdf = march_distance(field, fair, inst, asset_uvw(inst, ao + ad * t)) * scale;  // world metres
     float adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
     // Steps in air, where no sample is taken, in a loop of their own: lavapipe runs the sample block
     // below for a group of 8 pixels whenever one of them is in cloud, and a lane in air would pay for
@@ -167,7 +179,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, int i, vec3 ro, vec3
       if (t >= t1) break;
       ++s;
       px.steps += 1.0;
-      sdf = cloud_distance(field, asset_uvw(inst, ao + ad * t)) * scale;
+      sdf = march_distance(field, fair, inst, asset_uvw(inst, ao + ad * t)) * scale;
       adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
     }
     if (t >= t1) break;
@@ -326,10 +338,10 @@ void main() {
         // A lane marching the other slot's instance leaves this call's loop at once (lavapipe runs a loop
         // only while some lane is in it), so the two calls cost about one march.
         if (P.instances[i].wind_offset.w > 0.5)
-          march_instance(CLOUD_ASSET_1, field_tex_1, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+          march_instance(CLOUD_ASSET_1, field_tex_1, field_fair_tex_1, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
         else
 #endif
-          march_instance(CLOUD_ASSET_0, field_tex, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+          march_instance(CLOUD_ASSET_0, field_tex, field_fair_tex, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
       }
       p0 = p1;
     }

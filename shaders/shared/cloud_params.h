@@ -36,6 +36,11 @@ CUMULO_SHARED_BEGIN
 // (14..24 are the path tracer's, reference_params.h)
 #define CLOUD_BINDING_COVERAGE 25    // sampler3D: slot 0's coverage thresholds
 #define CLOUD_BINDING_COVERAGE_1 26  // sampler3D: slot 1's
+// march_render.comp: each asset's fair-weather field (field_fair.nvdf, R16 at half resolution; a 1-texel -256 m
+// stand-in without one): the conservative distance to the cloud whose coverage threshold is below
+// CLOUD_COVERAGE_BAND, for the air steps while the weather's coverage leaves every other cloud absent
+#define CLOUD_BINDING_FIELD_FAIR 27
+#define CLOUD_BINDING_FIELD_FAIR_1 28
 // shadow_map.comp (reads PARAMS and LIGHT_GRID)
 #define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp
@@ -94,6 +99,10 @@ CUMULO_SHARED_BEGIN
 // Threshold 0 is present at every coverage (the default). The profile is re-ranged like dissipation's, so a
 // fading cloud shrinks from the outside in and an absent one has profile 0 everywhere.
 #define CLOUD_COVERAGE_RAMP 0.2
+// The bake's fair-weather field holds the clouds whose threshold is below this band; at a coverage of
+// CLOUD_COVERAGE_BAND - CLOUD_COVERAGE_RAMP or less every other cloud is absent, and the march steps through
+// the air by that field instead of the field of every cloud (CloudInstanceParams.weather.y = 1).
+#define CLOUD_COVERAGE_BAND 0.6
 
 struct CloudInstanceParams {
   mat4 world_to_asset;  // inverse of the instance transform
@@ -102,7 +111,8 @@ struct CloudInstanceParams {
   vec4 sun_dir;         // xyz: unit vector toward the sun in asset space; w: density multiplier
   vec4 sky_dir;         // xyz: unit vector up (world +Y) in asset space; w: dissipation 0..1
   vec4 wind_offset;     // xyz: noise scroll (asset metres), wind direction * speed * time; w: asset slot (0 or 1)
-  vec4 weather;         // x: the weather's coverage 0..1 (CLOUD_COVERAGE_RAMP; 1 without a weather); y, z, w: unused
+  vec4 weather;         // x: the weather's coverage 0..1 (CLOUD_COVERAGE_RAMP; 1 without a weather); y: 1 = march the air
+                        // by the asset's fair-weather field (CLOUD_COVERAGE_BAND); z, w: unused
 };
 CUMULO_SHARED_SIZE(CloudInstanceParams, 160)
 

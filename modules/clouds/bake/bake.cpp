@@ -11,8 +11,10 @@
 #include "engine/core/parallel.h"
 #include "engine/core/progress.h"
 #include "engine/core/time.h"
+#include "modules/clouds/volume/distance.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "modules/clouds/volume/volume_file.h"
+#include "shaders/shared/cloud_params.h"
 
 namespace cumulo::clouds::bake {
 
@@ -44,6 +46,45 @@ uint64_t bake_gpu_bytes(const char* format, glm::uvec3 dims) {
   return encoded_level_bytes(e, dims);
 }
 
+namespace {
+
+// The fair-weather field (volume/nvdf.h): the exact EDT of the inside voxels whose threshold is below the band,
+// then the minimum of each 2x2x2 block less a margin that keeps the trilinear half-resolution field at or below
+// the true distance everywhere: a block's voxel centres lie within sqrt(3) / 2 voxels of its texel centre, and a
+// sample within sqrt(3) half-resolution texels (2 voxels) of each of the 8 it interpolates.
+void build_fair_field(BakeResult& r) {
+  const BakeGrid& g = r.grid;
+  const size_t n = g.count();
+  const float band = float(CLOUD_COVERAGE_BAND);
+  bool banded = false;
+  for (size_t i = 0; i < n && !banded; ++i) banded = r.field[i] < 0.0f && r.coverage[i] >= band;
+  if (!banded) return;
+  std::vector<uint8_t> inside(n);
+  for (size_t i = 0; i < n; ++i) inside[i] = r.field[i] < 0.0f && r.coverage[i] < band;
+  const float vs = g.spacing.x;
+  const std::vector<float> sd = signed_distance_from_mask(inside, g.dims, vs);
+  const glm::uvec3 hd = glm::max((g.dims + 1u) / 2u, glm::uvec3(1));
+  const float margin = std::sqrt(3.0f) * 2.5f * vs;
+  r.field_fair_dims = hd;
+  r.field_fair16.resize(size_t(hd.x) * hd.y * hd.z);
+  parallel_for(hd.z, [&](size_t b, size_t e) {
+    for (size_t z = b; z < e; ++z)
+      for (uint32_t y = 0; y < hd.y; ++y)
+        for (uint32_t x = 0; x < hd.x; ++x) {
+          float m = kFieldMax;
+          for (uint32_t k = 0; k < 8; ++k) {
+            const glm::uvec3 p = glm::min(glm::uvec3(2 * x + (k & 1), 2 * y + ((k >> 1) & 1), 2 * uint32_t(z) + (k >> 2)),
+                                          g.dims - 1u);
+            m = std::min(m, sd[g.index(p.x, p.y, p.z)]);
+          }
+          r.field_fair16[x + size_t(hd.x) * (y + size_t(hd.y) * z)] =
+              field_to_unorm16(std::clamp(m - margin, kFieldMin, kFieldMax));
+        }
+  });
+}
+
+}  // namespace
+
 BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
   Stopwatch total;
   Recipe recipe = input;
@@ -59,8 +100,9 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
     const std::string source = settings.dims.x ? "--dims"
                                : settings.voxel_size > 0.0f ? strf("--voxel-size %g", settings.voxel_size)
                                                             : strf("$.voxel_size %g", recipe.voxel_size);
-    // The coverage threshold: composed (4) and clamped (4); its half-resolution R8 file is a rounding error.
-    constexpr uint64_t kCoverageBytesPerVoxel = 8;
+    // The coverage threshold: composed (4) and clamped (4); its half-resolution R8 file is a rounding error. The
+    // fair-weather field: its mask (1), signed distance (4) and EDT scratch (8); its half-resolution R16 is small.
+    constexpr uint64_t kCoverageBytesPerVoxel = 8 + 13;
     check_memory_budget(saturating_product({g.dims.x, g.dims.y, g.dims.z, kBakeBytesPerVoxel + kCoverageBytesPerVoxel}),
                         strf("%s: a bake grid of %ux%ux%u voxels (%s)", recipe.file.c_str(), g.dims.x, g.dims.y,
                              g.dims.z, source.c_str()));
@@ -110,6 +152,7 @@ BakeResult bake_recipe(const Recipe& input, const BakeSettings& settings) {
   r.coverage.resize(n);
   for (size_t i = 0; i < n; ++i) r.coverage[i] = std::clamp(composed.coverage[i], 0.0f, 1.0f);
   r.timings.modeling = sw.seconds();
+  build_fair_field(r);
 
   sw.reset();
   {
@@ -189,12 +232,25 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
     const char* purpose;
     glm::uvec3 dims;
   };
-  const Out outs[] = {{"modeling.nvdf", &modeling, "rgba8", "modeling NVDF, uncompressed (CPU devices)", dims},
+  Volume field_fair;
+  if (!r.field_fair16.empty()) {
+    field_fair = place(make_field_volume(r.field_fair_dims, 2.0f * g.spacing.x, bmin));
+    field_fair.voxel_size = 2.0f * g.spacing.x;
+    for (size_t i = 0; i < r.field_fair16.size(); ++i) {
+      field_fair.levels[0][2 * i] = r.field_fair16[i] & 0xFF;
+      field_fair.levels[0][2 * i + 1] = r.field_fair16[i] >> 8;
+    }
+  }
+  std::vector<Out> outs = {{"modeling.nvdf", &modeling, "rgba8", "modeling NVDF, uncompressed (CPU devices)", dims},
                       {"modeling_bc1.nvdf", &modeling_bc1, "bc1", "modeling NVDF, BC1 (GPUs)", dims},
                       {"coverage.nvdf", &coverage, "r8", "coverage thresholds at half resolution (the BC1 path)",
                        coverage.size},
                       {"field.nvdf", &field, "r16", "field NVDF, 16-bit SDF", dims},
                       {"field_bc1.nvdf", &field_bc1, "bc1", "field NVDF, conservative BC1 SDF", dims}};
+  if (!r.field_fair16.empty())
+    outs.push_back({"field_fair.nvdf", &field_fair, "r16",
+                    "fair-weather field: SDF of the clouds below the coverage band, half resolution (both paths)",
+                    r.field_fair_dims});
   // One set: a failed write (of any file, the report included) leaves the previous bake untouched.
   FileSet files;
   nlohmann::ordered_json outputs = nlohmann::ordered_json::array();
@@ -208,8 +264,9 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
                        {"file_bytes", bytes.size()}});
   }
 
-  const uint64_t compressed = bake_gpu_bytes("bc1", dims) * 2 + bake_gpu_bytes("r8", coverage.size);
-  const uint64_t uncompressed = bake_gpu_bytes("rgba8", dims) + bake_gpu_bytes("r16", dims);
+  const uint64_t fair_bytes = r.field_fair16.empty() ? 0 : bake_gpu_bytes("r16", r.field_fair_dims);
+  const uint64_t compressed = bake_gpu_bytes("bc1", dims) * 2 + bake_gpu_bytes("r8", coverage.size) + fair_bytes;
+  const uint64_t uncompressed = bake_gpu_bytes("rgba8", dims) + bake_gpu_bytes("r16", dims) + fair_bytes;
   const glm::uvec3 ref(512, 64, 512);
   nlohmann::ordered_json rep;
   rep["recipe"] = recipe.file;
@@ -227,9 +284,9 @@ std::string write_bake_outputs(const Recipe& recipe, const BakeResult& r, const 
   rep["outputs"] = outputs;
   rep["gpu_memory"] = {
       {"compressed_path_bytes", compressed},
-      {"compressed_path", "modeling_bc1 + coverage + field_bc1"},
+      {"compressed_path", "modeling_bc1 + coverage + field_bc1 (+ field_fair)"},
       {"uncompressed_path_bytes", uncompressed},
-      {"uncompressed_path", "modeling (rgba8) + field (r16)"},
+      {"uncompressed_path", "modeling (rgba8) + field (r16) (+ field_fair)"},
       {"compressed_path_bytes_at_512x64x512", bake_gpu_bytes("bc1", ref) * 2 + bake_gpu_bytes("r8", coverage_nvdf_size(ref))},
       {"talk_bytes_at_512x64x512", kTalkBytes512},
       {"budget_bytes_at_512x64x512", kBudgetBytes512}};

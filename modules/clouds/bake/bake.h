@@ -54,6 +54,10 @@ struct BakeResult {
   std::vector<float> modeling;        // 3 floats per voxel: profile, detail type, density scale
   std::vector<uint8_t> modeling_bc1;  // BC1 blocks
   std::vector<float> coverage;        // coverage threshold per voxel, 0..1 (recipe.h Edit::coverage)
+  // The fair-weather field (volume/nvdf.h field_fair.nvdf): R16 at field_fair_dims (half resolution), a
+  // conservative SDF of the clouds below CLOUD_COVERAGE_BAND; empty when no cloud reaches the band.
+  std::vector<uint16_t> field_fair16;
+  glm::uvec3 field_fair_dims{0};
   Bc1SdfReport field_bc1_report;
   Bc1RgbReport modeling_bc1_report;
   double field16_max_error_m = 0.0;   // float field minus R16 decode

@@ -142,6 +142,31 @@ std::shared_ptr<CloudAsset> load_cloud_asset(gpu::Context& ctx, const fs::path& 
          field.size.y, field.size.z, modeling_file.filename().string().c_str(), modeling.size.x, modeling.size.y,
          modeling.size.z);
 
+  // The fair-weather field (volume/nvdf.h), when the bake wrote one; else one texel at the decode minimum, which the
+  // march reads as "inside" and so falls back to the field.
+  const fs::path fair_file = folder / kFieldFairFileName;
+  Volume fair;
+  bool has_fair = false;
+  {
+    std::error_code ec;
+    if (fs::is_regular_file(fair_file, ec)) {
+      fair = load_volume(fair_file);
+      if (fair.encoding != VolumeEncoding::R16)
+        fail("%s: encoding %s, the renderer expects r16 here", fair_file.string().c_str(), encoding_name(fair.encoding));
+      check_channel(fair, 0, kSignedDistance, fair_file);
+      if (std::fabs(fair.channels[0].decode_min - kSdfRangeMin) > 1e-3f || std::fabs(fair.channels[0].decode_max - kSdfRangeMax) > 1e-3f)
+        fail("%s: SDF decode range %g..%g m, the renderer expects %g..%g m", fair_file.string().c_str(),
+             fair.channels[0].decode_min, fair.channels[0].decode_max, kSdfRangeMin, kSdfRangeMax);
+      if (!same_bounds(fair, modeling))
+        fail("%s: its world box differs from %s's", fair_file.string().c_str(), modeling_file.filename().string().c_str());
+      has_fair = true;
+    } else {
+      fair = Volume::create({1, 1, 1}, modeling.voxel_size, VolumeEncoding::R16,
+                            {{"r", std::string(kSignedDistance), kSdfRangeMin, kSdfRangeMax}});
+      fair.bounds_min = modeling.bounds_min, fair.bounds_max = modeling.bounds_max;
+    }
+  }
+
   auto asset = std::make_shared<CloudAsset>();
   asset->folder = folder;
   asset->formats = formats;
@@ -153,10 +178,13 @@ std::shared_ptr<CloudAsset> load_cloud_asset(gpu::Context& ctx, const fs::path& 
                                   modeling_file);
   asset->field = upload_volume(ctx, field, formats.bc1_field ? VK_FORMAT_BC1_RGB_UNORM_BLOCK : VK_FORMAT_R16_UNORM, field_file);
   if (coverage) asset->coverage = upload_volume(ctx, *coverage, VK_FORMAT_R8_UNORM, coverage_file);
-  asset->gpu_bytes = modeling.payload_bytes() + field.payload_bytes() + (coverage ? coverage->payload_bytes() : 0);
-  LOG_INFO("clouds: %s on the GPU (%s%s + %s, %ux%ux%u, %.2f MB)", folder.string().c_str(),
-           std::string(modeling_name).c_str(), coverage ? " + coverage" : "", std::string(field_name).c_str(), asset->dims.x,
-           asset->dims.y, asset->dims.z, double(asset->gpu_bytes) / 1e6);
+  asset->field_fair = upload_volume(ctx, fair, VK_FORMAT_R16_UNORM, fair_file);
+  asset->has_field_fair = has_fair;
+  asset->gpu_bytes = modeling.payload_bytes() + field.payload_bytes() + (coverage ? coverage->payload_bytes() : 0) +
+                     (has_fair ? fair.payload_bytes() : 0);
+  LOG_INFO("clouds: %s on the GPU (%s%s + %s%s, %ux%ux%u, %.2f MB)", folder.string().c_str(),
+           std::string(modeling_name).c_str(), coverage ? " + coverage" : "", std::string(field_name).c_str(),
+           has_fair ? " + field_fair" : "", asset->dims.x, asset->dims.y, asset->dims.z, double(asset->gpu_bytes) / 1e6);
   return asset;
 }
 

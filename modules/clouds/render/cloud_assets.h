@@ -63,6 +63,8 @@ struct CloudAsset {
   gpu::Image modeling;  // 3D: r profile, g detail type, b density scale (RGBA8: a coverage threshold)
   gpu::Image coverage;  // 3D R8: the coverage thresholds of the BC1 modeling (compressed only; 1 texel of 0 without the file)
   gpu::Image field;     // 3D: signed distance (R16 0..1 <-> -256..4096 m, or conservative BC1 rgb)
+  gpu::Image field_fair;  // 3D R16: the fair-weather field (volume/nvdf.h); 1 texel of -256 m without the file
+  bool has_field_fair = false;
   glm::uvec3 dims{0};
   float voxel_size = 0.0f;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // the asset's own world box (metres)

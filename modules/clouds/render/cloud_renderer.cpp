@@ -196,7 +196,10 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
   ip.sun_dir = glm::vec4(glm::normalize(inv_rot * glm::normalize(sun)), inst.density);
   ip.sky_dir = glm::vec4(glm::normalize(inv_rot * glm::vec3(0.0f, 1.0f, 0.0f)), std::clamp(inst.dissipation, 0.0f, 1.0f));
   ip.wind_offset = glm::vec4(wind_offset_asset(inst, time), 0.0f);  // asset metres
-  ip.weather = glm::vec4(std::clamp(inst.coverage, 0.0f, 1.0f), 0.0f, 0.0f, 0.0f);
+  const float coverage = std::clamp(inst.coverage, 0.0f, 1.0f);
+  // At this coverage every cloud at or above the band is absent: the fair-weather field is the whole story.
+  const bool fair = inst.asset->has_field_fair && coverage <= float(CLOUD_COVERAGE_BAND - CLOUD_COVERAGE_RAMP) + 1e-6f;
+  ip.weather = glm::vec4(coverage, fair ? 1.0f : 0.0f, 0.0f, 0.0f);
   return ip;
 }
 
@@ -517,11 +520,12 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
     d.mips = img.mips();
     return graph.import_texture(name, d, img.handle(), img.view(), sampled_state());
   };
-  std::vector<TextureHandle> modelings, fields, coverages;
+  std::vector<TextureHandle> modelings, fields, coverages, fairs;
   for (size_t a = 0; a < assets.size(); ++a) {
     const std::string suffix = a ? "." + std::to_string(a) : "";
     modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling));
     fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field));
+    fairs.push_back(import_3d("clouds.field_fair" + suffix, assets[a]->field_fair));
     if (coverage_texture) coverages.push_back(import_3d("clouds.coverage" + suffix, assets[a]->coverage));
   }
   const TextureHandle noise = import_3d("clouds.noise", res.noise->image);
@@ -714,6 +718,7 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
   out.grid = grid;
   out.modelings = std::move(modelings);
   out.fields = std::move(fields);
+  out.fairs = std::move(fairs);
   out.coverages = std::move(coverages);
   out.noise = noise;
   out.slots = std::move(slots);
@@ -734,6 +739,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   const std::vector<TextureHandle>& modelings = light->modelings;
   const std::vector<TextureHandle>& fields = light->fields;
   const std::vector<TextureHandle>& coverages = light->coverages;
+  const std::vector<TextureHandle>& fairs = light->fairs;
   const bool coverage_texture = light->coverage_texture;
   const TextureHandle modeling = modelings[0], field = fields[0], noise = light->noise, grid = light->grid;
   const std::vector<uint32_t>& slots = light->slots;
@@ -782,6 +788,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
             b.read(fields[a], Usage::Sampled);
           }
           for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
+          for (TextureHandle t : fairs) b.read(t, Usage::Sampled);
           b.read(noise, Usage::Sampled);
           b.read(grid, Usage::Sampled);
           b.read(depth, Usage::Sampled);
@@ -790,7 +797,7 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           color = b.write(color, Usage::StorageWrite);
           cdepth = b.write(cdepth, Usage::StorageWrite);
         },
-        [r, pipe, grid, modeling, field, modelings, fields, coverages, noise, depth, color, cdepth, front, ubo_handle, sub_block,
+        [r, pipe, grid, modeling, field, modelings, fields, coverages, fairs, noise, depth, color, cdepth, front, ubo_handle, sub_block,
          sub_offset, size, terrain, terrain_depth](PassContext& c) {
           Bindings bind(*pipe);
           bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
@@ -810,6 +817,9 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
           for (size_t a = 0; a < coverages.size(); ++a)
             bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp,
                          c.layout(coverages[a]));
+          for (size_t a = 0; a < fairs.size(); ++a)
+            bind.sampled(a ? CLOUD_BINDING_FIELD_FAIR_1 : CLOUD_BINDING_FIELD_FAIR, c.view(fairs[a]), r->linear_clamp,
+                         c.layout(fairs[a]));
           bind.push(r->ctx, c.cmd());
           const VkExtent3D e = c.extent(color);
           if (sub_block > 1) {

@@ -310,6 +310,7 @@ struct CloudLightOutputs {
   cumulo::render::LightShadowMap shadow;   // texture invalid: no shadow this frame (light too low, off)
   std::vector<TextureHandle> modelings, fields;  // the assets' imports, by slot
   std::vector<TextureHandle> coverages;          // their coverage textures (coverage_texture only), by slot
+  std::vector<TextureHandle> fairs;              // their fair-weather fields (the march's), by slot
   TextureHandle noise;
   std::vector<uint32_t> slots;  // asset slot of each instance
   int asset_slots = 1;

@@ -23,7 +23,7 @@ namespace {
 constexpr const char* kAssetFiles[] = {"modeling.nvdf", "modeling_bc1.nvdf", "field.nvdf", "field_bc1.nvdf"};
 // Read when present: the BC1 path's coverage thresholds (volume/nvdf.h). A folder without it (an import, an
 // older bake) has threshold 0 everywhere; every bake writes it, so a bake-cache folder is complete with it.
-constexpr const char* kOptionalAssetFiles[] = {"coverage.nvdf"};
+constexpr const char* kOptionalAssetFiles[] = {"coverage.nvdf"};  // field_fair.nvdf: only when some cloud reaches the band
 
 bool complete_folder(const fs::path& dir) {
   std::error_code ec;

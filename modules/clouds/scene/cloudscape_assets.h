@@ -15,8 +15,9 @@
 namespace cumulo::clouds {
 
 // Bumped whenever the baker's output for the same recipe changes (part of the cache key).
-// bake-2: the coverage threshold (modeling.nvdf's alpha, coverage.nvdf).
-inline constexpr const char* kBakeCacheVersion = "bake-2";
+// bake-2: the coverage threshold (modeling.nvdf's alpha, coverage.nvdf). bake-3: field_fair.nvdf; grown attributes with
+// the column-height detail type.
+inline constexpr const char* kBakeCacheVersion = "bake-3";
 
 std::filesystem::path prepare_cloudscape_asset(const std::filesystem::path& asset, const std::string& where);
 std::filesystem::path prepare_voxel_noise(int size = 128, uint64_t seed = 1);

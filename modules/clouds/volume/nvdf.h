@@ -10,6 +10,10 @@
 //                      imports) has threshold 0 everywhere, as does a modeling.nvdf without the alpha channel.
 //   field.nvdf         R16, channel sdf: signed distance stored 0..1 (rounded down), decoded -256..4096 m
 //   field_bc1.nvdf     the same SDF in the conservative BC1 form (bc1.h: unpack weights)
+//   field_fair.nvdf    R16 at half the resolution per axis (same world box, same decode): a conservative SDF of
+//                      only the clouds whose coverage threshold is below CLOUD_COVERAGE_BAND (cloud_params.h),
+//                      for the march in fair weather. Optional: a bake writes it when some cloud is at or above
+//                      the band; without it the march uses the field.
 // Axes (bake/recipe.h): texel (i, j, k) is world (x, y up, z); bounds are the world box.
 // The header of each file carries size, voxel size, world bounds and channel decode ranges; a reader
 // finds channels by semantic, never by position.
@@ -24,6 +28,7 @@ inline constexpr std::string_view kModelingBc1FileName = "modeling_bc1.nvdf";
 inline constexpr std::string_view kFieldFileName = "field.nvdf";
 inline constexpr std::string_view kFieldBc1FileName = "field_bc1.nvdf";
 inline constexpr std::string_view kCoverageFileName = "coverage.nvdf";
+inline constexpr std::string_view kFieldFairFileName = "field_fair.nvdf";
 
 // An empty modeling NVDF (RGBA8; r = dimensional profile, g = detail type, b = density scale, a = coverage
 // threshold, kCoverageThreshold; all 0).

@@ -232,13 +232,66 @@ TEST(Bake, CoverageThresholdIsTheModelingAlphaAndAHalfResolutionR8) {
   // Listed with its bytes; the compressed path counts it.
   EXPECT_NE(report.find("\"file\": \"coverage.nvdf\",\n      \"format\": \"r8\""), std::string::npos) << report;
   EXPECT_NE(report.find("\"gpu_bytes\": 16384"), std::string::npos) << report;
-  EXPECT_NE(report.find(std::string("\"compressed_path_bytes\": ") + std::to_string(2 * 64 * 32 * 64 / 2 + 16384)),
+  // ... and the fair-weather field (R16 at half resolution: a sphere here is at the band, 0.6).
+  EXPECT_NE(report.find(std::string("\"compressed_path_bytes\": ") + std::to_string(2 * 64 * 32 * 64 / 2 + 16384 + 2 * 16384)),
             std::string::npos)
       << report;
   // A recipe without thresholds bakes zeros (threshold 0: present at any coverage).
   BakeResult plain = bake_recipe(small_recipe(), quiet());
   EXPECT_TRUE(std::all_of(plain.coverage.begin(), plain.coverage.end(), [](float v) { return v == 0.0f; }));
   std::filesystem::remove_all(dir);
+}
+
+// The fair-weather field (issue 20, volume/nvdf.h field_fair.nvdf): at half resolution, the distance to the
+// clouds below CLOUD_COVERAGE_BAND only, never above the true distance to them at any point (trilinear, as the
+// march samples it); a cloud at or above the band is air to it. A recipe without such a cloud writes none.
+TEST(Bake, FairWeatherFieldIgnoresHighThresholdCloudsAndIsConservative) {
+  Recipe r = parse_recipe_text(R"({"voxel_size": 8, "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
+    "edits": [{"type": "sphere", "radius": 60, "position": [-120, 128, 0]},
+              {"type": "sphere", "radius": 70, "position": [120, 128, 0], "coverage": 0.8}]})",
+                               "fair.json", ".");
+  BakeResult b = bake_recipe(r, quiet());
+  ASSERT_FALSE(b.field_fair16.empty());
+  const glm::uvec3 hd = b.field_fair_dims;
+  EXPECT_EQ(hd, (b.grid.dims + 1u) / 2u);
+  auto texel = [&](glm::ivec3 p) {
+    p = glm::clamp(p, glm::ivec3(0), glm::ivec3(hd) - 1);
+    return unorm16_to_field(b.field_fair16[size_t(p.x) + size_t(hd.x) * (size_t(p.y) + size_t(hd.y) * size_t(p.z))]);
+  };
+  const glm::vec3 bmin = b.grid.bounds_min();
+  auto sample = [&](glm::vec3 w) {  // trilinear, texel centres at bmin + (i + 0.5) * 16
+    const glm::vec3 u = (w - bmin) / 16.0f - 0.5f;
+    const glm::ivec3 i0 = glm::ivec3(glm::floor(u));
+    const glm::vec3 f = u - glm::vec3(i0);
+    float v = 0.0f;
+    for (int k = 0; k < 8; ++k) {
+      const glm::ivec3 o(k & 1, (k >> 1) & 1, k >> 2);
+      const glm::vec3 wgt = glm::mix(1.0f - f, f, glm::vec3(o));
+      v += wgt.x * wgt.y * wgt.z * texel(i0 + o);
+    }
+    return v;
+  };
+  int checked = 0;
+  for (float x = -248; x < 248; x += 7.3f)
+    for (float y = 4; y < 252; y += 9.1f)
+      for (float z = -248; z < 248; z += 11.7f) {
+        const glm::vec3 w(x, y, z);
+        const float truth = glm::length(w - glm::vec3(-120, 128, 0)) - 60.0f;  // the low-threshold sphere only
+        ASSERT_LE(sample(w), truth + 1e-3f) << "at " << x << ", " << y << ", " << z;
+        ++checked;
+      }
+  EXPECT_GT(checked, 10000);
+  EXPECT_GT(sample({120, 128, 0}), 100.0f) << "the high-threshold sphere's centre is air to the fair-weather field";
+  EXPECT_LT(sample({-120, 128, 0}), 0.0f) << "the low-threshold sphere's centre is inside";
+  const std::filesystem::path dir = cumulo::test::unique_temp_path("cumulo_bake_fair");
+  write_bake_outputs(r, b, dir);
+  cc::Volume v = cc::load_volume(dir / "field_fair.nvdf");
+  EXPECT_EQ(v.size, hd);
+  EXPECT_EQ(v.encoding, cc::VolumeEncoding::R16);
+  EXPECT_EQ(v.bounds_max, b.grid.bounds_max());
+  std::filesystem::remove_all(dir);
+  // Every cloud below the band: no fair-weather field (the march uses the field).
+  EXPECT_TRUE(bake_recipe(small_recipe(), quiet()).field_fair16.empty());
 }
 
 TEST(Bake, MemoryAccountingMatchesTheTalkAndTheBudget) {
