@@ -164,6 +164,9 @@ GrowSpec parse(const JsonView& user, const std::string& file) {
     const glm::vec2 p = t["position"].as_vec2();
     for (int i = 0; i < 2; ++i) t["position"].at(i).as_float_in(-1e5f, 1e5f);
     th.position = centre + p / s.cell_game;
+    if (th.position.x < 0.0f || th.position.y < 0.0f || th.position.x > float(o.dims.x) || th.position.y > float(o.dims.z))
+      t["position"].fail(strf("outside the grid's floor (x and z within +-%g and +-%g game m of its centre)",
+                              0.5f * o.dims.x * s.cell_game, 0.5f * o.dims.z * s.cell_game));
     th.radius = number_in(t["radius"], 0.1f, 1e5f) / s.cell_game;
     if (th.radius < 1.0f) t["radius"].fail(strf("a thermal narrower than a cell (%g game m per cell)", s.cell_game));
     th.heat = number_in(t["heat"], 0.0f, 20.0f);

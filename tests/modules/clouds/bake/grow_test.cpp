@@ -192,6 +192,18 @@ TEST(Grow, BadSpecGetsAClearErrorAndLeavesTheCacheUntouched) {
   EXPECT_NE(message(R"({"thermals": []})").find("$.thermals"), std::string::npos);
   EXPECT_NE(message(R"({"atmosphere": {"humidty": [0.8, 0.5]}})").find("humidty"), std::string::npos);
   EXPECT_NE(message(R"({"time": {"dt": -1}})").find("$.time.dt"), std::string::npos);
+  EXPECT_NE(message(R"({"thermals": [{"position": [100000, 0], "radius": 200, "heat": 1, "moisture": 1}]})")
+                .find("$.thermals[0].position"),
+            std::string::npos);
+  std::string budget = "(no error)";
+  try {
+    run_grow(spec_of(R"({"grid": {"cells": [512, 512, 512], "cell": 12}})", "bad.json"));
+  } catch (const cumulo::Error& e) {
+    budget = e.what();
+  }
+  EXPECT_NE(budget.find("bad.json: a grow grid of 512x512x512 cells"), std::string::npos) << budget;
+  EXPECT_NE(budget.find("memory budget"), std::string::npos) << budget;
+  EXPECT_NE(message("{\"preset\": \"humilis\",").find("bad.json:"), std::string::npos) << "a truncated file";
   EXPECT_NE(message("{\"seed\": 1,").find("bad.json"), std::string::npos);
 
   const auto dir = cumulo::test::unique_temp_path("cumulo_grow_bad");
