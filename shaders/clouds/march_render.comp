@@ -203,7 +203,9 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
 #endif
         float od_sun = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
         float od_sky = ambient_direction ? light_grid(i, q).y * ext * P.light.y : 0.0;
-        float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
+        float ms_falloff = P.ms.z > 0.5 ? 1.0 / (1.0 + 0.75 * (1.0 - P.phase.x) * od_sun)
+                                        : exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
+        float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * ms_falloff;
         vec3 world_q = ro + rd * ts;
         vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength / (4.0 * kPi)));
         light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));

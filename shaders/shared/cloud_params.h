@@ -140,7 +140,8 @@ struct CloudParams {
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
   uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y, z, w: unused
   vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
-                        // y at the surface and away from the sun (talk 0.25); z, w: unused
+                        // y at the surface and away from the sun (talk 0.25); z: 1 = diffusion's falloff
+                        // 1 / (1 + 0.75 (1 - g) od) instead (CloudSettings::ms_diffusion); w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
 CUMULO_SHARED_SIZE(CloudParams, 1280)

@@ -415,7 +415,7 @@ void register_fidelity_command(CommandRegistry& registry) {
                     std::stringstream cs(constants);
                     for (std::string item; std::getline(cs, item, ',');) {
                       render::CloudLightingPreset pr;
-                      if (!render::parse_lighting_preset(item, &pr)) fail("--constants: expected talk or tuned, got \"%s\"", item.c_str());
+                      if (!render::parse_lighting_preset(item, &pr)) fail("--constants: expected talk, tuned or diffusion, got \"%s\"", item.c_str());
                       o.presets.push_back(pr);
                     }
                     if (o.presets.empty()) fail("--constants: none named");

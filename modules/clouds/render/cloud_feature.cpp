@@ -68,9 +68,9 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "switch off lighting effects of the talks in the march, comma-separated: silver-lining, dark-edges, "
               "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",
               &effects_off_text_)
-      .option("--cloud-lighting", "talk|tuned",
-              "the lighting model's free constants: the talks' (default) or the set tuned against the path-traced "
-              "reference (cumulo fidelity)",
+      .option("--cloud-lighting", "talk|tuned|diffusion",
+              "the lighting model: the talks' constants (default), the set tuned against the path-traced reference "
+              "(cumulo fidelity), or diffusion's falloff of the multiple scattering (issue 21)",
               &lighting_text_)
       .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
               &options_.ms_strength)
@@ -128,7 +128,7 @@ void CloudFeature::check_run_options() {
     options_.formats = set;
   }
   if (!parse_lighting_preset(lighting_text_, &options_.lighting))
-    fail("--cloud-lighting: expected talk or tuned, got \"%s\"", lighting_text_.c_str());
+    fail("--cloud-lighting: expected talk, tuned or diffusion, got \"%s\"", lighting_text_.c_str());
   options_.effects = CLOUD_EFFECTS_ALL;
   for (size_t b = 0; b < effects_off_text_.size();) {
     size_t e = effects_off_text_.find(',', b);

@@ -135,6 +135,10 @@ struct CloudSettings {
   // Its Beer-Lambert attenuation (talk: Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128.0, 0.0, 0.05,
   // 0.25))): the coefficient deep inside a cloud toward the sun, and at its surface or away from the sun.
   float ms_attenuation_inside = 0.05f, ms_attenuation = 0.25f;
+  // The multiple-scattering field's falloff with the optical depth toward the sun: false, the talk's
+  // Beer-Lambert exp(-od x attenuation); true, diffusion's 1 / (1 + 0.75 (1 - g) od) (g = hg_forward: the
+  // transport mean free path of a forward-peaked phase function), which a thick base does not turn black.
+  bool ms_diffusion = false;
   float ambient_occlusion_scale = 0.1f;   // sky optical depth = summed sky density x extinction x this (not in the talk)
   float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
   float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
@@ -173,8 +177,9 @@ uint32_t cloud_effect_bit(std::string_view name);
 // tuned against the path-traced reference (Tuned; cumulo fidelity measures both). Only terms the reference
 // does not share change (the multiple-scattering strength, the ambient occlusion scale), so both sets march
 // the same medium and phase function as the reference. (Also the inner glow's relaxed attenuation.)
-enum class CloudLightingPreset : uint8_t { Talk, Tuned };
-const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned"
+// Diffusion: the multiple-scattering field falls off as diffusion does (CloudSettings::ms_diffusion; issue 21).
+enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion };
+const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned" | "diffusion"
 bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p);
 

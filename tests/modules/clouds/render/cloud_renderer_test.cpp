@@ -804,5 +804,33 @@ TEST_F(CloudRender, EachLightingEffectSwitchChangesOnlyWhatItNames) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The diffusion preset (issue 21): the multiple scattering falls off as 1 / (1 + 0.75 (1 - g) od), not exp(-od a),
+// so the cloud's shadowed side, deep in optical depth toward the sun, is lighter than with the talks' model; the
+// name round-trips and the talk preset restores every constant.
+TEST_F(CloudRender, DiffusionLightingLightensTheShadowedSide) {
+  CloudLightingPreset p{};
+  ASSERT_TRUE(parse_lighting_preset("diffusion", &p));
+  EXPECT_EQ(p, CloudLightingPreset::Diffusion);
+  EXPECT_STREQ(lighting_preset_name(p), "diffusion");
+  EXPECT_FALSE(parse_lighting_preset("wrenninge", &p));
+  CloudFrameInputs in = inputs(asset(), camera({-300.0f, 160.0f, 250.0f}));
+  in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.4f, -1.0f));  // behind the cloud, seen from its shadowed side
+  const Frame talk = render(in);
+  apply_lighting_preset(in.settings, CloudLightingPreset::Diffusion);
+  EXPECT_TRUE(in.settings.ms_diffusion);
+  const Frame diffusion = render(in);
+  double sum_talk = 0, sum_diffusion = 0;
+  for (size_t i = 0; i < talk.color.size(); ++i) {
+    sum_talk += talk.color[i].r + talk.color[i].g + talk.color[i].b;
+    sum_diffusion += diffusion.color[i].r + diffusion.color[i].g + diffusion.color[i].b;
+  }
+  std::printf("  cloud radiance sum: talk %.2f, diffusion %.2f\n", sum_talk, sum_diffusion);
+  EXPECT_GT(sum_diffusion, 1.05 * sum_talk);
+  apply_lighting_preset(in.settings, CloudLightingPreset::Talk);
+  EXPECT_FALSE(in.settings.ms_diffusion);
+  EXPECT_EQ(psnr(talk.hdr, render(in).hdr), 99.0);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 }  // namespace
 }  // namespace cumulo::clouds::render::test
