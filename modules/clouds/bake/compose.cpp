@@ -65,12 +65,18 @@ void combine_culled(EvalSample& acc, const Edit& e) {
 
 EvalSample evaluate_edit(const Edit& e, glm::vec3 p_parent, glm::vec3 p_world);
 
+// What a point takes where no edit of a list reaches it: the attributes of the group (or the recipe) around it.
+EvalSample outside_sample(const Edit& defaults) {
+  EvalSample s;
+  s.detail_type = defaults.detail_type;
+  s.density_scale = defaults.density_scale;
+  s.profile_depth = defaults.profile_depth;
+  s.coverage = defaults.coverage;
+  return s;
+}
+
 EvalSample evaluate_list(const std::vector<Edit>& edits, glm::vec3 p, glm::vec3 p_world, const Edit* defaults) {
-  EvalSample acc;
-  if (defaults)
-    acc.detail_type = defaults->detail_type, acc.density_scale = defaults->density_scale,
-    acc.profile_depth = defaults->profile_depth;
-  if (defaults) acc.coverage = defaults->coverage;
+  EvalSample acc = defaults ? outside_sample(*defaults) : EvalSample{};
   for (const Edit& e : edits) {
     if (e.parent_bounds.contains(p))
       combine(acc, e, evaluate_edit(e, p, p_world));
@@ -151,11 +157,7 @@ BakeGrid make_grid(const Recipe& recipe, glm::uvec3 dims_override) {
 }
 
 EvalSample evaluate_point(const Recipe& recipe, glm::vec3 p) {
-  Edit defaults;
-  defaults.detail_type = recipe.default_detail_type;
-  defaults.density_scale = recipe.default_density_scale;
-  defaults.profile_depth = recipe.profile.depth;
-  defaults.coverage = recipe.default_coverage;
+  const Edit defaults = recipe_defaults(recipe);
   return evaluate_list(recipe.edits, p, p, &defaults);
 }
 
@@ -169,6 +171,7 @@ Composed compose(const Recipe& recipe, const BakeGrid& grid, Progress* progress)
   out.profile_depth.assign(n, recipe.profile.depth);
   const size_t rows = size_t(grid.dims.y) * grid.dims.z;
   std::vector<uint64_t> evals(rows, 0);
+  const EvalSample outside = outside_sample(recipe_defaults(recipe));
 
   parallel_for(
       rows,
@@ -201,11 +204,7 @@ Composed compose(const Recipe& recipe, const BakeGrid& grid, Progress* progress)
           uint64_t count = 0;
           for (uint32_t x = 0; x < grid.dims.x; ++x) {
             glm::vec3 p = grid.position(x, y, z);
-            EvalSample acc;
-            acc.detail_type = recipe.default_detail_type;
-            acc.density_scale = recipe.default_density_scale;
-            acc.profile_depth = recipe.profile.depth;
-            acc.coverage = recipe.default_coverage;
+            EvalSample acc = outside;
             bool touched = false;
             for (const Active& a : active) {
               if (static_cast<int>(x) >= a.x0 && static_cast<int>(x) <= a.x1) {

@@ -363,17 +363,22 @@ Recipe parse_root(const JsonView& root, const std::filesystem::path& base_dir, c
       }
   }
   Ctx ctx{base_dir, opt.allow_files, opt.grown_constant, opt.grow_progress};
-  Edit defaults;
-  defaults.profile_depth = r.profile.depth;
-  defaults.detail_type = r.default_detail_type;
-  defaults.density_scale = r.default_density_scale;
-  defaults.coverage = r.default_coverage;
+  const Edit defaults = recipe_defaults(r);
   for (const JsonView& e : root["edits"].elements()) r.edits.push_back(parse_edit(e, ctx, defaults, r.seed, 0));
   finalize_edits(r, 3.0f * r.voxel_size);
   return r;
 }
 
 }  // namespace
+
+Edit recipe_defaults(const Recipe& recipe) {
+  Edit d;
+  d.detail_type = recipe.default_detail_type;
+  d.density_scale = recipe.default_density_scale;
+  d.profile_depth = recipe.profile.depth;
+  d.coverage = recipe.default_coverage;
+  return d;
+}
 
 const char* edit_kind_name(EditKind k) {
   switch (k) {

@@ -186,6 +186,8 @@ Recipe parse_recipe_text(const std::string& text, const std::string& name, const
 // values (a few voxels). Called by the parsers; call again after editing a Recipe in code.
 void finalize_edits(Recipe& recipe, float band);
 
+// The attributes the recipe gives every edit that sets none (its defaults and profile depth), as an Edit.
+Edit recipe_defaults(const Recipe& recipe);
 const char* edit_kind_name(EditKind k);
 
 }  // namespace cumulo::clouds::bake

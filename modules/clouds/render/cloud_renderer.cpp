@@ -140,11 +140,12 @@ struct CloudResources {
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
                                         .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
-                                        .name = std::string("clouds.light_grid") +
-                                                (bc1 || coverage_texture ? std::string(" (") + (bc1 ? "bc1 sdf" : "") +
-                                                                               (bc1 && coverage_texture ? ", " : "") +
-                                                                               (coverage_texture ? "coverage texture" : "") + ")"
-                                                                         : std::string())});
+                                        .name = bc1 || coverage_texture
+                                                    ? std::string("clouds.light_grid (") +
+                                                          (bc1 && coverage_texture ? "bc1 sdf, coverage texture"
+                                                           : bc1                   ? "bc1 sdf"
+                                                                                   : "coverage texture") + ")"
+                                                    : std::string("clouds.light_grid")});
     march_pipes[key] = &p;
     return p;
   }
