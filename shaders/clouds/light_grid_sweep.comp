@@ -16,7 +16,7 @@
 // whole grid (a level reads the one nearer the light, updated this frame or in an earlier one), so a
 // frame has few dispatches (on lavapipe each dispatch + barrier costs about 0.2 ms even when empty).
 // Values and units as light_grid_update.comp: x = summed density toward the sun, y = toward the sky,
-// density x world metres, from the voxel centre.
+// z = the part of x in the voxel's own cloud, density x world metres, from the voxel centre.
 // pc.region: x instance, y first z layer, z layer count (the instance's whole grid), w the level (y) written;
 // pc.grid: x most density samples per stretch, y channels updated (1 sun, 2 sky, 3 both; a channel not
 // updated keeps its value), z z layers per instance.
@@ -24,28 +24,31 @@
 #include "clouds/cloud_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 1, local_size_z = 8) in;
-layout(set = 0, binding = CLOUD_BINDING_GRID_OUT, rg16f) uniform image3D grid;
+layout(set = 0, binding = CLOUD_BINDING_GRID_OUT, rgba16f) uniform image3D grid;
 layout(push_constant) uniform Push { CloudLightGridPush pc; };
 
 const float kMinSlope = 0.05;  // about 3 degrees above the horizon
 
 // Level `y` of the slab stack at continuous texel coordinates `xz` (texel centres at +0.5), bilinear.
-vec2 level_value(int y, vec2 xz, ivec2 size_xz, int zbase) {
+vec4 level_value(int y, vec2 xz, ivec2 size_xz, int zbase) {
   vec2 f = xz - 0.5;
   ivec2 b = ivec2(floor(f));
   vec2 w = f - vec2(b);
   ivec2 lo = clamp(b, ivec2(0), size_xz - 1), hi = clamp(b + 1, ivec2(0), size_xz - 1);
-  vec2 v00 = imageLoad(grid, ivec3(lo.x, y, zbase + lo.y)).xy;
-  vec2 v10 = imageLoad(grid, ivec3(hi.x, y, zbase + lo.y)).xy;
-  vec2 v01 = imageLoad(grid, ivec3(lo.x, y, zbase + hi.y)).xy;
-  vec2 v11 = imageLoad(grid, ivec3(hi.x, y, zbase + hi.y)).xy;
+  vec4 v00 = imageLoad(grid, ivec3(lo.x, y, zbase + lo.y));
+  vec4 v10 = imageLoad(grid, ivec3(hi.x, y, zbase + lo.y));
+  vec4 v01 = imageLoad(grid, ivec3(lo.x, y, zbase + hi.y));
+  vec4 v11 = imageLoad(grid, ivec3(hi.x, y, zbase + hi.y));
   return mix(mix(v00, v10, w.x), mix(v01, v11, w.x), w.y);
 }
 
-// Summed density (asset metres) from `origin` toward `dir`, given the level above/below it is done.
-// `channel` 0 reads the sun sums of the next level, 1 the sky sums.
-float sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y, vec3 cell, ivec2 size_xz, int zbase,
-            float voxel, vec4 noise, float clear, int channel) {
+// Summed density (asset metres) from `origin` toward `dir`, given the level above/below it is done:
+// x the whole sum, y the part of it in the cloud the voxel is in (its "own" cloud: the sum up to the first
+// sample outside every cloud's profile, where the light leaves one cloud for the air between clouds; issue 21,
+// the march lets diffused light cross a cloud but not the gap to another). `channel` 0 reads the sun sums of
+// the next level (x total, z own), 1 the sky sums (y; no own part).
+vec2 sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y, vec3 cell, ivec2 size_xz, int zbase,
+           float voxel, vec4 noise, float clear, int channel) {
   float slope = max(abs(dir.y), kMinSlope);
   float up = dir.y >= 0.0 ? 1.0 : -1.0;
   vec3 d = normalize(vec3(dir.x, up * slope, dir.z));
@@ -55,16 +58,25 @@ float sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y
   float len = min(delta, t_exit);
   // `clear`: no cloud within this distance of the voxel centre, so a shorter stretch needs no samples.
   int k = clear > len ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
-  float sum = 0.0;
-  for (int j = 0; j < k; ++j) sum += sample_density_with_noise(CLOUD_ASSET_0, inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise).full;
-  sum *= len / float(max(k, 1));
+  float sum = 0.0, own = 0.0;
+  bool in_own = clear <= 0.0;  // a voxel in air has no cloud of its own
+  for (int j = 0; j < k; ++j) {
+    DensitySample s = sample_density_with_noise(CLOUD_ASSET_0, inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise);
+    in_own = in_own && s.raw_profile > 0.0;
+    sum += s.full;
+    own += in_own ? s.full : 0.0;
+  }
+  float w = len / float(max(k, 1));
+  sum *= w, own *= w;
   int next = y + int(up);
   if (delta < t_exit && next >= 0 && next < layers_y) {
     vec3 pn = origin + d * delta;
     vec2 xz = (pn.xz - inst.bounds_min.xz) / cell.xz;
-    sum += level_value(next, xz, size_xz, zbase)[channel] / inst.bounds_min.w;  // stored in world metres
+    vec4 v = level_value(next, xz, size_xz, zbase) / inst.bounds_min.w;  // stored in world metres
+    sum += channel == 0 ? v.x : v.y;
+    if (in_own && k > 0 && channel == 0) own += v.z;
   }
-  return sum;
+  return vec2(sum, own);
 }
 
 void main() {
@@ -91,10 +103,10 @@ void main() {
   float margin = (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field_tex, 0).x);
   float clear = cloud_distance(field_tex, asset_uvw(inst, origin)) - margin;
   uint channels = uint(pc.grid.y);
-  vec2 value = channels == 3u ? vec2(0.0) : imageLoad(grid, texel).xy;
+  vec4 value = channels == 3u ? vec4(0.0) : imageLoad(grid, texel);
   if ((channels & 1u) != 0u)
-    value.x = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 0) * inst.bounds_min.w;
+    value.xz = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 0) * inst.bounds_min.w;
   if ((channels & 2u) != 0u)
-    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 1) * inst.bounds_min.w;
-  imageStore(grid, texel, vec4(value, 0.0, 0.0));
+    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 1).x * inst.bounds_min.w;
+  imageStore(grid, texel, value);
 }

@@ -9,7 +9,8 @@
 // frame, or all of it on a rebuild). Per voxel centre, two rays in asset space: toward the sun and
 // straight up, to the asset box boundary. They are sphere-traced by the field NVDF (step = max(SDF,
 // one grid voxel)) so empty air costs few steps, and density is summed only where the SDF is
-// negative. Stored: x = summed density toward the sun, y = toward the sky, in density x world metres
+// negative. Stored: x = summed density toward the sun, y = toward the sky, z = the part of x in the voxel's
+// own cloud (up to the first step in air), in density x world metres
 // (the march multiplies by the extinction coefficient). Every voxel is computed, not only cloudy ones:
 // the march reads the grid 2 light samples away from its sample, often in the air between clouds,
 // which is what gives the long inter-cloud shadows.
@@ -19,13 +20,16 @@
 #include "clouds/cloud_common.glsl"
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(set = 0, binding = CLOUD_BINDING_GRID_OUT, rg16f) uniform writeonly image3D grid_out;
+layout(set = 0, binding = CLOUD_BINDING_GRID_OUT, rgba16f) uniform writeonly image3D grid_out;
 layout(push_constant) uniform Push { CloudLightGridPush pc; };
 
-float summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxel, float mip, uint max_steps) {
+// x: the summed density (world metres) from `origin` along `dir` to the box; y: its part in the cloud the
+// voxel is in, up to the first step in air (light_grid_sweep.comp says why).
+vec2 summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxel, float mip, uint max_steps) {
   vec2 seg = ray_box(origin, dir, inst.bounds_min.xyz, inst.bounds_max.xyz);
   float t_exit = max(seg.y, 0.0);
-  float sum = 0.0;
+  float sum = 0.0, own = 0.0;
+  bool in_own = cloud_distance(field_tex, asset_uvw(inst, origin)) <= 0.0;
   float t = 0.5 * voxel;  // the voxel's own half: the march's first light samples cover the rest near it
   for (uint s = 0u; s < max_steps; ++s) {
     if (t >= t_exit) break;
@@ -33,13 +37,17 @@ float summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxe
     vec3 uvw = asset_uvw(inst, p);
     float sdf = cloud_distance(field_tex, uvw);
     float step_len = max(sdf, voxel);
+    in_own = in_own && sdf <= 0.0;
     CLOUD_WHERE(sdf < 0.0) {
       DensitySample ds = sample_density(CLOUD_ASSET_0, inst, p, 1e4, mip, false);
-      sum += ds.full * min(step_len, t_exit - t);
+      in_own = in_own && ds.raw_profile > 0.0;
+      float v = ds.full * min(step_len, t_exit - t);
+      sum += v;
+      own += in_own ? v : 0.0;
     }
     t += step_len;
   }
-  return sum * inst.bounds_min.w;  // asset metres -> world metres
+  return vec2(sum, own) * inst.bounds_min.w;  // asset metres -> world metres
 }
 
 void main() {
@@ -56,7 +64,7 @@ void main() {
   // Noise texel is 100 m / noise size; pick the mip whose texel is about one grid voxel.
   float noise_texel = 100.0 / float(textureSize(noise_tex, 0).x);
   float mip = max(0.0, log2(voxel / noise_texel));
-  float sun = summed_density(inst, origin, inst.sun_dir.xyz, voxel, mip, uint(pc.grid.x));
-  float sky = summed_density(inst, origin, inst.sky_dir.xyz, voxel, mip, uint(pc.grid.y));
-  imageStore(grid_out, id + ivec3(0, 0, int(pc.region.x) * layers), vec4(sun, sky, 0.0, 0.0));
+  vec2 sun = summed_density(inst, origin, inst.sun_dir.xyz, voxel, mip, uint(pc.grid.x));
+  float sky = summed_density(inst, origin, inst.sky_dir.xyz, voxel, mip, uint(pc.grid.y)).x;
+  imageStore(grid_out, id + ivec3(0, 0, int(pc.region.x) * layers), vec4(sun.x, sky, sun.y, 0.0));
 }

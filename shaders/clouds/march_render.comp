@@ -109,31 +109,44 @@ float terrain_visibility(vec3 world) {
 float terrain_visibility(vec3 world) { return 1.0; }
 #endif
 
-// Optical depth toward the sun from an asset-space point (world metres of density x extinction).
-float sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
+// Optical depth toward the sun from an asset-space point (world metres of density x extinction): x the whole
+// path's, y its part inside the point's own cloud (up to the first sample outside every cloud's profile; the
+// light grid's z channel beyond the two marched samples), which the diffusion lighting tells apart (issue 21).
+vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
   vec3 sun = inst.sun_dir.xyz;
   float scale = inst.bounds_min.w, inv_scale = inst.bounds_max.w;
-  float sum = 0.0;
+  float sum = 0.0, own = 0.0;
+  bool in_own = true;
 #if ABLATION == CLOUD_ABLATION_BASE
   float seg = P.light.z / P.light.w;  // world metres per light sample
   uint n = uint(P.light.w);
   for (uint k = 0u; k < n; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
-    sum += sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false).full * seg;
+    DensitySample s = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false);
+    in_own = in_own && s.raw_profile > 0.0;
+    sum += s.full * seg;
+    own += in_own ? s.full * seg : 0.0;
   }
 #else
   float seg = P.light.x;
   for (int k = 0; k < 2; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
 #if LIGHT_SAMPLE_NOISE_MEAN
-    sum += sample_density_with_noise(CLOUD_MODELING(modeling, coverage), inst, q, mean_noise).full * seg;
+    DensitySample s = sample_density_with_noise(CLOUD_MODELING(modeling, coverage), inst, q, mean_noise);
 #else
-    sum += sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false).full * seg;
+    DensitySample s = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false);
 #endif
+    in_own = in_own && s.raw_profile > 0.0;
+    sum += s.full * seg;
+    own += in_own ? s.full * seg : 0.0;
   }
-  if ((P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u) sum += light_grid(i, p + sun * (2.0 * seg * inv_scale)).x;
+  if ((P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u) {
+    vec3 g = light_grid(i, p + sun * (2.0 * seg * inv_scale));
+    sum += g.x;
+    own += in_own ? g.z : 0.0;
+  }
 #endif
-  return sum * P.march.x;
+  return vec2(sum, own) * P.march.x;
 }
 
 // `t_front`: transmittance in front of this segment (the near layer's, for the far march; 1 otherwise).
@@ -201,9 +214,14 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
 #if ABLATION != CLOUD_ABLATION_FULL
         sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
-        float od_sun = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
+        vec2 od = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
+        float od_sun = od.x;
         float od_sky = ambient_direction ? light_grid(i, q).y * ext * P.light.y : 0.0;
-        float ms_falloff = P.ms.z > 0.5 ? 1.0 / (1.0 + 0.75 * (1.0 - P.phase.x) * od_sun)
+        // Diffusion (P.ms.z): the multiple scattering crosses the point's own cloud as diffuse light does,
+        // 1 / (1 + 0.75 (1 - g) od); the optical depth of other clouds between it and the sun (od.x - od.y)
+        // shadows it by Beer-Lambert at P.ms.w of the extinction: diffused light leaves a cloud in every
+        // direction, and little of it crosses the air to another.
+        float ms_falloff = P.ms.z > 0.5 ? exp(-P.ms.w * max(od.x - od.y, 0.0)) / (1.0 + 0.75 * (1.0 - P.phase.x) * od.y)
                                         : exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
         float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * ms_falloff;
         vec3 world_q = ro + rd * ts;

@@ -141,7 +141,8 @@ struct CloudParams {
   uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y, z, w: unused
   vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
                         // y at the surface and away from the sun (talk 0.25); z: 1 = diffusion's falloff
-                        // 1 / (1 + 0.75 (1 - g) od) instead (CloudSettings::ms_diffusion); w: unused
+                        // 1 / (1 + 0.75 (1 - g) od_own) instead (CloudSettings::ms_diffusion); w: with z, the
+                        // Beer-Lambert coefficient of other clouds' optical depth on it (ms_other_cloud_attenuation)
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
 CUMULO_SHARED_SIZE(CloudParams, 1280)

@@ -19,6 +19,7 @@
 #include "engine/gpu/context.h"
 #include "modules/clouds/clouds_module.h"
 #include "modules/clouds/reference/exr_file.h"
+#include "modules/clouds/reference/fidelity_features.h"
 #include "modules/clouds/reference/fidelity_metrics.h"
 #include "modules/clouds/reference/reference_command.h"
 #include "modules/clouds/reference/render_session.h"
@@ -94,7 +95,7 @@ struct FidelityOptions {
   std::string out = "fidelity.json";
   std::string images;  // default: <out without extension>_images/
   bool reuse_references = false;
-  std::vector<render::CloudLightingPreset> presets{render::CloudLightingPreset::Talk, render::CloudLightingPreset::Tuned};
+  std::vector<render::CloudLightingPreset> presets{render::CloudLightingPreset::Diffusion, render::CloudLightingPreset::Talk};
 };
 
 // The real-time image of a still view: `warmup` frames after a restart of the history, then the mean of
@@ -144,6 +145,7 @@ struct ViewResult {
   FidelityView view;
   FidelityError err, err_off;  // the first preset's (the talks' constants by default)
   std::vector<FidelityError> preset_err;  // per preset
+  std::vector<ViewFeatures> preset_features;  // per preset
   double effect_contribution = NAN;  // mean |on - off| / L_ref in cloud
   uint32_t spp = 0;
   double reference_seconds = 0;
@@ -240,7 +242,10 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
     }
     r.spp = ref.samples;
     r.err = fidelity_error(rt, ref);
-    for (const std::vector<glm::vec4>& img : rt_presets) r.preset_err.push_back(fidelity_error(img, ref));
+    for (const std::vector<glm::vec4>& img : rt_presets) {
+      r.preset_err.push_back(fidelity_error(img, ref));
+      r.preset_features.push_back(view_features(img, ref));
+    }
     for (size_t k = 1; k < o.presets.size(); ++k) {
       const std::string name = render::lighting_preset_name(o.presets[k]);
       gpu::write_png(base + "_realtime_" + name + ".png", rt_preset_pngs[k]);
@@ -280,15 +285,22 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
       r.images["realtime_without_effect"] = rel(off + ".png");
       r.images["error_without_effect"] = rel(base + "_error_without_" + v.effect + ".png");
     }
-    std::fprintf(stderr, "cumulo fidelity: %s: error %.1f %% (in cloud %.1f %%, bias %+.1f %%, reference noise %.1f %%; mean "
-                 "luminance in cloud: real-time %.3f, reference %.3f)%s\n",
-                 v.name.c_str(), 100 * r.err.error_mean, 100 * r.err.error_in_cloud, 100 * r.err.bias_in_cloud,
-                 100 * r.err.noise_in_cloud, r.err.realtime_luminance_in_cloud, r.err.reference_luminance_in_cloud,
+    std::fprintf(stderr, "cumulo fidelity: %s: error %.1f %% (in cloud %.1f %%, noise-corrected %.1f %%, bias %+.1f %%, "
+                 "reference noise %.1f %%; mean luminance in cloud: real-time %.3f, reference %.3f)%s\n",
+                 v.name.c_str(), 100 * r.err.error_mean, 100 * r.err.error_in_cloud, 100 * r.err.error_in_cloud_corrected,
+                 100 * r.err.bias_in_cloud, 100 * r.err.noise_in_cloud, r.err.realtime_luminance_in_cloud, r.err.reference_luminance_in_cloud,
                  v.effect.empty() ? "" : strf("; without %s %.1f %%", v.effect.c_str(), 100 * r.err_off.error_in_cloud).c_str());
     for (size_t k = 1; k < o.presets.size(); ++k)
-      std::fprintf(stderr, "cumulo fidelity: %s: %s constants: error %.1f %%, in cloud %.1f %% (bias %+.1f %%)\n", v.name.c_str(),
-                   render::lighting_preset_name(o.presets[k]), 100 * r.preset_err[k].error_mean,
-                   100 * r.preset_err[k].error_in_cloud, 100 * r.preset_err[k].bias_in_cloud);
+      std::fprintf(stderr, "cumulo fidelity: %s: %s constants: error %.1f %%, in cloud %.1f %%, noise-corrected %.1f %% (bias %+.1f %%)\n",
+                   v.name.c_str(), render::lighting_preset_name(o.presets[k]), 100 * r.preset_err[k].error_mean,
+                   100 * r.preset_err[k].error_in_cloud, 100 * r.preset_err[k].error_in_cloud_corrected,
+                   100 * r.preset_err[k].bias_in_cloud);
+    for (size_t k = 0; k < o.presets.size(); ++k) {
+      const ViewFeatures& f = r.preset_features[k];
+      std::fprintf(stderr, "cumulo fidelity: %s: %s constants: belly %.3f vs %.3f, rim/core %.2f vs %.2f, band-pass %.3f vs %.3f "
+                   "(real-time vs reference)\n", v.name.c_str(), render::lighting_preset_name(o.presets[k]), f.belly_realtime,
+                   f.belly_reference, f.rim_core_realtime, f.rim_core_reference, f.band_pass_realtime, f.band_pass_reference);
+    }
     results.push_back(r);
   }
   feature.options().effects = all_effects;
@@ -296,22 +308,35 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
   // ---- Table and JSON ----
   auto pct = [](double v) { return std::isnan(v) ? std::string("-") : strf("%.1f %%", 100.0 * v); };
   const std::string first = render::lighting_preset_name(o.presets.front());
-  std::string table = "| view | effect | error (all) | error in cloud, " + first + " constants | bias in cloud |";
-  std::string rule = "|---|---|---|---|---|";
+  std::string table = "| view | effect | error (all) | error in cloud, " + first + " constants | noise-corrected | bias in cloud |";
+  std::string rule = "|---|---|---|---|---|---|";
   for (size_t k = 1; k < o.presets.size(); ++k) {
-    table += strf(" error in cloud, %s constants |", render::lighting_preset_name(o.presets[k]));
+    table += strf(" error in cloud (noise-corrected), bias, %s constants |", render::lighting_preset_name(o.presets[k]));
     rule += "---|";
   }
   table += " reference noise | in cloud without the effect | effect's contribution | spp |\n" + rule + "---|---|---|---|\n";
   for (const ViewResult& r : results) {
     std::string extra;
-    for (size_t k = 1; k < r.preset_err.size(); ++k) extra += " " + pct(r.preset_err[k].error_in_cloud) + " |";
-    table += strf("| %s | %s | %s | %s | %s |%s %s | %s | %s | %u |\n", r.view.name.c_str(),
+    for (size_t k = 1; k < r.preset_err.size(); ++k)
+      extra += strf(" %s (%s), %+.1f %% |", pct(r.preset_err[k].error_in_cloud).c_str(), pct(r.preset_err[k].error_in_cloud_corrected).c_str(),
+                    100 * r.preset_err[k].bias_in_cloud);
+    table += strf("| %s | %s | %s | %s | %s | %s |%s %s | %s | %s | %u |\n", r.view.name.c_str(),
                   r.view.effect.empty() ? "-" : r.view.effect.c_str(), pct(r.err.error_mean).c_str(), pct(r.err.error_in_cloud).c_str(),
-                  strf("%+.1f %%", 100 * r.err.bias_in_cloud).c_str(), extra.c_str(), pct(r.err.noise_in_cloud).c_str(),
+                  pct(r.err.error_in_cloud_corrected).c_str(), strf("%+.1f %%", 100 * r.err.bias_in_cloud).c_str(), extra.c_str(), pct(r.err.noise_in_cloud).c_str(),
                   r.view.effect.empty() ? "-" : pct(r.err_off.error_in_cloud).c_str(),
                   r.view.effect.empty() ? "-" : pct(r.effect_contribution).c_str(), r.spp);
   }
+  // What a viewer sees: the belly, the rim and the inside's structure, against the reference's (issue 21).
+  table += "\n| view | constants | belly, lower third (real-time / reference) | rim / core (real-time / reference) | band-pass contrast (real-time / reference) |\n|---|---|---|---|---|\n";
+  for (const ViewResult& r : results)
+    for (size_t k = 0; k < r.preset_features.size(); ++k) {
+      const ViewFeatures& f = r.preset_features[k];
+      auto pair = [&](double a, double b, double d) { return strf("%.3f / %.3f (%s)", a, b, std::isnan(d) ? "-" : strf("%+.0f %%", 100 * d).c_str()); };
+      table += strf("| %s | %s | %s | %s | %s |\n", r.view.name.c_str(), render::lighting_preset_name(o.presets[k]),
+                    pair(f.belly_realtime, f.belly_reference, f.belly_difference()).c_str(),
+                    pair(f.rim_core_realtime, f.rim_core_reference, f.rim_core_difference()).c_str(),
+                    pair(f.band_pass_realtime, f.band_pass_reference, f.band_pass_difference()).c_str());
+    }
   std::string preset_names;
   for (render::CloudLightingPreset p : o.presets) preset_names += std::string(preset_names.empty() ? "" : ", ") + render::lighting_preset_name(p);
   std::printf("## cumulo fidelity: %s, %ux%u, %u spp, %u bounces, phase %s, constants %s (%.0f s)\n\n%s\n",
@@ -339,6 +364,7 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
     nlohmann::ordered_json e = {{"name", r.view.name},
                                 {"error_mean", r.err.error_mean},
                                 {"error_in_cloud", r.err.error_in_cloud},
+                                {"error_in_cloud_noise_corrected", r.err.error_in_cloud_corrected},
                                 {"bias_in_cloud", r.err.bias_in_cloud},
                                 {"reference_noise_in_cloud", r.err.noise_in_cloud},
                                 {"reference_stderr_in_cloud", r.err.stderr_in_cloud},
@@ -351,10 +377,17 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
                                 {"images", r.images}};
     if (!r.view.note.empty()) e["note"] = r.view.note;
     nlohmann::ordered_json by = nlohmann::ordered_json::object();
-    for (size_t k = 0; k < r.preset_err.size(); ++k)
-      by[render::lighting_preset_name(o.presets[k])] = {{"error_mean", r.preset_err[k].error_mean},
-                                                        {"error_in_cloud", r.preset_err[k].error_in_cloud},
-                                                        {"bias_in_cloud", r.preset_err[k].bias_in_cloud}};
+    for (size_t k = 0; k < r.preset_err.size(); ++k) {
+      const ViewFeatures& f = r.preset_features[k];
+      by[render::lighting_preset_name(o.presets[k])] = {
+          {"error_mean", r.preset_err[k].error_mean},
+          {"error_in_cloud", r.preset_err[k].error_in_cloud},
+          {"error_in_cloud_noise_corrected", r.preset_err[k].error_in_cloud_corrected},
+          {"bias_in_cloud", r.preset_err[k].bias_in_cloud},
+          {"belly_lower_third", {{"realtime", num(f.belly_realtime)}, {"reference", num(f.belly_reference)}, {"difference", num(f.belly_difference())}}},
+          {"rim_core_ratio", {{"realtime", num(f.rim_core_realtime)}, {"reference", num(f.rim_core_reference)}, {"difference", num(f.rim_core_difference())}}},
+          {"band_pass_contrast", {{"realtime", num(f.band_pass_realtime)}, {"reference", num(f.band_pass_reference)}, {"difference", num(f.band_pass_difference())}}}};
+    }
     e["constants"] = by;
     if (!r.view.effect.empty())
       e["effect"] = {{"name", r.view.effect},
@@ -401,7 +434,7 @@ void register_fidelity_command(CommandRegistry& registry) {
                             "wrote it at this size and spp (to compare other real-time settings without re-tracing)",
                             &o.reuse_references)
                       .option("--constants", "A,B", "real-time lighting constants compared, the first also for the effects "
-                              "and images (default talk,tuned)", &constants);
+                              "and images (default diffusion,talk: the default lighting and the talks' side by side)", &constants);
                   add_reference_options(p, o.ref);
                   module.feature().add_run_options(p);  // --cloud-* (the real-time side's switches)
                   if (!p.parse(argc, argv)) return 0;

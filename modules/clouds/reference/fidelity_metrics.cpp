@@ -36,7 +36,9 @@ FidelityError fidelity_error(const std::vector<glm::vec4>& rt, const render::Ref
       e.realtime_luminance_in_cloud += lt;
       e.reference_luminance_in_cloud += lr;
       e.bias_in_cloud += (lt - lr) / denom;
-      const double rel_se = ref.luminance_stderr.empty() ? 0.0 : ref.luminance_stderr[i] / denom;
+      const double se = ref.luminance_stderr.empty() ? 0.0 : ref.luminance_stderr[i];
+      const double rel_se = se / denom;
+      e.error_in_cloud_corrected += std::sqrt(std::max(0.0, (lt - lr) * (lt - lr) - se * se)) / denom;
       e.stderr_in_cloud += rel_se;
       e.noise_in_cloud += std::sqrt(2.0 / 3.14159265358979) * rel_se;
       ++e.cloud_pixels;
@@ -46,7 +48,7 @@ FidelityError fidelity_error(const std::vector<glm::vec4>& rt, const render::Ref
   if (e.cloud_pixels) {
     const double n = double(e.cloud_pixels);
     e.realtime_luminance_in_cloud /= n, e.reference_luminance_in_cloud /= n;
-    e.error_in_cloud /= n, e.bias_in_cloud /= n, e.noise_in_cloud /= n, e.stderr_in_cloud /= n;
+    e.error_in_cloud /= n, e.error_in_cloud_corrected /= n, e.bias_in_cloud /= n, e.noise_in_cloud /= n, e.stderr_in_cloud /= n;
   }
   return e;
 }

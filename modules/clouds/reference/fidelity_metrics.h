@@ -2,7 +2,7 @@
 // How far a real-time image is from the path-traced reference (cumulo fidelity): the relative luminance
 // error per pixel, |L_rt - L_ref| / max(L_ref, floor), averaged over the image and over the cloud's
 // silhouette (the reference's view-ray opacity above a threshold), the part of it that the reference's own
-// noise explains, and a false-colour map of the error.
+// noise explains, the error with that noise taken out, and a false-colour map of the error.
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +19,10 @@ struct FidelityError {
   double bias_in_cloud = 0.0;   // signed: mean (L_rt - L_ref) / L_ref in cloud (> 0: the real-time image is brighter)
   double noise_in_cloud = 0.0;  // the error the reference's standard error alone gives (E|N(0, se)| / L_ref)
   double stderr_in_cloud = 0.0; // mean relative standard error of the reference in cloud
+  // The in-cloud error with the reference's noise taken out, pixel by pixel: E[(L_rt - L_ref)^2] = d^2 + se^2
+  // for a true difference d, so each pixel counts sqrt(max(0, (L_rt - L_ref)^2 - se^2)) / L_ref (issue 21's
+  // acceptance metric; equal to error_in_cloud when the reference has no standard error).
+  double error_in_cloud_corrected = 0.0;
   double realtime_luminance_in_cloud = 0.0, reference_luminance_in_cloud = 0.0;  // means
   uint64_t cloud_pixels = 0;
 };

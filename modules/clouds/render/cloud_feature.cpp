@@ -69,8 +69,9 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",
               &effects_off_text_)
       .option("--cloud-lighting", "talk|tuned|diffusion",
-              "the lighting model: the talks' constants (default), the set tuned against the path-traced reference "
-              "(cumulo fidelity), or diffusion's falloff of the multiple scattering (issue 21)",
+              "the lighting model: the talks' constants, the set tuned against the path-traced reference "
+              "(cumulo fidelity), or diffusion's falloff of the multiple scattering through a cloud and Beer-Lambert "
+              "across other clouds (default; issue 21)",
               &lighting_text_)
       .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
               &options_.ms_strength)
@@ -83,6 +84,11 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the multiple-scattering field's attenuation deep inside a cloud toward the sun (the inner glow's "
               "relaxation), overriding the preset's (talk: 0.05)",
               &options_.ms_attenuation_inside)
+      .range(0.0, 10.0)
+      .option("--cloud-ms-other-clouds", "X",
+              "with the diffusion lighting, the Beer-Lambert coefficient of other clouds' optical depth on the multiple "
+              "scattering, overriding the preset's (diffusion: 1; 0: other clouds shadow it as its own cloud does)",
+              &options_.ms_other_clouds)
       .range(0.0, 10.0)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_)
@@ -291,6 +297,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ms_strength >= 0.0f) settings.ms_strength = options_.ms_strength;
   if (options_.ambient_occlusion >= 0.0f) settings.ambient_occlusion_scale = options_.ambient_occlusion;
   if (options_.ms_attenuation_inside >= 0.0f) settings.ms_attenuation_inside = options_.ms_attenuation_inside;
+  if (options_.ms_other_clouds >= 0.0f) settings.ms_other_cloud_attenuation = options_.ms_other_clouds;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

@@ -139,6 +139,10 @@ struct CloudSettings {
   // Beer-Lambert exp(-od x attenuation); true, diffusion's 1 / (1 + 0.75 (1 - g) od) (g = hg_forward: the
   // transport mean free path of a forward-peaked phase function), which a thick base does not turn black.
   bool ms_diffusion = false;
+  // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
+  // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
+  // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.
+  float ms_other_cloud_attenuation = 0.0f;
   float ambient_occlusion_scale = 0.1f;   // sky optical depth = summed sky density x extinction x this (not in the talk)
   float noise_mip_distance_scale = 0.002f;  // talk's cVoxelFineDetailMipMapDistanceScale (value not given)
   float temporal_blend = 0.1f;        // weight of the new frame in the accumulation
@@ -173,11 +177,13 @@ inline constexpr CloudEffectName kCloudEffects[] = {
 // The bit of an effect's name; 0 if unknown.
 uint32_t cloud_effect_bit(std::string_view name);
 
-// The lighting model's free constants: the talks' (Talk, the default: CloudSettings as declared) or the set
+// The lighting model's free constants: the talks' (Talk: CloudSettings as declared) or the set
 // tuned against the path-traced reference (Tuned; cumulo fidelity measures both). Only terms the reference
 // does not share change (the multiple-scattering strength, the ambient occlusion scale), so both sets march
 // the same medium and phase function as the reference. (Also the inner glow's relaxed attenuation.)
-// Diffusion: the multiple-scattering field falls off as diffusion does (CloudSettings::ms_diffusion; issue 21).
+// Diffusion (the engine's default, cloud_feature.h; issue 21): the multiple-scattering field falls off as diffusion
+// does through the sample's own cloud and by Beer-Lambert across other clouds (CloudSettings::ms_diffusion,
+// ms_other_cloud_attenuation); it measures closer to the reference than the talk's in 8 of the 10 fidelity views.
 enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion };
 const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned" | "diffusion"
 bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown

@@ -832,5 +832,35 @@ TEST_F(CloudRender, DiffusionLightingLightensTheShadowedSide) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The diffusion lighting tells a cloud's own optical depth toward the sun from other clouds' (the light grid's
+// z channel): with the sun low beyond the left sphere of the two-sphere cloudscape, the right sphere lies in its
+// shadow. The other clouds' attenuation (ms_other_cloud_attenuation) darkens the right sphere and leaves the
+// left one, which nothing shadows, as it was.
+TEST_F(CloudRender, DiffusionLightingShadowsOneCloudByAnother) {
+  const scene::CameraView cam = camera({0.0f, 128.0f, 300.0f}, {0.0f, 128.0f, 0.0f});
+  CloudFrameInputs in = inputs(asset({}, coverage_cloudscape()), cam);
+  in.sun_direction = glm::normalize(glm::vec3(-1.0f, 0.12f, 0.0f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Diffusion);
+  EXPECT_GT(in.settings.ms_other_cloud_attenuation, 0.0f);
+  auto halves = [&](const Frame& f) {
+    glm::dvec2 sum(0.0);
+    for (uint32_t y = 0; y < f.height; ++y)
+      for (uint32_t x = 0; x < f.width; ++x) {
+        const glm::vec4 c = f.color[size_t(y) * f.width + x];
+        (x < f.width / 2 ? sum.x : sum.y) += c.r + c.g + c.b;
+      }
+    return sum;
+  };
+  const glm::dvec2 with = halves(render(in));
+  in.settings.ms_other_cloud_attenuation = 0.0f;
+  const glm::dvec2 without = halves(render(in));
+  std::printf("  cloud radiance, left / right sphere: other clouds attenuating %.2f / %.2f, not %.2f / %.2f\n", with.x, with.y,
+              without.x, without.y);
+  EXPECT_GT(without.y, 0.0);
+  EXPECT_LT(with.y, 0.9 * without.y) << "the shadowed cloud loses the light that crossed the other";
+  EXPECT_NEAR(with.x, without.x, 0.02 * without.x) << "the cloud nearer the sun keeps its light";
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 }  // namespace
 }  // namespace cumulo::clouds::render::test
