@@ -242,9 +242,10 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
     }
     r.spp = ref.samples;
     r.err = fidelity_error(rt, ref);
+    const ReferenceFeatures ref_features = reference_features(ref);
     for (const std::vector<glm::vec4>& img : rt_presets) {
       r.preset_err.push_back(fidelity_error(img, ref));
-      r.preset_features.push_back(view_features(img, ref));
+      r.preset_features.push_back(view_features(img, ref, ref_features));
     }
     for (size_t k = 1; k < o.presets.size(); ++k) {
       const std::string name = render::lighting_preset_name(o.presets[k]);

@@ -170,18 +170,28 @@ double band_pass_contrast(const std::vector<float>& lum, uint32_t w, uint32_t h,
   return sum / double(lum.size()) / mean;
 }
 
-ViewFeatures view_features(const std::vector<glm::vec4>& rt, const render::ReferenceImage& ref) {
+ReferenceFeatures reference_features(const render::ReferenceImage& ref) {
   const uint32_t w = ref.width, h = ref.height;
-  const std::vector<float> lt = luminance_image(rt), lr = luminance_image(ref.radiance);
+  const std::vector<float> lr = luminance_image(ref.radiance);
+  ReferenceFeatures f;
+  f.body = largest_silhouette(ref, 0.5f);
+  f.outline = largest_silhouette(ref, kCloudOpacity);
+  f.belly = lower_third_mean(lr, f.body, w, h);
+  f.rim_core = rim_core_ratio(lr, f.outline, w, h);
+  f.band_pass = band_pass_contrast(lr, w, h, ref.luminance_stderr);
+  return f;
+}
+
+ViewFeatures view_features(const std::vector<glm::vec4>& rt, const render::ReferenceImage& ref, const ReferenceFeatures& m) {
+  const uint32_t w = ref.width, h = ref.height;
+  const std::vector<float> lt = luminance_image(rt);
   ViewFeatures f;
-  const std::vector<uint8_t> body = largest_silhouette(ref, 0.5f);
-  f.belly_realtime = lower_third_mean(lt, body, w, h);
-  f.belly_reference = lower_third_mean(lr, body, w, h);
-  const std::vector<uint8_t> outline = largest_silhouette(ref, kCloudOpacity);
-  f.rim_core_realtime = rim_core_ratio(lt, outline, w, h);
-  f.rim_core_reference = rim_core_ratio(lr, outline, w, h);
+  f.belly_realtime = lower_third_mean(lt, m.body, w, h);
+  f.belly_reference = m.belly;
+  f.rim_core_realtime = rim_core_ratio(lt, m.outline, w, h);
+  f.rim_core_reference = m.rim_core;
   f.band_pass_realtime = band_pass_contrast(lt, w, h);
-  f.band_pass_reference = band_pass_contrast(lr, w, h, ref.luminance_stderr);
+  f.band_pass_reference = m.band_pass;
   return f;
 }
 

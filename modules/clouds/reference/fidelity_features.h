@@ -49,7 +49,15 @@ struct ViewFeatures {
   double band_pass_difference() const { return relative(band_pass_realtime, band_pass_reference); }
   static double relative(double a, double b) { return b > 0.0 ? a / b - 1.0 : std::numeric_limits<double>::quiet_NaN(); }
 };
-ViewFeatures view_features(const std::vector<glm::vec4>& realtime, const render::ReferenceImage& reference);
+// The reference's side, measured once per view (its silhouettes and its noise-corrected band-pass are the same
+// for every real-time image compared with it).
+struct ReferenceFeatures {
+  std::vector<uint8_t> body, outline;  // largest silhouettes at opacity 0.5 and kCloudOpacity
+  double belly = 0, rim_core = 0, band_pass = 0;
+};
+ReferenceFeatures reference_features(const render::ReferenceImage& reference);
+ViewFeatures view_features(const std::vector<glm::vec4>& realtime, const render::ReferenceImage& reference,
+                           const ReferenceFeatures& measured);
 
 // Gaussian blur (clamped edges), separable; exposed for the tests.
 std::vector<float> gaussian_blur(const std::vector<float>& img, uint32_t width, uint32_t height, float sigma);
