@@ -16,10 +16,11 @@
 // whole grid (a level reads the one nearer the light, updated this frame or in an earlier one), so a
 // frame has few dispatches (on lavapipe each dispatch + barrier costs about 0.2 ms even when empty).
 // Values and units as light_grid_update.comp: x = summed density toward the sun, y = toward the sky,
-// z = the part of x in the voxel's own cloud, density x world metres, from the voxel centre.
+// z = the part of x in the voxel's own cloud, w = the own cloud's summed density away from the sun (its sweep
+// runs from the level farthest from the sun), density x world metres, from the voxel centre.
 // pc.region: x instance, y first z layer, z layer count (the instance's whole grid), w the level (y) written;
-// pc.grid: x most density samples per stretch, y channels updated (1 sun, 2 sky, 3 both; a channel not
-// updated keeps its value), z z layers per instance.
+// pc.grid: x most density samples per stretch, y channels updated (bits: 1 sun, 2 sky, 4 away from the sun; a
+// channel not updated keeps its value), z z layers per instance.
 #extension GL_GOOGLE_include_directive : require
 #include "clouds/cloud_common.glsl"
 
@@ -46,9 +47,15 @@ vec4 level_value(int y, vec2 xz, ivec2 size_xz, int zbase) {
 // x the whole sum, y the part of it in the cloud the voxel is in (its "own" cloud: the sum up to the first
 // sample outside every cloud's profile, where the light leaves one cloud for the air between clouds; issue 21,
 // the march lets diffused light cross a cloud but not the gap to another). `channel` 0 reads the sun sums of
-// the next level (x total, z own), 1 the sky sums (y; no own part).
+// the next level (x total, z own), 1 the sky sums (y; no own part), 2 the own sums away from the sun (w; only
+// the own part is kept, so a voxel in air samples nothing).
+// Air under a sky optical depth of P.sun_dir.w or more is inside a cloud (a chamber): the own cloud goes on across
+// it (0: the own cloud ends at the first air). `sky`: summed density x world metres straight up.
+bool enclosed(float sky) { return P.sun_dir.w > 0.0 && sky * P.march.x >= P.sun_dir.w; }
+
+// `enclosed_here`: the voxel is in enclosed air (see enclosed()).
 vec2 sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y, vec3 cell, ivec2 size_xz, int zbase,
-           float voxel, vec4 noise, float clear, int channel) {
+           float voxel, vec4 noise, float clear, int channel, bool enclosed_here) {
   float slope = max(abs(dir.y), kMinSlope);
   float up = dir.y >= 0.0 ? 1.0 : -1.0;
   vec3 d = normalize(vec3(dir.x, up * slope, dir.z));
@@ -57,24 +64,31 @@ vec2 sweep(CloudInstanceParams inst, vec3 origin, vec3 dir, int y, int layers_y,
   float t_exit = max(seg.y, 0.0);
   float len = min(delta, t_exit);
   // `clear`: no cloud within this distance of the voxel centre, so a shorter stretch needs no samples.
-  int k = clear > len ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
+  // A voxel in air has no cloud of its own, unless the air is enclosed (a chamber's).
+  bool in_own = clear <= 0.0 || enclosed_here;
+  int k = clear > len || (channel == 2 && !in_own) ? 0 : clamp(int(ceil(len / voxel)), 1, int(pc.grid.x));
   float sum = 0.0, own = 0.0;
-  bool in_own = clear <= 0.0;  // a voxel in air has no cloud of its own
+  // The next level's sums where the stretch reaches it (its sky sum decides whether air on the way is enclosed).
+  int next = y + int(up);
+  bool has_next = delta < t_exit && next >= 0 && next < layers_y;
+  vec4 v = vec4(0.0);
+  if (has_next) {
+    vec3 pn = origin + d * delta;
+    v = level_value(next, (pn.xz - inst.bounds_min.xz) / cell.xz, size_xz, zbase) / inst.bounds_min.w;  // stored in world metres
+  }
+  bool air_enclosed = enclosed(v.y * inst.bounds_min.w);
   for (int j = 0; j < k; ++j) {
     DensitySample s = sample_density_with_noise(CLOUD_ASSET_0, inst, origin + d * ((float(j) + 0.5) / float(k) * len), noise);
-    in_own = in_own && s.raw_profile > 0.0;
+    in_own = in_own && (s.raw_profile > 0.0 || air_enclosed);
     sum += s.full;
     own += in_own ? s.full : 0.0;
   }
   float w = len / float(max(k, 1));
   sum *= w, own *= w;
-  int next = y + int(up);
-  if (delta < t_exit && next >= 0 && next < layers_y) {
-    vec3 pn = origin + d * delta;
-    vec2 xz = (pn.xz - inst.bounds_min.xz) / cell.xz;
-    vec4 v = level_value(next, xz, size_xz, zbase) / inst.bounds_min.w;  // stored in world metres
+  if (has_next) {
     sum += channel == 0 ? v.x : v.y;
-    if (in_own && k > 0 && channel == 0) own += v.z;
+    if (k == 0) in_own = in_own && air_enclosed;  // no sample: the stretch is air
+    if (in_own && channel != 1) own += channel == 0 ? v.z : v.w;
   }
   return vec2(sum, own);
 }
@@ -103,10 +117,14 @@ void main() {
   float margin = (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field_tex, 0).x);
   float clear = cloud_distance(field_tex, asset_uvw(inst, origin)) - margin;
   uint channels = uint(pc.grid.y);
-  vec4 value = channels == 3u ? vec4(0.0) : imageLoad(grid, texel);
-  if ((channels & 1u) != 0u)
-    value.xz = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 0) * inst.bounds_min.w;
+  vec4 value = imageLoad(grid, texel);  // channels not updated keep their values (no dispatch updates all four)
+  // The sky first: whether this voxel's air is enclosed reads it.
   if ((channels & 2u) != 0u)
-    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 1).x * inst.bounds_min.w;
+    value.y = sweep(inst, origin, inst.sky_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 1, false).x * inst.bounds_min.w;
+  bool here = enclosed(value.y);
+  if ((channels & 1u) != 0u)
+    value.xz = sweep(inst, origin, inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 0, here) * inst.bounds_min.w;
+  if ((channels & 4u) != 0u)
+    value.w = sweep(inst, origin, -inst.sun_dir.xyz, y, size.y, cell, size.xz, zbase, voxel, noise, clear, 2, here).y * inst.bounds_min.w;
   imageStore(grid, texel, value);
 }

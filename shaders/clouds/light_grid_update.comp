@@ -10,7 +10,8 @@
 // straight up, to the asset box boundary. They are sphere-traced by the field NVDF (step = max(SDF,
 // one grid voxel)) so empty air costs few steps, and density is summed only where the SDF is
 // negative. Stored: x = summed density toward the sun, y = toward the sky, z = the part of x in the voxel's
-// own cloud (up to the first step in air), in density x world metres
+// own cloud (up to the first step in air), w = the own cloud's summed density away from the sun, in density x
+// world metres
 // (the march multiplies by the extinction coefficient). Every voxel is computed, not only cloudy ones:
 // the march reads the grid 2 light samples away from its sample, often in the air between clouds,
 // which is what gives the long inter-cloud shadows.
@@ -25,10 +26,13 @@ layout(push_constant) uniform Push { CloudLightGridPush pc; };
 
 // x: the summed density (world metres) from `origin` along `dir` to the box; y: its part in the cloud the
 // voxel is in, up to the first step in air (light_grid_sweep.comp says why).
-vec2 summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxel, float mip, uint max_steps) {
+// `own_only`: stop at the own cloud's end (the sum beyond is not wanted).
+vec2 summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxel, float mip, uint max_steps, bool own_only) {
   vec2 seg = ray_box(origin, dir, inst.bounds_min.xyz, inst.bounds_max.xyz);
   float t_exit = max(seg.y, 0.0);
   float sum = 0.0, own = 0.0;
+  // (Enclosed air, the slab lighting's chamber rule, needs the sky sums of the points on the way: only the sweep
+  // has them; here the own cloud ends at the first air.)
   bool in_own = cloud_distance(field_tex, asset_uvw(inst, origin)) <= 0.0;
   float t = 0.5 * voxel;  // the voxel's own half: the march's first light samples cover the rest near it
   for (uint s = 0u; s < max_steps; ++s) {
@@ -46,6 +50,7 @@ vec2 summed_density(CloudInstanceParams inst, vec3 origin, vec3 dir, float voxel
       own += in_own ? v : 0.0;
     }
     t += step_len;
+    if (own_only && !in_own) break;
   }
   return vec2(sum, own) * inst.bounds_min.w;  // asset metres -> world metres
 }
@@ -64,7 +69,8 @@ void main() {
   // Noise texel is 100 m / noise size; pick the mip whose texel is about one grid voxel.
   float noise_texel = 100.0 / float(textureSize(noise_tex, 0).x);
   float mip = max(0.0, log2(voxel / noise_texel));
-  vec2 sun = summed_density(inst, origin, inst.sun_dir.xyz, voxel, mip, uint(pc.grid.x));
-  float sky = summed_density(inst, origin, inst.sky_dir.xyz, voxel, mip, uint(pc.grid.y)).x;
-  imageStore(grid_out, id + ivec3(0, 0, int(pc.region.x) * layers), vec4(sun.x, sky, sun.y, 0.0));
+  vec2 sun = summed_density(inst, origin, inst.sun_dir.xyz, voxel, mip, uint(pc.grid.x), false);
+  float sky = summed_density(inst, origin, inst.sky_dir.xyz, voxel, mip, uint(pc.grid.y), false).x;
+  float away = summed_density(inst, origin, -inst.sun_dir.xyz, voxel, mip, uint(pc.grid.x), true).y;
+  imageStore(grid_out, id + ivec3(0, 0, int(pc.region.x) * layers), vec4(sun.x, sky, sun.y, away));
 }

@@ -25,6 +25,9 @@
 // "summed_ambient_density"; at full extinction the base of a 400 m cumulus would be black, while the
 // bounce and multiple scattering the ambient term stands for keep it grey);
 //   point lights: pow(1 - d / radius, 12) * (1 - saturate(density * 5)) * colour      (talk, lightning)
+// The slab lighting (issue 21; CloudSettings::ms_slab, `--cloud-lighting slab`) replaces the falloff of the
+// multiple scattering by a slab's along the sun's line, reads the sky from the upper hemisphere through the phase
+// function, adds the sky's light diffused into the cloud and a ground bounce (comments at each term below).
 // Integration: energy-conserving (Hillaire 2016, "Physically Based Sky, Atmosphere and Cloud
 // Rendering in Frostbite"): Sint = (S - S * exp(-sigma_t dt)) / sigma_t.
 // Output: rgb in-scattered radiance, a transmittance; depth image x = distance where opacity reached
@@ -112,6 +115,11 @@ float terrain_visibility(vec3 world) { return 1.0; }
 // Optical depth toward the sun from an asset-space point (world metres of density x extinction): x the whole
 // path's, y its part inside the point's own cloud (up to the first sample outside every cloud's profile; the
 // light grid's z channel beyond the two marched samples), which the diffusion lighting tells apart (issue 21).
+// The own cloud goes on across air under a sky optical depth of P.sun_dir.w or more (enclosed air: a chamber inside
+// a cloud does not part it in two; 0: the own cloud ends at the first air). `sky`: the light grid's y there.
+bool still_own(DensitySample s, float sky) {
+  return s.raw_profile > 0.0 || (P.sun_dir.w > 0.0 && sky * P.march.x >= P.sun_dir.w);
+}
 vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, vec3 p, float dist, float mip, vec4 mean_noise) {
   vec3 sun = inst.sun_dir.xyz;
   float scale = inst.bounds_min.w, inv_scale = inst.bounds_max.w;
@@ -123,12 +131,15 @@ vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, v
   for (uint k = 0u; k < n; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
     DensitySample s = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false);
-    in_own = in_own && s.raw_profile > 0.0;
+    in_own = in_own && still_own(s, 0.0);
     sum += s.full * seg;
     own += in_own ? s.full * seg : 0.0;
   }
 #else
   float seg = P.light.x;
+  // The grid beyond the two marched samples (its sky sum also says whether air on their way is enclosed).
+  bool grid_on = (P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u;
+  vec4 g = grid_on ? light_grid(i, p + sun * (2.0 * seg * inv_scale)) : vec4(0.0);
   for (int k = 0; k < 2; ++k) {
     vec3 q = p + sun * ((float(k) + 0.5) * seg * inv_scale);
 #if LIGHT_SAMPLE_NOISE_MEAN
@@ -136,12 +147,11 @@ vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, v
 #else
     DensitySample s = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, dist, mip, false);
 #endif
-    in_own = in_own && s.raw_profile > 0.0;
+    in_own = in_own && still_own(s, g.y);
     sum += s.full * seg;
     own += in_own ? s.full * seg : 0.0;
   }
-  if ((P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u) {
-    vec3 g = light_grid(i, p + sun * (2.0 * seg * inv_scale));
+  if (grid_on) {
     sum += g.x;
     own += in_own ? g.z : 0.0;
   }
@@ -216,17 +226,45 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
 #endif
         vec2 od = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
         float od_sun = od.x;
-        float od_sky = ambient_direction ? light_grid(i, q).y * ext * P.light.y : 0.0;
+        bool slab = P.ms.z > 1.5;
+        vec4 grid_here = ambient_direction || slab ? light_grid(i, q) : vec4(0.0);  // one fetch for the sky and the slab
+        float od_sky = ambient_direction ? grid_here.y * ext * P.light.y : 0.0;
         // Diffusion (P.ms.z): the multiple scattering crosses the point's own cloud as diffuse light does,
         // 1 / (1 + 0.75 (1 - g) od); the optical depth of other clouds between it and the sun (od.x - od.y)
         // shadows it by Beer-Lambert at P.ms.w of the extinction: diffused light leaves a cloud in every
         // direction, and little of it crosses the air to another.
-        float ms_falloff = P.ms.z > 0.5 ? exp(-P.ms.w * max(od.x - od.y, 0.0)) / (1.0 + 0.75 * (1.0 - P.phase.x) * od.y)
+        // Slab (P.ms.z = 2): diffusion through the whole own cloud along the sun's line, od.y toward the sun and
+        // the light grid's w away from it: a slab's fluence is linear in depth between extrapolated boundaries
+        // 2/3 of a transport mean free path outside it, 2 (tau_away' + 2/3) / (tau' + 4/3), which is the
+        // diffusion form at the far side (tau_away 0) and twice it at the lit side (light reflected back), so the
+        // middle of a thick cloud and the walls of a chamber in it keep half the light, not 1 / (1 + tau / 2).
+        // The slab's transport takes the phase function's mean cosine (the dual lobe's, w g_f + (1 - w) g_b = 0.47),
+        // the diffusion preset the forward lobe's g (0.8), as calibrated.
+        float g_mean = mix(P.phase.y, P.phase.x, P.phase.z);
+        float r = 1.0 - (slab ? g_mean : P.phase.x);
+        float away = slab ? grid_here.w * ext : 0.0;
+        float ms_falloff = P.ms.z > 0.5 ? exp(-P.ms.w * max(od.x - od.y, 0.0)) * (1.0 + 1.5 * r * away) / (1.0 + 0.75 * r * (od.y + away))
                                         : exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
         float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * ms_falloff;
         vec3 world_q = ro + rd * ts;
         vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength / (4.0 * kPi)));
-        light_in += P.ambient_color.rgb * (pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
+        // The sky's light: the talks' isotropic ambient takes it from the whole sphere; the slab takes it from the
+        // upper hemisphere only, weighted by the phase function there (sky_share, first order in the phase's mean
+        // cosine: a cloud seen from below forward-scatters the sky, one seen from above the ground), and the lower
+        // hemisphere's share (1 - sky_share) from the ground (the bounce, below).
+        float sky_share = slab ? saturate(0.5 + 0.75 * g_mean * rd.y) : 1.0;
+        light_in += P.ambient_color.rgb * (sky_share * pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
+        // The slab's sky light diffused into the cloud as the sun's is (irradiance pi x the sky's radiance, so
+        // strength / 4 where the sun's is strength / 4 pi), through the column above the point (its optical depth
+        // at the preset's full extinction, P.light.y = 1).
+        if (slab)
+          light_in += P.ambient_color.rgb * ((dark_edges ? ds.profile : inst.sun_dir.w) * ms_strength * 0.25 / (1.0 + 0.75 * r * od_sky));
+        // Ground bounce (slab, P.ambient_color.w = the ground's albedo): the ground's radiance, lit by the sun and the
+        // sky, seen through the own cloud below the point, for which the depth away from the sun stands (the sun is
+        // high where the bounce matters); so a base gets it and a sunlit side or a top does not.
+        if (P.ambient_color.w > 0.0)
+          light_in += (P.sun_color.rgb * (max(P.sun_dir.y, 0.0) / kPi) + P.ambient_color.rgb) *
+                      (P.ambient_color.w * (1.0 - sky_share) / (1.0 + 0.75 * r * away));
         for (uint l = 0u; l < point_lights; ++l) {
           float d1 = distance(world_q, P.light_pos[l].xyz);
           float potential = pow(saturate(1.0 - d1 / P.light_pos[l].w), 12.0);

@@ -68,10 +68,11 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "switch off lighting effects of the talks in the march, comma-separated: silver-lining, dark-edges, "
               "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",
               &effects_off_text_)
-      .option("--cloud-lighting", "talk|tuned|diffusion",
+      .option("--cloud-lighting", "talk|tuned|diffusion|slab",
               "the lighting model: the talks' constants, the set tuned against the path-traced reference "
-              "(cumulo fidelity), or diffusion's falloff of the multiple scattering through a cloud and Beer-Lambert "
-              "across other clouds (default; issue 21)",
+              "(cumulo fidelity), diffusion's falloff of the multiple scattering through a cloud and Beer-Lambert "
+              "across other clouds (default; issue 21), or that falloff as a slab's, from the cloud's depth on both "
+              "sides along the sun's line",
               &lighting_text_)
       .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
               &options_.ms_strength)
@@ -90,6 +91,16 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "scattering, overriding the preset's (diffusion: 1; 0: other clouds shadow it as its own cloud does)",
               &options_.ms_other_clouds)
       .range(0.0, 10.0)
+      .option("--cloud-ms-enclosed", "X",
+              "with the diffusion lighting, the own cloud goes on across air under at least this sky optical depth (a "
+              "chamber inside a cloud), overriding the preset's (slab: 3; 0: it ends at the first air toward the sun)",
+              &options_.ms_enclosed)
+      .range(0.0, 1000.0)
+      .option("--cloud-ground-albedo", "X",
+              "with the slab lighting, the ground's albedo for the light it bounces into the clouds' bases, overriding "
+              "the preset's (slab: 0.1; 0: no bounce)",
+              &options_.ground_albedo)
+      .range(0.0, 1.0)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_)
       .option("--weather-dir", "DIR", "the folder of weather states (default content/weather/; the editor saves there)",
@@ -134,7 +145,7 @@ void CloudFeature::check_run_options() {
     options_.formats = set;
   }
   if (!parse_lighting_preset(lighting_text_, &options_.lighting))
-    fail("--cloud-lighting: expected talk, tuned or diffusion, got \"%s\"", lighting_text_.c_str());
+    fail("--cloud-lighting: expected talk, tuned, diffusion or slab, got \"%s\"", lighting_text_.c_str());
   options_.effects = CLOUD_EFFECTS_ALL;
   for (size_t b = 0; b < effects_off_text_.size();) {
     size_t e = effects_off_text_.find(',', b);
@@ -298,6 +309,8 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ambient_occlusion >= 0.0f) settings.ambient_occlusion_scale = options_.ambient_occlusion;
   if (options_.ms_attenuation_inside >= 0.0f) settings.ms_attenuation_inside = options_.ms_attenuation_inside;
   if (options_.ms_other_clouds >= 0.0f) settings.ms_other_cloud_attenuation = options_.ms_other_clouds;
+  if (options_.ms_enclosed >= 0.0f) settings.ms_enclosed_sky_depth = options_.ms_enclosed;
+  if (options_.ground_albedo >= 0.0f) settings.ground_albedo = options_.ground_albedo;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

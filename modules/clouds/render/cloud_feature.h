@@ -89,11 +89,13 @@ struct CloudRunOptions {
   bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
-  CloudLightingPreset lighting = CloudLightingPreset::Diffusion;  // --cloud-lighting talk|tuned|diffusion
+  CloudLightingPreset lighting = CloudLightingPreset::Diffusion;  // --cloud-lighting talk|tuned|diffusion|slab
   // --cloud-ms-strength / --cloud-ambient-occlusion: override the preset's value (< 0: the preset's).
   float ms_strength = -1.0f, ambient_occlusion = -1.0f;
   float ms_attenuation_inside = -1.0f;  // --cloud-ms-attenuation-inside
   float ms_other_clouds = -1.0f;        // --cloud-ms-other-clouds
+  float ms_enclosed = -1.0f;            // --cloud-ms-enclosed
+  float ground_albedo = -1.0f;          // --cloud-ground-albedo
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;

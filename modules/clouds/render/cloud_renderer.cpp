@@ -39,7 +39,7 @@ namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // rgb radiance, a transmittance
 constexpr VkFormat kDepthFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // opacity-0.5 distance, steps, segment end
-constexpr VkFormat kGridFormat = VK_FORMAT_R16G16B16A16_SFLOAT;   // summed density toward the sun, the sky, the sun in the own cloud
+constexpr VkFormat kGridFormat = VK_FORMAT_R16G16B16A16_SFLOAT;   // summed density toward the sun, the sky, the sun in the own cloud, away from the sun in it
 
 // The state an imported image is in when the graph starts and the next user finds it: sampled by
 // compute or fragment shaders.
@@ -214,9 +214,9 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   p.inv_view_proj = in.camera.inv_view_proj;
   p.camera_pos = glm::vec4(in.camera.position, float(in.time));
   const glm::vec3 sun = glm::normalize(in.sun_direction);
-  p.sun_dir = glm::vec4(sun, 0.0f);
+  p.sun_dir = glm::vec4(sun, s.ms_diffusion ? s.ms_enclosed_sky_depth : 0.0f);
   p.sun_color = glm::vec4(in.sun_color, 0.0f);
-  p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
+  p.ambient_color = glm::vec4(in.ambient_color, s.ms_slab ? s.ground_albedo : 0.0f);
   p.viewport = glm::vec4(float(size.width), float(size.height), 1.0f / float(size.width), 1.0f / float(size.height));
   const bool uniform_steps = s.ablation != CloudAblation::Full;
   p.march = glm::vec4(s.extinction, s.albedo, s.transmittance_limit, float(uniform_steps ? s.base_max_steps : s.max_steps));
@@ -230,7 +230,7 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   p.haze = glm::vec4(in.haze_density, in.haze_falloff, terrain ? 1.0f : 0.0f, in.terrain_depth_range_m);
   p.light_depth = in.terrain_depth_matrix;
   p.effects = glm::uvec4(s.effects, 0u, 0u, 0u);
-  p.ms = glm::vec4(s.ms_attenuation_inside, s.ms_attenuation, s.ms_diffusion ? 1.0f : 0.0f, s.ms_other_cloud_attenuation);
+  p.ms = glm::vec4(s.ms_attenuation_inside, s.ms_attenuation, s.ms_diffusion ? (s.ms_slab ? 2.0f : 1.0f) : 0.0f, s.ms_other_cloud_attenuation);
   p.sky_zenith = glm::vec4(in.sky_zenith, 0.0f);
   p.sky_horizon = glm::vec4(in.sky_horizon, 0.0f);
   for (size_t i = 0; i < in.lights.size(); ++i) {
@@ -296,11 +296,12 @@ const char* lighting_preset_name(CloudLightingPreset p) {
     case CloudLightingPreset::Talk: return "talk";
     case CloudLightingPreset::Tuned: return "tuned";
     case CloudLightingPreset::Diffusion: return "diffusion";
+    case CloudLightingPreset::Slab: return "slab";
   }
   return "?";
 }
 bool parse_lighting_preset(std::string_view n, CloudLightingPreset* out) {
-  for (CloudLightingPreset p : {CloudLightingPreset::Talk, CloudLightingPreset::Tuned, CloudLightingPreset::Diffusion})
+  for (CloudLightingPreset p : {CloudLightingPreset::Talk, CloudLightingPreset::Tuned, CloudLightingPreset::Diffusion, CloudLightingPreset::Slab})
     if (n == lighting_preset_name(p)) return *out = p, true;
   return false;
 }
@@ -314,6 +315,12 @@ constexpr float kDiffusionMsStrength = 1.5f;
 // +0.2 / -3.4 / -6.8 %, and the field under a low sun (where clouds shadow clouds) +35.1 / +22.1 / +14.9 %.
 constexpr float kDiffusionOtherCloudAttenuation = 1.0f;
 constexpr float kDiffusionAmbientOcclusion = 0.05f;
+// The slab preset's: calibrated the same way (see docs/fidelity/diffusion_lighting.md).
+constexpr float kSlabMsStrength = 1.0f;
+constexpr float kSlabOtherCloudAttenuation = 1.0f;
+constexpr float kSlabAmbientOcclusion = 1.0f;  // the sky's single scattering: the column's optical depth as it is
+constexpr float kSlabEnclosedSkyDepth = 3.0f;
+constexpr float kSlabGroundAlbedo = 0.1f;
 
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p) {
   const CloudSettings talk;
@@ -322,7 +329,19 @@ void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p) {
   s.ms_attenuation_inside = talk.ms_attenuation_inside;
   s.ms_attenuation = talk.ms_attenuation;
   s.ms_diffusion = talk.ms_diffusion;
+  s.ms_slab = talk.ms_slab;
+  s.ms_enclosed_sky_depth = talk.ms_enclosed_sky_depth;
+  s.ground_albedo = talk.ground_albedo;
   s.ms_other_cloud_attenuation = talk.ms_other_cloud_attenuation;
+  if (p == CloudLightingPreset::Slab) {
+    s.ms_diffusion = s.ms_slab = true;
+    s.ms_other_cloud_attenuation = kSlabOtherCloudAttenuation;
+    s.ms_strength = kSlabMsStrength;
+    s.ambient_occlusion_scale = kSlabAmbientOcclusion;
+    s.ms_enclosed_sky_depth = kSlabEnclosedSkyDepth;
+    s.ground_albedo = kSlabGroundAlbedo;
+    return;
+  }
   if (p == CloudLightingPreset::Diffusion) {
     s.ms_diffusion = true;
     s.ms_other_cloud_attenuation = kDiffusionOtherCloudAttenuation;
@@ -627,17 +646,18 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
   gpu::Pipeline* grid_pipe = sweep ? &res.sweep(bc1, coverage_texture) : &res.grid(bc1, coverage_texture);
   const CloudResourcesDesc rdesc = res.desc;
   // Sweep order per instance: levels from the light's side; the sun and the sky share one sweep when
-  // both point up (or both down), else each channel gets its own.
+  // both point up (or both down), else each channel gets its own; the own cloud's sum away from the sun
+  // (channel 4) sweeps from the other side.
   struct SweepPlan {
-    uint32_t channels[2] = {3, 0};
-    bool down[2] = {true, true};  // true: from the top level down
+    uint32_t channels[3] = {3, 4, 0};
+    bool down[3] = {true, false, true};  // true: from the top level down
   };
   std::vector<SweepPlan> plans(n);
   for (uint32_t i = 0; i < n; ++i) {
     const glm::mat3 to_asset = glm::mat3(glm::inverse(glm::normalize(in.instances[i].rotation)));
     const bool sun_up = (to_asset * sun_world).y >= 0.0f, sky_up = (to_asset * glm::vec3(0, 1, 0)).y >= 0.0f;
-    if (sun_up == sky_up) plans[i] = {{3, 0}, {sun_up, sun_up}};
-    else plans[i] = {{1, 2}, {sun_up, sky_up}};
+    if (sun_up == sky_up) plans[i] = {{3, 4, 0}, {sun_up, !sun_up, sun_up}};
+    else plans[i] = {{1, 2, 4}, {sun_up, sky_up, !sun_up}};
   }
   bool grid_work = false;
   for (const GridWork& w : grids) grid_work |= w.layers > 0 && (!sweep || w.level_count > 0);
@@ -682,7 +702,7 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
           }
           // One dispatch per level; each level reads the one before it (written by the previous
           // dispatch of this pass): the only barriers recorded inside a cloud pass.
-          for (uint32_t sweep_index = 0; sweep_index < 2 && plans[i].channels[sweep_index]; ++sweep_index)
+          for (uint32_t sweep_index = 0; sweep_index < 3 && plans[i].channels[sweep_index]; ++sweep_index)
             for (uint32_t k = grids[i].level_first; k < grids[i].level_first + grids[i].level_count; ++k) {
               const uint32_t level = plans[i].down[sweep_index] ? e.height - 1 - k : k;
               if (k > grids[i].level_first || sweep_index > 0 || i > 0)

@@ -139,6 +139,15 @@ struct CloudSettings {
   // Beer-Lambert exp(-od x attenuation); true, diffusion's 1 / (1 + 0.75 (1 - g) od) (g = hg_forward: the
   // transport mean free path of a forward-peaked phase function), which a thick base does not turn black.
   bool ms_diffusion = false;
+  // With ms_diffusion: the own cloud's optical depth away from the sun too (the light grid's w), a slab's linear
+  // fluence (march_render.comp): the middle of a thick cloud is not as dark as its far side.
+  bool ms_slab = false;
+  // With ms_diffusion: the own cloud goes on across air under at least this sky optical depth (enclosed air: a
+  // chamber inside a cloud) rather than ending at the first air along the sun's line (0: it ends there). Needs the
+  // sweep's light grid (the talk's rays end the own cloud at the first air).
+  float ms_enclosed_sky_depth = 0.0f;
+  // With ms_slab: the ground's albedo for the light it bounces up into the clouds' bases (0: none).
+  float ground_albedo = 0.0f;
   // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
   // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
   // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.
@@ -184,8 +193,8 @@ uint32_t cloud_effect_bit(std::string_view name);
 // Diffusion (the engine's default, cloud_feature.h; issue 21): the multiple-scattering field falls off as diffusion
 // does through the sample's own cloud and by Beer-Lambert across other clouds (CloudSettings::ms_diffusion,
 // ms_other_cloud_attenuation); it measures closer to the reference than the talk's in 8 of the 10 fidelity views.
-enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion };
-const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned" | "diffusion"
+enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion, Slab };
+const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned" | "diffusion" | "slab"
 bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p);
 

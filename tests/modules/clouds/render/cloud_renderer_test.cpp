@@ -851,14 +851,72 @@ TEST_F(CloudRender, DiffusionLightingShadowsOneCloudByAnother) {
       }
     return sum;
   };
-  const glm::dvec2 with = halves(render(in));
-  in.settings.ms_other_cloud_attenuation = 0.0f;
-  const glm::dvec2 without = halves(render(in));
-  std::printf("  cloud radiance, left / right sphere: other clouds attenuating %.2f / %.2f, not %.2f / %.2f\n", with.x, with.y,
-              without.x, without.y);
-  EXPECT_GT(without.y, 0.0);
-  EXPECT_LT(with.y, 0.9 * without.y) << "the shadowed cloud loses the light that crossed the other";
-  EXPECT_NEAR(with.x, without.x, 0.02 * without.x) << "the cloud nearer the sun keeps its light";
+  // The slab's too: the air between the spheres is open to the sky, so the right one is another cloud.
+  for (CloudLightingPreset p : {CloudLightingPreset::Diffusion, CloudLightingPreset::Slab}) {
+    apply_lighting_preset(in.settings, p);
+    in.rebuild_light_grid = true;
+    const glm::dvec2 with = halves(render(in));
+    in.settings.ms_other_cloud_attenuation = 0.0f;
+    const glm::dvec2 without = halves(render(in));
+    std::printf("  %s: cloud radiance, left / right sphere: other clouds attenuating %.2f / %.2f, not %.2f / %.2f\n",
+                lighting_preset_name(p), with.x, with.y, without.x, without.y);
+    EXPECT_GT(without.y, 0.0);
+    EXPECT_LT(with.y, 0.9 * without.y) << lighting_preset_name(p) << ": the shadowed cloud loses the light that crossed the other";
+    EXPECT_NEAR(with.x, without.x, 0.02 * without.x) << lighting_preset_name(p) << ": the cloud nearer the sun keeps its light";
+  }
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// The slab lighting (issue 21): the multiple scattering reads the own cloud's depth on both sides of a point along
+// the sun's line (the light grid's w, away from the sun), a slab's linear fluence; inside a hollow cloud the air of
+// the chamber is enclosed (the sky's optical depth above it), so the chamber's far wall is lit through the cloud as
+// one medium, not as another cloud behind a gap (Beer-Lambert). The sweep's w agrees with the talk's rays.
+TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
+  CloudLightingPreset p{};
+  ASSERT_TRUE(parse_lighting_preset("slab", &p));
+  EXPECT_EQ(p, CloudLightingPreset::Slab);
+  EXPECT_STREQ(lighting_preset_name(p), "slab");
+  const scene::CameraView inside = camera(kCloudCentre + glm::vec3(0.0f, 20.0f, 0.0f), kCloudCentre + glm::vec3(30.0f, -100.0f, 0.0f), 70.0f);  // the floor
+  CloudFrameInputs in = inputs(asset({}, chamber_cloudscape()), inside);
+  in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
+  in.ambient_color = glm::vec3(0.0f);  // the sun's light only: the falloffs differ, the sky terms too
+  auto sum = [](const Frame& f) {
+    double s = 0;
+    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
+    return s;
+  };
+  apply_lighting_preset(in.settings, CloudLightingPreset::Diffusion);
+  const float strength = in.settings.ms_strength;
+  const double diffusion = sum(render(in));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  EXPECT_TRUE(in.settings.ms_slab);
+  in.settings.ms_strength = strength;  // the same strength: only the falloff differs
+  in.settings.ground_albedo = 0.0f;
+  in.settings.ms_enclosed_sky_depth = 0.0f;
+  in.rebuild_light_grid = true;
+  const Frame open = render(in);
+  in.settings.ms_enclosed_sky_depth = 1.0f;  // the 70 m roof: sky optical depth ~2-3 above the chamber (measured +20 %)
+  in.rebuild_light_grid = true;
+  const Frame enclosed = render(in);
+  for (const glm::vec4& c : enclosed.hdr) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b + c.a));
+  std::printf("  chamber's walls, radiance sum: diffusion %.2f, slab %.2f, slab with the chamber enclosed %.2f\n", diffusion,
+              sum(open), sum(enclosed));
+  EXPECT_GT(sum(open), 1.05 * diffusion) << "the slab keeps light deep in the cloud";
+  EXPECT_GT(sum(enclosed), 1.1 * sum(open)) << "enclosed air does not part the cloud in two";
+  // The light grid's w by the sweep and by the talk's rays (enclosed air needs the sweep: off for the comparison).
+  in = inputs(asset(), camera());
+  in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  in.settings.ms_enclosed_sky_depth = 0.0f;
+  Frame f[2];
+  for (int m = 0; m < 2; ++m) {
+    in.settings.light_grid_method = m == 0 ? CloudLightGridMethod::Rays : CloudLightGridMethod::Sweep;
+    in.rebuild_light_grid = true;
+    f[m] = render(in);
+  }
+  const double agree = psnr(f[0].hdr, f[1].hdr);
+  std::printf("  slab lighting, sweep vs rays: image PSNR %.1f dB\n", agree);
+  EXPECT_GT(agree, 50.0);
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
