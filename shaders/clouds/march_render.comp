@@ -247,7 +247,14 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
                                         : exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
         float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * ms_falloff;
         vec3 world_q = ro + rd * ts;
-        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength / (4.0 * kPi)));
+        // The multiple scattering's phase (slab, P.sky_zenith.w > 0): the first orders of scattering keep the phase's
+        // forward lobe, so near the lit surface the field is anisotropic (Wrenninge's octaves narrow their
+        // eccentricity by c^n); here an HG of the mean cosine x P.sky_zenith.w, fading with the own cloud's depth
+        // toward the sun as diffusion does (more orders, more isotropic). 1 / 4 pi: isotropic (the talks').
+        float ms_phase = 1.0 / (4.0 * kPi);
+        if (slab && P.sky_zenith.w > 0.0)
+          ms_phase = henyey_greenstein(sun_dot, P.sky_zenith.w * g_mean / (1.0 + 0.75 * r * od.y));
+        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength * ms_phase));
         // The sky's light: the talks' isotropic ambient takes it from the whole sphere; the slab takes it from the
         // upper hemisphere only, weighted by the phase function there (sky_share, first order in the phase's mean
         // cosine: a cloud seen from below forward-scatters the sky, one seen from above the ground), and the lower

@@ -95,7 +95,7 @@ struct FidelityOptions {
   std::string out = "fidelity.json";
   std::string images;  // default: <out without extension>_images/
   bool reuse_references = false;
-  std::vector<render::CloudLightingPreset> presets{render::CloudLightingPreset::Diffusion, render::CloudLightingPreset::Talk};
+  std::vector<render::CloudLightingPreset> presets{render::CloudLightingPreset::Slab, render::CloudLightingPreset::Talk};
 };
 
 // The real-time image of a still view: `warmup` frames after a restart of the history, then the mean of
@@ -435,7 +435,7 @@ void register_fidelity_command(CommandRegistry& registry) {
                             "wrote it at this size and spp (to compare other real-time settings without re-tracing)",
                             &o.reuse_references)
                       .option("--constants", "A,B", "real-time lighting constants compared, the first also for the effects "
-                              "and images (default diffusion,talk: the default lighting and the talks' side by side)", &constants);
+                              "and images (default slab,talk: the default lighting and the talks' side by side)", &constants);
                   add_reference_options(p, o.ref);
                   module.feature().add_run_options(p);  // --cloud-* (the real-time side's switches)
                   if (!p.parse(argc, argv)) return 0;

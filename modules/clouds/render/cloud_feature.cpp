@@ -71,8 +71,9 @@ void CloudFeature::add_run_options(ArgParser& p) {
       .option("--cloud-lighting", "talk|tuned|diffusion|slab",
               "the lighting model: the talks' constants, the set tuned against the path-traced reference "
               "(cumulo fidelity), diffusion's falloff of the multiple scattering through a cloud and Beer-Lambert "
-              "across other clouds (default; issue 21), or that falloff as a slab's, from the cloud's depth on both "
-              "sides along the sun's line",
+              "across other clouds, or the slab (default; issue 21): a slab's falloff from the cloud's depth on both "
+              "sides along the sun's line, enclosed air (a chamber) inside the cloud, the sky from the upper "
+              "hemisphere, its diffused light, a ground bounce and a forward lobe of the multiple scattering",
               &lighting_text_)
       .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
               &options_.ms_strength)
@@ -101,6 +102,11 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the preset's (slab: 0.1; 0: no bounce)",
               &options_.ground_albedo)
       .range(0.0, 1.0)
+      .option("--cloud-ms-anisotropy", "X",
+              "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
+              "phase function's mean cosine, overriding the preset's (0: isotropic)",
+              &options_.ms_anisotropy)
+      .range(0.0, 2.0)
       .option("--weather", "ID", "start in this weather state of content/weather/ (clear, fair_cumulus, ...)",
               &weather_text_)
       .option("--weather-dir", "DIR", "the folder of weather states (default content/weather/; the editor saves there)",
@@ -311,6 +317,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ms_other_clouds >= 0.0f) settings.ms_other_cloud_attenuation = options_.ms_other_clouds;
   if (options_.ms_enclosed >= 0.0f) settings.ms_enclosed_sky_depth = options_.ms_enclosed;
   if (options_.ground_albedo >= 0.0f) settings.ground_albedo = options_.ground_albedo;
+  if (options_.ms_anisotropy >= 0.0f) settings.ms_anisotropy = options_.ms_anisotropy;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

@@ -89,13 +89,14 @@ struct CloudRunOptions {
   bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
-  CloudLightingPreset lighting = CloudLightingPreset::Diffusion;  // --cloud-lighting talk|tuned|diffusion|slab
+  CloudLightingPreset lighting = CloudLightingPreset::Slab;  // --cloud-lighting talk|tuned|diffusion|slab
   // --cloud-ms-strength / --cloud-ambient-occlusion: override the preset's value (< 0: the preset's).
   float ms_strength = -1.0f, ambient_occlusion = -1.0f;
   float ms_attenuation_inside = -1.0f;  // --cloud-ms-attenuation-inside
   float ms_other_clouds = -1.0f;        // --cloud-ms-other-clouds
   float ms_enclosed = -1.0f;            // --cloud-ms-enclosed
   float ground_albedo = -1.0f;          // --cloud-ground-albedo
+  float ms_anisotropy = -1.0f;          // --cloud-ms-anisotropy
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;
@@ -160,7 +161,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   std::string debug_text_, formats_text_, ablation_text_, clouds_text_ = "on", temporal_text_ = "on",
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
-      shafts_text_ = "on", rain_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "talk", weather_dir_text_;
+      shafts_text_ = "on", rain_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "slab", weather_dir_text_;
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   gpu::PipelineLibrary* library_ = nullptr;

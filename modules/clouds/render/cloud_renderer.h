@@ -148,6 +148,9 @@ struct CloudSettings {
   float ms_enclosed_sky_depth = 0.0f;
   // With ms_slab: the ground's albedo for the light it bounces up into the clouds' bases (0: none).
   float ground_albedo = 0.0f;
+  // With ms_slab: the multiple scattering's forward lobe near the lit surface, as a fraction of the phase's mean
+  // cosine (march_render.comp; 0: isotropic, the talks').
+  float ms_anisotropy = 0.0f;
   // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
   // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
   // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.
@@ -190,9 +193,12 @@ uint32_t cloud_effect_bit(std::string_view name);
 // tuned against the path-traced reference (Tuned; cumulo fidelity measures both). Only terms the reference
 // does not share change (the multiple-scattering strength, the ambient occlusion scale), so both sets march
 // the same medium and phase function as the reference. (Also the inner glow's relaxed attenuation.)
-// Diffusion (the engine's default, cloud_feature.h; issue 21): the multiple-scattering field falls off as diffusion
-// does through the sample's own cloud and by Beer-Lambert across other clouds (CloudSettings::ms_diffusion,
-// ms_other_cloud_attenuation); it measures closer to the reference than the talk's in 8 of the 10 fidelity views.
+// Diffusion (issue 21): the multiple-scattering field falls off as diffusion does through the sample's own cloud
+// and by Beer-Lambert across other clouds (CloudSettings::ms_diffusion, ms_other_cloud_attenuation).
+// Slab (the engine's default, cloud_feature.h; issue 21): diffusion's with a slab's fluence along the sun's line
+// (ms_slab), enclosed air (ms_enclosed_sky_depth), the sky from the upper hemisphere at its full optical depth,
+// its diffused light, a ground bounce (ground_albedo) and a forward lobe of the multiple scattering
+// (ms_anisotropy); docs/fidelity/diffusion_lighting.md has what each measured.
 enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion, Slab };
 const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned" | "diffusion" | "slab"
 bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown

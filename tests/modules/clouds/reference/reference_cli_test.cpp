@@ -83,13 +83,13 @@ TEST(FidelityCli, WritesTheJsonTheImagesAndTheTable) {
   const auto j = nlohmann::json::parse(f);
   EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
   EXPECT_EQ(j["settings"]["spp"], 2);
-  EXPECT_EQ(j["settings"]["constants"], nlohmann::json::array({"diffusion", "talk"}));
+  EXPECT_EQ(j["settings"]["constants"], nlohmann::json::array({"slab", "talk"}));
   ASSERT_EQ(j["views"].size(), 2u);
   for (const auto& v : j["views"]) {
     for (const char* key : {"name", "error_mean", "error_in_cloud", "error_in_cloud_noise_corrected", "spp", "images", "constants"})
       EXPECT_TRUE(v.contains(key)) << key;
     for (const char* key : {"belly_lower_third", "rim_core_ratio", "band_pass_contrast"})
-      EXPECT_TRUE(v["constants"]["diffusion"].contains(key)) << key;
+      EXPECT_TRUE(v["constants"]["slab"].contains(key)) << key;
     EXPECT_GE(v["error_mean"].get<double>(), 0.0);
     EXPECT_EQ(v["spp"], 2);
     for (const char* image : {"realtime", "reference", "error", "side_by_side", "reference_exr"})

@@ -892,6 +892,7 @@ TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
   EXPECT_TRUE(in.settings.ms_slab);
   in.settings.ms_strength = strength;  // the same strength: only the falloff differs
   in.settings.ground_albedo = 0.0f;
+  in.settings.ms_anisotropy = 0.0f;  // isotropic, as diffusion's
   in.settings.ms_enclosed_sky_depth = 0.0f;
   in.rebuild_light_grid = true;
   const Frame open = render(in);
@@ -917,6 +918,30 @@ TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
   const double agree = psnr(f[0].hdr, f[1].hdr);
   std::printf("  slab lighting, sweep vs rays: image PSNR %.1f dB\n", agree);
   EXPECT_GT(agree, 50.0);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// The slab's forward lobe of the multiple scattering (ms_anisotropy): a cloud seen against the sun gets more of it,
+// one seen with the sun behind the viewer less, than with the talks' isotropic 1 / 4 pi.
+TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
+  auto sum = [](const Frame& f) {
+    double s = 0;
+    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
+    return s;
+  };
+  for (const float toward : {1.0f, -1.0f}) {  // +1: the sun behind the cloud (forward scattering); -1: behind the viewer
+    CloudFrameInputs in = inputs(asset(), camera());  // from +z toward the sphere
+    in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.5f, -toward));
+    apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+    ASSERT_GT(in.settings.ms_anisotropy, 0.0f);
+    const double lobe = sum(render(in));
+    in.settings.ms_anisotropy = 0.0f;
+    const double isotropic = sum(render(in));
+    std::printf("  sun %s: radiance sum with the forward lobe %.2f, isotropic %.2f\n", toward > 0 ? "behind the cloud" : "behind the viewer",
+                lobe, isotropic);
+    if (toward > 0) EXPECT_GT(lobe, 1.05 * isotropic);
+    else EXPECT_LT(lobe, 0.98 * isotropic);
+  }
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
