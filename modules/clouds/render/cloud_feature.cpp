@@ -102,6 +102,10 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the preset's (slab: 0.1; 0: no bounce)",
               &options_.ground_albedo)
       .range(0.0, 1.0)
+      .option("--cloud-light-sample-m", "M",
+              "the length of each of the two marched light samples before the light grid (default 24 m)",
+              &options_.light_sample_m)
+      .range(1.0, 200.0)
       .option("--cloud-ms-anisotropy", "X",
               "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
               "phase function's mean cosine, overriding the preset's (0: isotropic)",
@@ -318,6 +322,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ms_enclosed >= 0.0f) settings.ms_enclosed_sky_depth = options_.ms_enclosed;
   if (options_.ground_albedo >= 0.0f) settings.ground_albedo = options_.ground_albedo;
   if (options_.ms_anisotropy >= 0.0f) settings.ms_anisotropy = options_.ms_anisotropy;
+  if (options_.light_sample_m > 0.0f) settings.light_sample_m = options_.light_sample_m;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

@@ -97,6 +97,7 @@ struct CloudRunOptions {
   float ms_enclosed = -1.0f;            // --cloud-ms-enclosed
   float ground_albedo = -1.0f;          // --cloud-ground-albedo
   float ms_anisotropy = -1.0f;          // --cloud-ms-anisotropy
+  float light_sample_m = -1.0f;         // --cloud-light-sample-m
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;
