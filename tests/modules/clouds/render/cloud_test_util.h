@@ -82,13 +82,20 @@ inline const TestData& test_data() {
   return d;
 }
 
+// A test asset baked from `recipe_json` into test_data().root / `name` (callers keep it in a static: once per process).
+inline fs::path baked_test_asset(const std::string& name, const char* recipe_json) {
+  const fs::path out = test_data().root / name;
+  bake::Recipe recipe = bake::parse_recipe_text(recipe_json, name + "_test.json", test_data().root);
+  bake::BakeSettings settings;
+  settings.show_progress = false;
+  bake::write_bake_outputs(recipe, bake::bake_recipe(recipe, settings), out);
+  return out;
+}
+
 // A hollow cloud (issue 21's chamber): a sphere of r = 120 m at kCloudCentre with a sphere of r = 50 m cut out of
-// its middle, clear air walled by 70 m of cloud. Baked on first use in this process.
-inline constexpr float kChamberOuter = 120.0f, kChamberInner = 50.0f;
+// its middle, clear air walled by 70 m of cloud.
 inline const fs::path& chamber_cloudscape() {
-  static fs::path dir = [] {
-    const fs::path out = test_data().root / "chamber";
-    bake::Recipe recipe = bake::parse_recipe_text(R"({
+  static const fs::path dir = baked_test_asset("chamber", R"({
       "name": "chamber_test", "seed": 3, "voxel_size": 8,
       "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
       "profile": {"depth": 32, "exponent": 1.0},
@@ -96,25 +103,17 @@ inline const fs::path& chamber_cloudscape() {
       "edits": [
         {"type": "sphere", "radius": 120, "position": [0, 128, 0]},
         {"type": "sphere", "op": "subtract", "radius": 50, "position": [0, 128, 0]}
-      ]})",
-                                                  "chamber_test.json", test_data().root);
-    bake::BakeSettings settings;
-    settings.show_progress = false;
-    bake::write_bake_outputs(recipe, bake::bake_recipe(recipe, settings), out);
-    return out;
-  }();
+      ]})");
   return dir;
 }
 
 // Weather coverage (issue 20): two spheres in the test box, both r = 60 m at y = 128, left (x = -120) with
 // coverage threshold 0 (present at any coverage), right (x = +120) with 0.6 (whole at coverage >= 0.6, gone at
-// <= 0.4). Baked on first use in this process.
+// <= 0.4).
 inline constexpr glm::vec3 kCoverageLeft{-120.0f, 128.0f, 0.0f}, kCoverageRight{120.0f, 128.0f, 0.0f};
 inline constexpr float kCoverageRadius = 60.0f;
 inline const fs::path& coverage_cloudscape() {
-  static fs::path dir = [] {
-    const fs::path out = test_data().root / "coverage";
-    bake::Recipe recipe = bake::parse_recipe_text(R"({
+  static const fs::path dir = baked_test_asset("coverage", R"({
       "name": "coverage_test", "seed": 3, "voxel_size": 8,
       "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
       "profile": {"depth": 48, "exponent": 1.0},
@@ -122,13 +121,7 @@ inline const fs::path& coverage_cloudscape() {
       "edits": [
         {"type": "sphere", "radius": 60, "position": [-120, 128, 0]},
         {"type": "sphere", "radius": 60, "position": [120, 128, 0], "coverage": 0.6}
-      ]})",
-                                                  "coverage_test.json", test_data().root);
-    bake::BakeSettings settings;
-    settings.show_progress = false;
-    bake::write_bake_outputs(recipe, bake::bake_recipe(recipe, settings), out);
-    return out;
-  }();
+      ]})");
   return dir;
 }
 
