@@ -17,4 +17,26 @@ vec4 light_grid(int i, vec3 asset_pos) {
   return textureLod(light_grid_tex, uvw, 0.0);
 }
 
+// The summed density x world metres that the other instances' clouds put between a world point and the sun (x)
+// and the sky straight up (y) (CloudParams::effects.y bit 0; issue 21): instance j's grid holds that sum from each
+// voxel of its box to the light, so it is read where the ray from the point toward the light enters j's box (or at
+// the point, inside it). The storm cloud and the cloudscape are two instances: without this a low sun lit the storm
+// tower through the cloudscape's clouds in front of it.
+vec2 other_instances_depth(int i, vec3 world_pos) {
+  vec2 sum = vec2(0.0);
+  if ((P.effects.y & 1u) == 0u) return sum;
+  for (int j = 0; j < int(P.frame.y); ++j) {
+    if (j == i) continue;
+    CloudInstanceParams o = P.instances[j];
+    vec3 a = (o.world_to_asset * vec4(world_pos, 1.0)).xyz;
+    vec2 s = ray_box(a, o.sun_dir.xyz, o.bounds_min.xyz, o.bounds_max.xyz);
+    float t0 = max(s.x, 0.0);
+    if (s.y > t0) sum.x += light_grid(j, a + o.sun_dir.xyz * mix(t0, s.y, 1e-3)).x;
+    s = ray_box(a, o.sky_dir.xyz, o.bounds_min.xyz, o.bounds_max.xyz);
+    t0 = max(s.x, 0.0);
+    if (s.y > t0) sum.y += light_grid(j, a + o.sky_dir.xyz * mix(t0, s.y, 1e-3)).y;
+  }
+  return sum;
+}
+
 #endif

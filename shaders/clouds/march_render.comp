@@ -225,10 +225,14 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
         vec2 od = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
+        vec3 world_q = ro + rd * ts;
+        // Other instances' clouds in the way (the long shadows' grid term): other clouds' depth toward the sun.
+        vec2 od_others = (P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u ? other_instances_depth(i, world_q) * ext : vec2(0.0);
+        od.x += od_others.x;
         float od_sun = od.x;
         bool slab = P.ms.z > 1.5;
         vec4 grid_here = ambient_direction || slab ? light_grid(i, q) : vec4(0.0);  // one fetch for the sky and the slab
-        float od_sky = ambient_direction ? grid_here.y * ext * P.light.y : 0.0;
+        float od_sky = ambient_direction ? (grid_here.y * ext + od_others.y) * P.light.y : 0.0;
         // Diffusion (P.ms.z): the multiple scattering crosses the point's own cloud as diffuse light does,
         // 1 / (1 + 0.75 (1 - g) od); the optical depth of other clouds between it and the sun (od.x - od.y)
         // shadows it by Beer-Lambert at P.ms.w of the extinction: diffused light leaves a cloud in every
@@ -245,8 +249,12 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         float away = slab ? grid_here.w * ext : 0.0;
         float ms_falloff = P.ms.z > 0.5 ? exp(-P.ms.w * max(od.x - od.y, 0.0)) * (1.0 + 1.5 * r * away) / (1.0 + 0.75 * r * (od.y + away))
                                         : exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
-        float ms = (dark_edges ? ds.profile : inst.sun_dir.w) * ms_falloff;
-        vec3 world_q = ro + rd * ts;
+        // The dark edges' in-scatter probability: the talks' profile (0 at a cloud's edge, 1 deep in), or (slab,
+        // P.sky_horizon.w > 0) the optical depth to the nearest surface, 1 - exp(-k x depth x sigma): the profile's
+        // meaning differs between a recipe's clouds and grown ones, the optical depth does not.
+        float edge = inst.sun_dir.w;
+        if (dark_edges) edge = slab && P.sky_horizon.w > 0.0 ? inst.sun_dir.w * (1.0 - exp(-P.sky_horizon.w * max(-sdf, 0.0) * ds.full * ext)) : ds.profile;
+        float ms = edge * ms_falloff;
         // The multiple scattering's phase (slab, P.sky_zenith.w > 0): the first orders of scattering keep the phase's
         // forward lobe, so near the lit surface the field is anisotropic (Wrenninge's octaves narrow their
         // eccentricity by c^n); here an HG of the mean cosine x P.sky_zenith.w, fading with the own cloud's depth
@@ -265,7 +273,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // strength / 4 where the sun's is strength / 4 pi), through the column above the point (its optical depth
         // at the preset's full extinction, P.light.y = 1).
         if (slab)
-          light_in += P.ambient_color.rgb * ((dark_edges ? ds.profile : inst.sun_dir.w) * ms_strength * 0.25 / (1.0 + 0.75 * r * od_sky));
+          light_in += P.ambient_color.rgb * (edge * ms_strength * 0.25 / (1.0 + 0.75 * r * od_sky));
         // Ground bounce (slab, P.ambient_color.w = the ground's albedo): the ground's radiance, lit by the sun and the
         // sky, seen through the own cloud below the point, for which the depth away from the sun stands (the sun is
         // high where the bounce matters); so a base gets it and a sunlit side or a top does not.

@@ -138,7 +138,8 @@ struct CloudParams {
   vec4 light_pos[CLOUD_MAX_POINT_LIGHTS];    // xyz: world position; w: radius (m)
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
-  uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y, z, w: unused
+  uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y: bit 0 = other instances
+                        // shadow an instance (light_grid_lookup.glsl); z, w: unused
   vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
                         // y at the surface and away from the sun (talk 0.25); z: 1 = diffusion's falloff
                         // 1 / (1 + 0.75 (1 - g) od_own) instead (CloudSettings::ms_diffusion); w: with z, the

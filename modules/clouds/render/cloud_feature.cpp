@@ -106,6 +106,15 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "the length of each of the two marched light samples before the light grid (default 24 m)",
               &options_.light_sample_m)
       .range(1.0, 200.0)
+      .option("--cloud-edge-depth", "X",
+              "with the slab lighting, the dark edges from the optical depth to the nearest surface, 1 - exp(-X depth), "
+              "overriding the preset's (0: the talks' profile)",
+              &options_.edge_depth)
+      .range(0.0, 100.0)
+      .option("--cloud-instance-shadows", "on|off|preset",
+              "other cloud instances' clouds shadow an instance's (the storm cloud and the cloudscape), overriding the "
+              "preset's (slab: on)",
+              &instance_shadows_text_)
       .option("--cloud-ms-anisotropy", "X",
               "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
               "phase function's mean cosine, overriding the preset's (0: isotropic)",
@@ -128,6 +137,7 @@ void CloudFeature::check_run_options() {
   options_.light_shafts = parse_on_off("--cloud-light-shafts", shafts_text_);
   options_.rain = parse_on_off("--cloud-rain", rain_text_);
   options_.terrain_shadow = parse_on_off("--cloud-terrain-shadow", terrain_shadow_text_);
+  options_.instance_shadows = instance_shadows_text_ == "preset" ? -1 : parse_on_off("--cloud-instance-shadows", instance_shadows_text_) ? 1 : 0;
   options_.sky.reset();
   if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;
@@ -323,6 +333,8 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ground_albedo >= 0.0f) settings.ground_albedo = options_.ground_albedo;
   if (options_.ms_anisotropy >= 0.0f) settings.ms_anisotropy = options_.ms_anisotropy;
   if (options_.light_sample_m > 0.0f) settings.light_sample_m = options_.light_sample_m;
+  if (options_.edge_depth >= 0.0f) settings.edge_depth_scale = options_.edge_depth;
+  if (options_.instance_shadows >= 0) settings.instance_shadows = options_.instance_shadows == 1;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

@@ -151,6 +151,12 @@ struct CloudSettings {
   // With ms_slab: the multiple scattering's forward lobe near the lit surface, as a fraction of the phase's mean
   // cosine (march_render.comp; 0: isotropic, the talks').
   float ms_anisotropy = 0.0f;
+  // With ms_slab: the dark edges from the optical depth to the nearest surface, 1 - exp(-this x depth) (0: the
+  // talks' profile).
+  float edge_depth_scale = 0.0f;
+  // Other instances' clouds shadow an instance's (the sun's and the sky's optical depth through their light grids,
+  // light_grid_lookup.glsl); the talks' grid is per cloudscape, so off there.
+  bool instance_shadows = false;
   // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
   // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
   // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.

@@ -782,6 +782,17 @@ TEST_F(CloudRender, PointLightAddsGlowInsideTheCloud) {
 namespace cumulo::clouds::render::test {
 namespace {
 
+// The summed cloud radiance (rgb) of the image's left and right halves.
+glm::dvec2 left_right_radiance(const Frame& f) {
+  glm::dvec2 sum(0.0);
+  for (uint32_t y = 0; y < f.height; ++y)
+    for (uint32_t x = 0; x < f.width; ++x) {
+      const glm::vec4 c = f.color[size_t(y) * f.width + x];
+      (x < f.width / 2 ? sum.x : sum.y) += c.r + c.g + c.b;
+    }
+  return sum;
+}
+
 // Each named lighting effect of the talks (cumulo fidelity switches them) changes the picture when off; the
 // lightning glow without a light changes nothing; the tuned constants differ from the talks'.
 TEST_F(CloudRender, EachLightingEffectSwitchChangesOnlyWhatItNames) {
@@ -842,22 +853,13 @@ TEST_F(CloudRender, DiffusionLightingShadowsOneCloudByAnother) {
   in.sun_direction = glm::normalize(glm::vec3(-1.0f, 0.12f, 0.0f));
   apply_lighting_preset(in.settings, CloudLightingPreset::Diffusion);
   EXPECT_GT(in.settings.ms_other_cloud_attenuation, 0.0f);
-  auto halves = [&](const Frame& f) {
-    glm::dvec2 sum(0.0);
-    for (uint32_t y = 0; y < f.height; ++y)
-      for (uint32_t x = 0; x < f.width; ++x) {
-        const glm::vec4 c = f.color[size_t(y) * f.width + x];
-        (x < f.width / 2 ? sum.x : sum.y) += c.r + c.g + c.b;
-      }
-    return sum;
-  };
   // The slab's too: the air between the spheres is open to the sky, so the right one is another cloud.
   for (CloudLightingPreset p : {CloudLightingPreset::Diffusion, CloudLightingPreset::Slab}) {
     apply_lighting_preset(in.settings, p);
     in.rebuild_light_grid = true;
-    const glm::dvec2 with = halves(render(in));
+    const glm::dvec2 with = left_right_radiance(render(in));
     in.settings.ms_other_cloud_attenuation = 0.0f;
-    const glm::dvec2 without = halves(render(in));
+    const glm::dvec2 without = left_right_radiance(render(in));
     std::printf("  %s: cloud radiance, left / right sphere: other clouds attenuating %.2f / %.2f, not %.2f / %.2f\n",
                 lighting_preset_name(p), with.x, with.y, without.x, without.y);
     EXPECT_GT(without.y, 0.0);
@@ -942,6 +944,58 @@ TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
     if (toward > 0) EXPECT_GT(lobe, 1.05 * isotropic);
     else EXPECT_LT(lobe, 0.98 * isotropic);
   }
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// The slab's dark edges from the optical depth to the nearest surface (edge_depth_scale, issue 21): the in-scatter
+// probability 1 - exp(-k x depth to the surface x sigma) darkens the outer metres of a cloud, where the talks' profile
+// darkens a recipe's fraction of its height; a steep k leaves only the outermost voxels dark (as with the effect off),
+// and k = 0 falls back to the profile.
+TEST_F(CloudRender, SlabDarkEdgesFollowTheOpticalDepthToTheSurface) {
+  auto sum = [](const Frame& f) {
+    double s = 0;
+    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
+    return s;
+  };
+  CloudFrameInputs in = inputs(asset(), camera({-300.0f, 160.0f, 250.0f}));
+  in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.6f, 0.5f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  ASSERT_GT(in.settings.edge_depth_scale, 0.0f);
+  const Frame edge = render(in);
+  in.settings.edge_depth_scale = 100.0f;
+  const Frame steep = render(in);
+  in.settings.edge_depth_scale = 0.0f;
+  const Frame profile = render(in);
+  in.settings.edge_depth_scale = 100.0f;
+  in.settings.effects = CLOUD_EFFECTS_ALL & ~CLOUD_EFFECT_DARK_EDGES;
+  const Frame off = render(in);
+  std::printf("  radiance sum: edge depth %.2f, steep %.2f, profile %.2f, dark edges off %.2f\n", sum(edge), sum(steep), sum(profile),
+              sum(off));
+  EXPECT_LT(sum(edge), 0.97 * sum(steep)) << "the outer metres darken";
+  EXPECT_NEAR(sum(steep), sum(off), 0.03 * sum(off)) << "a steep edge leaves (almost) nothing dark";
+  EXPECT_LT(psnr(edge.hdr, profile.hdr), 60.0) << "k = 0 is the talks' profile, another picture";
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// Other instances shadow an instance (instance_shadows, the slab's; issue 21): two instances of the sphere asset side
+// by side with a low sun beyond the left one; the right one lies in its shadow only through the left one's light
+// grid. The left one, which nothing shadows, is unchanged.
+TEST_F(CloudRender, OneInstanceShadowsAnother) {
+  CloudFrameInputs in = inputs(asset(), camera({0.0f, 128.0f, 800.0f}, kCloudCentre, 60.0f));
+  in.instances[0].position = glm::vec3(-150.0f, 0.0f, 0.0f);
+  in.instances.push_back(in.instances[0]);
+  in.instances[1].position = glm::vec3(150.0f, 0.0f, 0.0f);
+  in.sun_direction = glm::normalize(glm::vec3(-1.0f, 0.08f, 0.0f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  ASSERT_TRUE(in.settings.instance_shadows);
+  const glm::dvec2 with = left_right_radiance(render(in));
+  in.settings.instance_shadows = false;
+  const glm::dvec2 without = left_right_radiance(render(in));
+  std::printf("  cloud radiance, left / right instance: shadowing %.2f / %.2f, not %.2f / %.2f\n", with.x, with.y, without.x,
+              without.y);
+  EXPECT_GT(without.y, 0.0);
+  EXPECT_LT(with.y, 0.8 * without.y) << "the right instance lies in the left one's shadow";
+  EXPECT_NEAR(with.x, without.x, 0.01 * without.x) << "the left one, nearer the sun, keeps its light";
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
