@@ -43,6 +43,10 @@ struct SceneLighting {
   glm::vec3 sun_radiance{0.0f};   // reaching the ground (after the atmosphere)
   float ambient = 0.0f;           // scale of the hemispheric ambient term
   glm::vec3 sky_zenith{0.0f}, sky_horizon{0.0f}, ground{0.0f};
+  // The sky's mean radiance over the upper hemisphere (per solid angle; the atmosphere fills it, 0: not known).
+  // About half of 0.5 (zenith + horizon) by day, and neutral where that is warm at a low sun: the horizon is
+  // the sky's brightest band and holds the sun's glow.
+  glm::vec3 sky_mean{0.0f};
   float fog_density = 0.0f;       // 1/m at sea level
   float fog_falloff = 0.0f;       // 1/m (exponential height falloff)
   std::string source = "stand-in";  // who filled it (stats, debugging)

@@ -115,6 +115,10 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "other cloud instances' clouds shadow an instance's (the storm cloud and the cloudscape), overriding the "
               "preset's (slab: on)",
               &instance_shadows_text_)
+      .option("--cloud-sky-mean", "on|off|preset",
+              "the clouds' sky light from the sky's mean radiance over the upper hemisphere (on) or 0.5 (zenith + "
+              "horizon) (off), overriding the preset's (slab: off)",
+              &sky_mean_text_)
       .option("--cloud-ms-anisotropy", "X",
               "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
               "phase function's mean cosine, overriding the preset's (0: isotropic)",
@@ -138,6 +142,7 @@ void CloudFeature::check_run_options() {
   options_.rain = parse_on_off("--cloud-rain", rain_text_);
   options_.terrain_shadow = parse_on_off("--cloud-terrain-shadow", terrain_shadow_text_);
   options_.instance_shadows = instance_shadows_text_ == "preset" ? -1 : parse_on_off("--cloud-instance-shadows", instance_shadows_text_) ? 1 : 0;
+  options_.sky_mean = sky_mean_text_ == "preset" ? -1 : parse_on_off("--cloud-sky-mean", sky_mean_text_) ? 1 : 0;
   options_.sky.reset();
   if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;
@@ -334,6 +339,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ms_anisotropy >= 0.0f) settings.ms_anisotropy = options_.ms_anisotropy;
   if (options_.light_sample_m > 0.0f) settings.light_sample_m = options_.light_sample_m;
   if (options_.edge_depth >= 0.0f) settings.edge_depth_scale = options_.edge_depth;
+  if (options_.sky_mean >= 0) settings.sky_mean_ambient = options_.sky_mean == 1;
   if (options_.instance_shadows >= 0) settings.instance_shadows = options_.instance_shadows == 1;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);

@@ -100,6 +100,7 @@ struct CloudRunOptions {
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   float edge_depth = -1.0f;             // --cloud-edge-depth
   int instance_shadows = -1;            // --cloud-instance-shadows: 1 on, 0 off, -1 the preset's
+  int sky_mean = -1;                    // --cloud-sky-mean: 1 on, 0 off, -1 the preset's
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;
@@ -165,7 +166,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
       light_grid_text_ = "device", reprojection_text_ = "auto", light_grid_method_text_ = "sweep",
       light_noise_text_ = "mean", weather_text_, shadows_text_ = "on", sky_text_ = "auto",
       shafts_text_ = "on", rain_text_ = "on", terrain_shadow_text_ = "on", effects_off_text_, lighting_text_ = "slab", weather_dir_text_,
-      instance_shadows_text_ = "preset";
+      instance_shadows_text_ = "preset", sky_mean_text_ = "preset";
   std::filesystem::path noise_file_;
   gpu::Context* ctx_ = nullptr;
   gpu::PipelineLibrary* library_ = nullptr;

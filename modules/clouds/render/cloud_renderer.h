@@ -157,6 +157,9 @@ struct CloudSettings {
   // Other instances' clouds shadow an instance's (the sun's and the sky's optical depth through their light grids,
   // light_grid_lookup.glsl); the talks' grid is per cloudscape, so off there.
   bool instance_shadows = false;
+  // The clouds' sky light is the sky's mean radiance over the upper hemisphere (SceneLighting::sky_mean), not
+  // 0.5 (zenith + horizon), which is about twice as bright and, at a low sun, warm where the sky is blue.
+  bool sky_mean_ambient = false;
   // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
   // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
   // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.

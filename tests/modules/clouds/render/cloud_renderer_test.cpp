@@ -694,6 +694,13 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   EXPECT_NEAR(in.ambient_color.b, 0.35f, 1e-6f);
   snap.mode = cumulo::render::BudgetMode::Hz30;
   EXPECT_FALSE(cloud_inputs_from_snapshot(snap, 0).settings.split);
+  // The sky's hemisphere mean, where the settings ask for it and the atmosphere filled it (else the two colours).
+  CloudSettings mean;
+  mean.sky_mean_ambient = true;
+  EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, mean).ambient_color.b, 0.35f, 1e-6f);  // not filled
+  snap.lighting.sky_mean = glm::vec3(0.1f, 0.2f, 0.4f);
+  EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, mean).ambient_color.b, 0.2f, 1e-6f);
+  EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0).ambient_color.b, 0.35f, 1e-6f);
 }
 
 TEST_F(CloudRender, DebugViewsDrawSomethingDifferentFromTheImage) {
