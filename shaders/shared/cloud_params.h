@@ -122,7 +122,7 @@ struct CloudParams {
   mat4 prev_view_proj;  // last frame's view_proj (temporal reprojection)
   vec4 camera_pos;      // xyz: world (m); w: time (s)
   vec4 sun_dir;         // xyz: unit toward the sun (world); w: the slab's enclosed-air sky optical depth (0: none)
-  vec4 sun_color;       // rgb: sun radiance scale (colour x illuminance, linear); w: unused
+  vec4 sun_color;       // rgb: sun radiance scale (colour x illuminance, linear); w: the slab's lateral leak (0: none)
   vec4 ambient_color;   // rgb: sky ambient (linear); w: unused
   vec4 viewport;        // full resolution: width, height, 1/width, 1/height
   vec4 march;           // x: extinction per unit density (1/m), y: scattering albedo, z: transmittance limit, w: max steps

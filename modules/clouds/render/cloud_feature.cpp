@@ -115,6 +115,11 @@ void CloudFeature::add_run_options(ArgParser& p) {
               "other cloud instances' clouds shadow an instance's (the storm cloud and the cloudscape), overriding the "
               "preset's (slab: on)",
               &instance_shadows_text_)
+      .option("--cloud-ms-lateral", "C",
+              "with the slab lighting, the multiple scattering's leak through a surface nearer than both ends of the sun's "
+              "line through the cloud, overriding the preset's (0: none)",
+              &options_.ms_lateral)
+      .range(0.0, 100.0)
       .option("--cloud-sky-mean", "on|off|preset",
               "the clouds' sky light from the sky's mean radiance over the upper hemisphere (on) or 0.5 (zenith + "
               "horizon) (off), overriding the preset's (slab: off)",
@@ -339,6 +344,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   if (options_.ms_anisotropy >= 0.0f) settings.ms_anisotropy = options_.ms_anisotropy;
   if (options_.light_sample_m > 0.0f) settings.light_sample_m = options_.light_sample_m;
   if (options_.edge_depth >= 0.0f) settings.edge_depth_scale = options_.edge_depth;
+  if (options_.ms_lateral >= 0.0f) settings.ms_lateral = options_.ms_lateral;
   if (options_.sky_mean >= 0) settings.sky_mean_ambient = options_.sky_mean == 1;
   if (options_.instance_shadows >= 0) settings.instance_shadows = options_.instance_shadows == 1;
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.

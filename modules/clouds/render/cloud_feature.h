@@ -100,6 +100,7 @@ struct CloudRunOptions {
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   float edge_depth = -1.0f;             // --cloud-edge-depth
   int instance_shadows = -1;            // --cloud-instance-shadows: 1 on, 0 off, -1 the preset's
+  float ms_lateral = -1.0f;             // --cloud-ms-lateral
   int sky_mean = -1;                    // --cloud-sky-mean: 1 on, 0 off, -1 the preset's
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.

@@ -160,6 +160,10 @@ struct CloudSettings {
   // The clouds' sky light is the sky's mean radiance over the upper hemisphere (SceneLighting::sky_mean), not
   // 0.5 (zenith + horizon), which is about twice as bright and, at a low sun, warm where the sky is blue.
   bool sky_mean_ambient = false;
+  // With ms_slab: the lateral leak's coefficient c (march_render.comp): where the nearest surface lies nearer than
+  // both ends of the sun's line through the own cloud (a tower's top under a grazing sun), the multiple scattering
+  // falls by exp(-c tau'_excess / (2 tau'_surface + 4/3)) (transport optical depths). 0: none.
+  float ms_lateral = 0.0f;
   // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
   // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
   // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.

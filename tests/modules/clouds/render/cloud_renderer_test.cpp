@@ -1006,5 +1006,35 @@ TEST_F(CloudRender, OneInstanceShadowsAnother) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The slab's lateral leak (ms_lateral, issue 21): in a flat sheet under a grazing sun the sun's line runs 400 m through
+// the cloud while the top and bottom are 30 m away, so the diffused light leaks out through them and the leak darkens
+// the sheet; under a high sun the sun's line ends at those same surfaces and the leak changes little.
+TEST_F(CloudRender, SlabLateralLeakDarkensASheetLitEdgeOn) {
+  CloudFrameInputs in = inputs(asset({}, sheet_cloudscape()), camera({-150.0f, 400.0f, 450.0f}, kCloudCentre, 60.0f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  const float lateral = in.settings.ms_lateral;
+  ASSERT_GT(lateral, 0.0f);
+  auto sum = [](const Frame& f) {
+    double s = 0;
+    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
+    return s;
+  };
+  double ratio[2];
+  for (int k = 0; k < 2; ++k) {
+    in.sun_direction = k == 0 ? glm::normalize(glm::vec3(1.0f, 0.05f, 0.2f)) : glm::normalize(glm::vec3(0.1f, 1.0f, 0.1f));
+    in.settings.ms_lateral = lateral;
+    in.rebuild_light_grid = true;
+    const double with = sum(render(in));
+    in.settings.ms_lateral = 0.0f;
+    const double without = sum(render(in));
+    ratio[k] = with / without;
+    std::printf("  sun %s: radiance with the lateral leak %.2f, without %.2f (%.3f)\n", k == 0 ? "grazing" : "high", with, without, ratio[k]);
+  }
+  EXPECT_LT(ratio[0], 0.95) << "edge-on, the leak darkens";
+  EXPECT_GT(1.0 - ratio[1], 0.0);
+  EXPECT_GT(1.0 - ratio[0], 2.0 * (1.0 - ratio[1])) << "a high sun's line ends at the nearest surfaces";
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 }  // namespace
 }  // namespace cumulo::clouds::render::test

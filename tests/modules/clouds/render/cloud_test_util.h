@@ -107,6 +107,17 @@ inline const fs::path& chamber_cloudscape() {
   return dir;
 }
 
+// A flat cloud (issue 21's lateral leak): a sheet 400 x 60 x 400 m centred at kCloudCentre.
+inline const fs::path& sheet_cloudscape() {
+  static const fs::path dir = baked_test_asset("sheet", R"({
+      "name": "sheet_test", "seed": 3, "voxel_size": 8,
+      "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
+      "profile": {"depth": 24, "exponent": 1.0},
+      "defaults": {"detail_type": 0.8},
+      "edits": [{"type": "box", "size": [400, 60, 400], "position": [0, 128, 0]}]})");
+  return dir;
+}
+
 // Weather coverage (issue 20): two spheres in the test box, both r = 60 m at y = 128, left (x = -120) with
 // coverage threshold 0 (present at any coverage), right (x = +120) with 0.6 (whole at coverage >= 0.6, gone at
 // <= 0.4).
