@@ -252,16 +252,14 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // The dark edges' in-scatter probability: the talks' profile (0 at a cloud's edge, 1 deep in), or (slab,
         // P.sky_horizon.w > 0) the optical depth to the nearest surface, 1 - exp(-k x depth x sigma): the profile's
         // meaning differs between a recipe's clouds and grown ones, the optical depth does not.
+        float tau_surface = max(-sdf, 0.0) * ds.full * ext;  // the optical depth to the nearest surface (local density)
         float edge = inst.sun_dir.w;
-        if (dark_edges) edge = slab && P.sky_horizon.w > 0.0 ? inst.sun_dir.w * (1.0 - exp(-P.sky_horizon.w * max(-sdf, 0.0) * ds.full * ext)) : ds.profile;
+        if (dark_edges) edge = slab && P.sky_horizon.w > 0.0 ? inst.sun_dir.w * (1.0 - exp(-P.sky_horizon.w * tau_surface)) : ds.profile;
         // Lateral leak (slab, P.sun_color.w = c > 0): the slab's boundaries lie along the sun's line; where the
         // nearest surface (the SDF's depth x the density) is nearer than both ends of that line, the diffused light
         // leaks out through it on its way in, as in a slab of that half-thickness lit edge-on.
-        if (slab && P.sun_color.w > 0.0) {
-          float tau_n = max(-sdf, 0.0) * ds.full * ext;
-          float lateral = max(min(od.y, away) - tau_n, 0.0);
-          ms_falloff *= exp(-P.sun_color.w * r * lateral / (2.0 * r * tau_n + 4.0 / 3.0));
-        }
+        if (slab && P.sun_color.w > 0.0)
+          ms_falloff *= exp(-P.sun_color.w * r * max(min(od.y, away) - tau_surface, 0.0) / (2.0 * r * tau_surface + 4.0 / 3.0));
         float ms = edge * ms_falloff;
         // The multiple scattering's phase (slab, P.sky_zenith.w > 0): the first orders of scattering keep the phase's
         // forward lobe, so near the lit surface the field is anisotropic (Wrenninge's octaves narrow their

@@ -30,6 +30,13 @@ bool parse_on_off(const std::string& flag, const std::string& text) {
   if (text == "off") return false;
   fail("%s: expected on or off, got \"%s\"", flag.c_str(), text.c_str());
 }
+// on|off|preset: 1, 0, or -1 (the lighting preset decides).
+int parse_on_off_preset(const std::string& flag, const std::string& text) {
+  if (text == "preset") return -1;
+  if (text == "on") return 1;
+  if (text == "off") return 0;
+  fail("%s: expected on, off or preset, got \"%s\"", flag.c_str(), text.c_str());
+}
 
 // A camera that jumps further than this in one frame (a cut, a teleport) invalidates the history.
 constexpr float kCameraCutMetres = 200.0f;
@@ -146,8 +153,8 @@ void CloudFeature::check_run_options() {
   options_.light_shafts = parse_on_off("--cloud-light-shafts", shafts_text_);
   options_.rain = parse_on_off("--cloud-rain", rain_text_);
   options_.terrain_shadow = parse_on_off("--cloud-terrain-shadow", terrain_shadow_text_);
-  options_.instance_shadows = instance_shadows_text_ == "preset" ? -1 : parse_on_off("--cloud-instance-shadows", instance_shadows_text_) ? 1 : 0;
-  options_.sky_mean = sky_mean_text_ == "preset" ? -1 : parse_on_off("--cloud-sky-mean", sky_mean_text_) ? 1 : 0;
+  options_.instance_shadows = parse_on_off_preset("--cloud-instance-shadows", instance_shadows_text_);
+  options_.sky_mean = parse_on_off_preset("--cloud-sky-mean", sky_mean_text_);
   options_.sky.reset();
   if (sky_text_ != "auto") options_.sky = parse_on_off("--cloud-sky", sky_text_);
   if (reprojection_text_ == "auto") options_.reprojection_block = 0;

@@ -82,10 +82,16 @@ inline const TestData& test_data() {
   return d;
 }
 
-// A test asset baked from `recipe_json` into test_data().root / `name` (callers keep it in a static: once per process).
-inline fs::path baked_test_asset(const std::string& name, const char* recipe_json) {
+// A test asset in the 512 x 256 x 512 m test box (8 m voxels, seed 3, billowy), its profile ramping over
+// `profile_depth` m, from the recipe's `edits_json` array, baked into test_data().root / `name` (callers keep it in a
+// static: once per process).
+inline fs::path baked_test_asset(const std::string& name, int profile_depth, const std::string& edits_json) {
   const fs::path out = test_data().root / name;
-  bake::Recipe recipe = bake::parse_recipe_text(recipe_json, name + "_test.json", test_data().root);
+  const std::string text = "{\"name\": \"" + name + "_test\", \"seed\": 3, \"voxel_size\": 8,"
+                           " \"bounds\": {\"min\": [-256, 0, -256], \"max\": [256, 256, 256]},"
+                           " \"profile\": {\"depth\": " + std::to_string(profile_depth) + ", \"exponent\": 1.0},"
+                           " \"defaults\": {\"detail_type\": 0.8}, \"edits\": " + edits_json + "}";
+  bake::Recipe recipe = bake::parse_recipe_text(text, name + "_test.json", test_data().root);
   bake::BakeSettings settings;
   settings.show_progress = false;
   bake::write_bake_outputs(recipe, bake::bake_recipe(recipe, settings), out);
@@ -95,26 +101,15 @@ inline fs::path baked_test_asset(const std::string& name, const char* recipe_jso
 // A hollow cloud (issue 21's chamber): a sphere of r = 120 m at kCloudCentre with a sphere of r = 50 m cut out of
 // its middle, clear air walled by 70 m of cloud.
 inline const fs::path& chamber_cloudscape() {
-  static const fs::path dir = baked_test_asset("chamber", R"({
-      "name": "chamber_test", "seed": 3, "voxel_size": 8,
-      "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
-      "profile": {"depth": 32, "exponent": 1.0},
-      "defaults": {"detail_type": 0.8},
-      "edits": [
-        {"type": "sphere", "radius": 120, "position": [0, 128, 0]},
-        {"type": "sphere", "op": "subtract", "radius": 50, "position": [0, 128, 0]}
-      ]})");
+  static const fs::path dir = baked_test_asset("chamber", 32, R"([
+      {"type": "sphere", "radius": 120, "position": [0, 128, 0]},
+      {"type": "sphere", "op": "subtract", "radius": 50, "position": [0, 128, 0]}])");
   return dir;
 }
 
 // A flat cloud (issue 21's lateral leak): a sheet 400 x 60 x 400 m centred at kCloudCentre.
 inline const fs::path& sheet_cloudscape() {
-  static const fs::path dir = baked_test_asset("sheet", R"({
-      "name": "sheet_test", "seed": 3, "voxel_size": 8,
-      "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
-      "profile": {"depth": 24, "exponent": 1.0},
-      "defaults": {"detail_type": 0.8},
-      "edits": [{"type": "box", "size": [400, 60, 400], "position": [0, 128, 0]}]})");
+  static const fs::path dir = baked_test_asset("sheet", 24, R"([{"type": "box", "size": [400, 60, 400], "position": [0, 128, 0]}])");
   return dir;
 }
 
@@ -124,15 +119,9 @@ inline const fs::path& sheet_cloudscape() {
 inline constexpr glm::vec3 kCoverageLeft{-120.0f, 128.0f, 0.0f}, kCoverageRight{120.0f, 128.0f, 0.0f};
 inline constexpr float kCoverageRadius = 60.0f;
 inline const fs::path& coverage_cloudscape() {
-  static const fs::path dir = baked_test_asset("coverage", R"({
-      "name": "coverage_test", "seed": 3, "voxel_size": 8,
-      "bounds": {"min": [-256, 0, -256], "max": [256, 256, 256]},
-      "profile": {"depth": 48, "exponent": 1.0},
-      "defaults": {"detail_type": 0.8},
-      "edits": [
-        {"type": "sphere", "radius": 60, "position": [-120, 128, 0]},
-        {"type": "sphere", "radius": 60, "position": [120, 128, 0], "coverage": 0.6}
-      ]})");
+  static const fs::path dir = baked_test_asset("coverage", 48, R"([
+      {"type": "sphere", "radius": 60, "position": [-120, 128, 0]},
+      {"type": "sphere", "radius": 60, "position": [120, 128, 0], "coverage": 0.6}])");
   return dir;
 }
 
