@@ -10,7 +10,7 @@
 namespace cumulo {
 
 app::Modules make_modules() {
-  std::shared_ptr<app::Module> clouds = clouds::make_clouds_module();
+  std::shared_ptr<clouds::CloudsModule> clouds = clouds::make_clouds_module();
   return {clouds, editor::make_editor_module(clouds)};  // the editor edits the clouds module's weather
 }
 

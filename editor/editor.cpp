@@ -77,7 +77,7 @@ std::string Editor::target_state() const {
           if (current.empty()) current = s.current;
         });
   if (!current.empty() && doc_->has(current)) return current;
-  if (clouds_.options().weather && doc_->has(clouds_.options().weather->id)) return clouds_.options().weather->id;
+  if (const auto* lw = level_weather(); lw && lw->start && doc_->has(lw->start->id)) return lw->start->id;
   const auto ids = doc_->ids();
   return ids.empty() ? std::string() : ids.front();
 }
@@ -99,7 +99,7 @@ std::vector<std::string> Editor::states_in_use() const {
   w.view<const clouds::gameplay::Trigger>().each([&](const clouds::gameplay::Trigger& t) {
     for (const std::string& s : clouds::gameplay::trigger_weather_states(t)) used.insert(s);
   });
-  if (clouds_.options().weather) used.insert(clouds_.options().weather->id);
+  if (const auto* lw = level_weather(); lw && lw->start) used.insert(lw->start->id);
   used.erase("");
   return {used.begin(), used.end()};
 }
@@ -110,12 +110,13 @@ void Editor::sync_live() {
     world_redo_.clear();
     newest_doc_serial_ = doc_->undo_serial();
   }
-  clouds::weather::WeatherLibrary* lib = clouds_.mutable_weather_library();
+  clouds::weather::LevelWeather* lw = level_weather();
+  clouds::weather::WeatherLibrary* lib = lw && lw->library ? &*lw->library : nullptr;
   for (const std::string& id : doc_->take_changed()) {
     if (doc_->has(id)) {
       const clouds::weather::WeatherState s = doc_->state(id);
       if (lib) lib->put(s);
-      if (clouds_.options().weather && clouds_.options().weather->id == id) clouds_.options().weather = s;
+      if (lw && lw->start && lw->start->id == id) lw->start = s;
     } else if (lib) {
       // The level's states are never removed under it (the panels refuse); a removed editor-made one goes.
       const auto used = states_in_use();
@@ -126,13 +127,15 @@ void Editor::sync_live() {
 }
 
 void Editor::update_preview() {
+  clouds::weather::LevelWeather* lw = level_weather();
+  if (!lw) return;
   if (!pin_selected || selected.empty() || !doc_->has(selected)) {
-    if (clouds_.weather_preview()) clouds_.set_weather_preview(std::nullopt);
+    lw->preview.reset();
     return;
   }
   clouds::weather::WeatherState s = doc_->state(selected);
   if (blend_to && doc_->has(*blend_to)) s = clouds::weather::blend(s, doc_->state(*blend_to), blend_t).state;
-  clouds_.set_weather_preview(std::move(s));
+  lw->preview = std::move(s);
 }
 
 bool Editor::set_param(const std::string& id, const std::string& param, const Json& value, bool merge) {

@@ -27,6 +27,7 @@
 #include "engine/app/module.h"
 #include "engine/ecs/world.h"
 #include "engine/scene/camera.h"
+#include "modules/clouds/weather/level_weather.h"
 
 namespace cumulo::clouds::render {
 class CloudFeature;
@@ -64,6 +65,10 @@ class Editor {
   WeatherDocument& document() { return *doc_; }
   clouds::render::CloudFeature& clouds() { return clouds_; }
   ecs::World& world() { return *world_; }
+  // The level's weather in the world (null before the first frame).
+  clouds::weather::LevelWeather* level_weather() const {
+    return world_ ? world_->try_resource<clouds::weather::LevelWeather>() : nullptr;
+  }
   app::WindowServices& window() { return *window_; }
   // The state the weather panel edits: the selected one, else the scheduler's current state.
   std::string target_state() const;
@@ -99,7 +104,7 @@ class Editor {
   const std::deque<EditorMessage>& messages() const { return messages_; }
   // The weather states the level names (scheduler, zones, triggers): not deleted or renamed under it.
   std::vector<std::string> states_in_use() const;
-  void sync_live();  // the document's changed states -> the renderer's library and preview
+  void sync_live();  // the document's changed states -> the level's weather (library and preview) in the world
 
  private:
   void run_script_step();

@@ -78,7 +78,7 @@ void EditorModule::on_window_open(app::WindowServices& services) {
   if (!editing_) return;
   services_ = &services;
   // The document first: a folder that cannot be opened stops the run before any UI exists.
-  editor_ = std::make_unique<Editor>(clouds_->feature(), clouds_->feature().weather_folder());
+  editor_ = std::make_unique<Editor>(clouds_->feature(), clouds_->weather_folder());
   ui_ = std::make_unique<ImGuiLayer>(services.window, services.ctx);
   if (!script_.empty()) editor_->set_script(std::move(script_), script_file_);
   std::printf("cumulo: editor open (Ctrl+Z undo, Ctrl+Shift+Z redo, Ctrl+S save; right mouse or Tab flies)\n");
@@ -159,10 +159,9 @@ void EditorModule::finish_screenshot() {
   if (editor_) editor_->screenshot_written(path, error);
 }
 
-std::shared_ptr<app::Module> make_editor_module(std::shared_ptr<app::Module> clouds) {
-  auto c = std::dynamic_pointer_cast<clouds::CloudsModule>(clouds);
-  if (!c) fail("editor: needs the clouds module");
-  return std::make_shared<EditorModule>(std::move(c));
+std::shared_ptr<app::Module> make_editor_module(std::shared_ptr<clouds::CloudsModule> clouds) {
+  if (!clouds) fail("editor: needs the clouds module");
+  return std::make_shared<EditorModule>(std::move(clouds));
 }
 
 }  // namespace cumulo::editor

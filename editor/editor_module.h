@@ -61,6 +61,6 @@ class EditorModule final : public app::Module {
   bool first_frame_done_ = false;
 };
 
-std::shared_ptr<app::Module> make_editor_module(std::shared_ptr<app::Module> clouds);
+std::shared_ptr<app::Module> make_editor_module(std::shared_ptr<clouds::CloudsModule> clouds);
 
 }  // namespace cumulo::editor

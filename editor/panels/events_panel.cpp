@@ -119,7 +119,7 @@ void draw_events_panel(Editor& e, PanelInfo& panel) {
   w.view<const clouds::gameplay::LightningEvent>().each([&](const clouds::gameplay::LightningEvent& l) {
     ++flashes;
     if (ImGui::TreeNodeEx(&l, ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen, "flash %s at (%.0f, %.0f, %.0f), %.2f/%.2f s",
-                          l.kind == clouds::gameplay::LightningKind::Ground ? "ground" : "internal", l.position.x,
+                          name_of(clouds::gameplay::kLightningKindNames, l.kind), l.position.x,
                           l.position.y, l.position.z, l.age_s, l.duration_s)) {
     }
   });

@@ -80,7 +80,7 @@ void draw_scheduler_panel(Editor& e, PanelInfo& panel) {
       ImGui::SameLine();
       if (ImGui::Button("Force transition")) {
         const std::string& id = ids[size_t(force)];
-        if (const auto* lib = e.clouds().weather_library(); lib && lib->find(id)) {
+        if (const auto* lw = e.level_weather(); lw && lw->library && lw->library->find(id)) {
           clouds::weather::force_state(s, id);
           e.message(EditorMessage::Level::Info, "forced a transition to " + id);
         } else {
@@ -165,10 +165,12 @@ void draw_cloudscape_panel(Editor& e, PanelInfo& panel) {
   if (!begin_panel(panel)) return ImGui::End();
   ecs::World& w = e.world();
   auto& opts = e.clouds().options();
-  static const char* kViews[] = {"none", "profile", "steps", "light-grid", "split"};
-  int view = int(opts.debug);
   ImGui::SetNextItemWidth(140.0f);
-  if (ImGui::Combo("debug view", &view, kViews, 5)) opts.debug = clouds::render::CloudDebugView(view);
+  if (ImGui::BeginCombo("debug view", clouds::render::debug_view_name(opts.debug))) {
+    for (const auto& row : clouds::render::kCloudDebugViewNames)
+      if (ImGui::Selectable(row.name, row.value == opts.debug)) opts.debug = row.value;
+    ImGui::EndCombo();
+  }
   item_tooltip("The renderer's debug views: dimensional profile, SDF march steps per pixel, a light grid slice, the near/far split.");
   // The assets the level uses: any instance may take any of them (they share their GPU copy).
   std::vector<std::pair<std::string, std::filesystem::path>> assets;

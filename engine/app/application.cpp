@@ -8,6 +8,7 @@
 
 #include "engine/app/detail/run_context.h"
 #include "engine/app/frame_output.h"
+#include "engine/app/headless_session.h"
 #include "engine/app/recording.h"
 #include "engine/core/command.h"
 #include "engine/core/error.h"
@@ -27,41 +28,27 @@ using detail::RunContext;
 // Headless: no window, offscreen RGBA8 output, exactly 1/mode s of simulation per frame.
 int run_headless(RunContext& rc) {
   const RunOptions& o = rc.opt;
-  gpu::Context ctx(gpu::ContextDesc{});
-  LOG_INFO("device: %s (%s)", ctx.info().name.c_str(), ctx.info().driver_info.c_str());
-  render::FrameRenderer renderer(ctx);
-  renderer.set_aerial_perspective_lut(rc.opt.aerial_lut);
-  detail::add_module_features(rc, renderer);
-  OffscreenOutput output(ctx, o.width, o.height);
-  gpu::FrameRing ring(ctx, 1);
-
-  uint32_t frames = std::max(1u, o.frames);
+  HeadlessSession session(rc.sim, rc.modules, o.width, o.height, o.aerial_lut);
+  const uint32_t frames = std::max(1u, o.frames);
   for (uint32_t f = 1; f <= frames; ++f) {
     Stopwatch cpu;
-    uint32_t steps = rc.clock.steps_for_fixed_frame(f, uint32_t(render::budget_hz(o.mode)));
+    const uint32_t steps = rc.clock.steps_for_fixed_frame(f, uint32_t(render::budget_hz(o.mode)));
     rc.sim.step(steps);
     rc.clock.on_steps_run(steps);
-    render::FrameSnapshot snap = detail::extract(rc, o.width, o.height, f);
-    gpu::Frame& fr = ring.begin();
-    renderer.record_frame(fr.cmd, snap, output.target(), fr.slot);
-    ring.submit(fr);
+    render::FrameSnapshot snap = session.extract(rc.camera, o.mode);
+    session.submit(snap);
     rc.stats.add_cpu_frame_ms(cpu.ms());
-    ring.wait_all();  // one frame in flight: the next frame rewrites the same output image
-    output.after_frame();
-    rc.stats.add_gpu_frame(renderer.pass_timings());
-    if (f == 1 && !o.dump_graph.empty()) detail::write_graph_dump(o.dump_graph, renderer.last_compiled());
+    session.wait_frame();
+    rc.stats.add_gpu_frame(session.pass_timings());
+    if (f == 1 && !o.dump_graph.empty()) detail::write_graph_dump(o.dump_graph, session.renderer().last_compiled());
   }
   rc.stats.set_frames(frames);
   if (!o.screenshot.empty()) {
-    gpu::write_png(o.screenshot, gpu::read_image_rgba8(ctx, output.image()));
+    gpu::write_png(o.screenshot, session.screenshot());
     std::printf("cumulo: wrote screenshot %s\n", o.screenshot.c_str());
   }
-  detail::write_stats(rc, ctx, o.width, o.height);
-  if (ctx.validation_errors() > 0) {
-    LOG_ERROR("%u Vulkan validation errors (last: %s)", ctx.validation_errors(), ctx.last_validation_message().c_str());
-    return 3;
-  }
-  return 0;
+  detail::write_stats(rc, session.ctx(), o.width, o.height);
+  return session.finish();
 }
 
 }  // namespace

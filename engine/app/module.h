@@ -54,60 +54,28 @@
 #include <memory>
 #include <vector>
 
-#include "engine/app/input_claim.h"
-#include "engine/ecs/scheduler.h"
-#include "engine/ecs/serialize.h"
-#include "engine/ecs/world.h"
+#include "engine/app/module_hooks.h"
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/render_feature.h"
-#include "engine/scene/level.h"
 
 namespace cumulo {
 class ArgParser;
 class CommandRegistry;
 }  // namespace cumulo
-namespace cumulo::gpu {
-class Context;
-}
-namespace cumulo::platform {
-class Window;
-}  // namespace cumulo::platform
-namespace cumulo::render {
-class FrameRenderer;
-enum class BudgetMode : uint8_t;
-}  // namespace cumulo::render
 
 namespace cumulo::app {
 
-class Module;
-using Modules = std::vector<std::shared_ptr<Module>>;
-
-// What a windowed run lends a module's UI: valid from on_window_open to on_window_close.
-struct WindowServices {
-  platform::Window& window;
-  gpu::Context& ctx;
-  render::FrameRenderer& renderer;
-  render::BudgetMode& mode;  // the run's budget mode: a UI may switch it between frames
-};
-
-class Module : public render::RenderFeature {
+// The three concerns (module_hooks.h: SimulationHooks, WindowHooks; render::RenderFeature: create_gpu,
+// add_passes, destroy_gpu) and what belongs to the whole module: its name, commands, flags and extraction.
+class Module : public SimulationHooks, public render::RenderFeature, public WindowHooks {
  public:
   virtual const char* name() const = 0;
   virtual void register_commands(CommandRegistry&) {}
   virtual void add_run_options(ArgParser&) {}
   virtual void check_run_options() {}
-  virtual void register_components(ecs::ComponentRegistry&) {}
-  virtual void register_systems(ecs::Scheduler&) {}
-  // Throws cumulo::Error naming the level file and the place on a bad asset; the run then stops.
-  virtual void on_level_loaded(ecs::World&, const scene::LevelInfo&) {}
   virtual void extract(const ecs::World&, render::FrameSnapshot&) {}
   // Commands that run a level with every module (their hooks, flags and passes).
   virtual void register_run_commands(CommandRegistry&, const Modules& /*all*/) {}
-
-  virtual void on_window_open(WindowServices&) {}
-  virtual InputClaim on_frame_input(ecs::World&, const platform::InputState&, double /*dt_s*/) { return {}; }
-  virtual bool allow_close(ecs::World&) { return true; }
-  virtual void on_window_close() {}
 };
 
 }  // namespace cumulo::app

@@ -1,5 +1,6 @@
 #include "engine/app/run_options.h"
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 
@@ -25,7 +26,8 @@ void parse_size(const std::string& text, uint32_t& width, uint32_t& height) {
 
 std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules& modules, const char* command) {
   RunOptions o;
-  std::string mode = "30", size, aerial = "lut";
+  std::string mode = "30", size;
+  static constexpr std::array kAerialNames{EnumName<bool>{true, "lut"}, EnumName<bool>{false, "fog"}};
   float tod = -1.0f;
   ArgParser p(command,
               "Run a level: a fixed-step simulation (ECS systems in phases) and the renderer (render graph:\n"
@@ -53,15 +55,13 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
               "run from a recording: its seed, step rate, camera path and events (headless: as many frames as it "
               "lasts unless --frames)",
               &o.replay)
-      .option("--aerial-perspective", "lut|fog",
+      .choice("--aerial-perspective", kAerialNames,
               "aerial perspective of terrain and clouds: the atmosphere's froxels (default) or the exponential height fog",
-              &aerial);
+              &o.aerial_lut);
   for (const auto& m : modules) m->add_run_options(p);
   if (!p.parse(argc, argv)) return std::nullopt;
   for (const auto& m : modules) m->check_run_options();
   o.mode = render::parse_budget_mode(mode);
-  if (aerial != "lut" && aerial != "fog") fail("--aerial-perspective: expected lut or fog, got \"%s\"", aerial.c_str());
-  o.aerial_lut = aerial == "lut";
   if (!size.empty()) {
     parse_size(size, o.width, o.height);
     o.size_set = true;

@@ -1,4 +1,5 @@
 #include "engine/app/simulation.h"
+#include "engine/app/module.h"
 
 #include "engine/app/game_events.h"
 #include "engine/app/recording.h"

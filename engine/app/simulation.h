@@ -10,24 +10,12 @@
 
 #include "engine/ecs/scheduler.h"
 #include "engine/ecs/serialize.h"
-#include "engine/app/module.h"
+#include "engine/app/module_hooks.h"
+#include "engine/app/sim_resources.h"
 #include "engine/ecs/world.h"
 #include "engine/scene/level.h"
 
 namespace cumulo::app {
-
-// World resource: the run's random seed. Systems that need randomness derive their streams from it
-// (e.g. hash64(seed, system name, step)), never from the wall clock.
-struct SimulationSeed {
-  uint64_t value = 1;
-};
-
-// World resource: the entity the run views the world from (the camera of `--camera`, the one the
-// windowed run flies). Gameplay that depends on where the player is (weather zones, triggers) reads its
-// Transform. Absent in a world nobody views (tools, tests that set no viewer).
-struct Viewer {
-  ecs::Entity entity;
-};
 
 struct SimulationDesc {
   std::filesystem::path level;
@@ -50,6 +38,7 @@ class Simulation {
   void step(uint64_t steps);  // fixed steps of 1/sim_hz s
   void extract();             // the Extract phase (systems that prepare render data)
   double step_seconds() const { return 1.0 / sim_hz_; }
+  double sim_seconds() const { return double(steps()) / sim_hz_; }  // steps / rate: exact
   uint64_t steps() const { return scheduler_.steps(); }
   double time() const { return scheduler_.time(); }
 

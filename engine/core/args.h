@@ -9,11 +9,15 @@
 //
 // Numbers follow the one rule for outside numbers (core/number.h): finite, in range of the type they
 // are stored in (4294967312 is not an int, nan and 1e39 are not floats), then in the option's range.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "engine/core/enum_names.h"
 
 namespace cumulo {
 
@@ -42,6 +46,34 @@ class ArgParser {
   ArgParser& option(const std::string& name, const std::string& value, const std::string& help,
                     std::function<void(const std::string&)> set);
   ArgParser& flag(const std::string& name, const std::string& help, bool* out);
+  // One of a table's names (engine/core/enum_names.h; the table must outlive the parser, as the
+  // inline constexpr tables do); --help shows them as a|b|c, a bad one fails naming all of them.
+  template <typename E, size_t N>
+  ArgParser& choice(const std::string& name, const std::array<EnumName<E>, N>& table, const std::string& help, E* out) {
+    return option(name, names_choice(table), help,
+                  [name, t = &table, out](const std::string& s) { *out = parse_name_or_fail(*t, name, s); });
+  }
+  // The same into an optional, with one more name that leaves it empty (auto, preset: decided later).
+  template <typename E, size_t N>
+  ArgParser& choice(const std::string& name, const std::array<EnumName<E>, N>& table, const char* unset,
+                    const std::string& help, std::optional<E>* out) {
+    return option(name, names_choice(table) + "|" + unset, help, [name, t = &table, unset, out](const std::string& s) {
+      if (s == unset) {
+        out->reset();
+        return;
+      }
+      if (const std::optional<E> v = parse_name(*t, s)) {
+        *out = *v;
+        return;
+      }
+      std::string names;
+      for (const EnumName<E>& row : *t) names += std::string(row.name) + ", ";
+      fail("%s: expected %s or %s, got %s", name.c_str(), names.substr(0, names.size() - 2).c_str(), unset, quote(s).c_str());
+    });
+  }
+  ArgParser& on_off(const std::string& name, const std::string& help, bool* out) {
+    return choice(name, kOnOffNames, help, out);
+  }
   // The range of the numeric option added last ("--iso: -1 is outside 0..1"); also shown by --help.
   ArgParser& range(double lo, double hi, Open open = Open::None);
 

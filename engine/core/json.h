@@ -6,6 +6,7 @@
 //   JsonView root = doc.view();
 //   float t = root["sun"].get<float>("hours", 12.0f);   // optional with default
 //   std::string name = root["name"].as<std::string>();   // required, type checked
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "engine/core/enum_names.h"
 #include "engine/core/error.h"
 
 namespace cumulo {
@@ -63,6 +65,13 @@ class JsonView {
   float as_float_in(float lo, float hi) const;
   // A string from a fixed set; returns its index.
   size_t as_enum(const std::vector<std::string>& names) const;
+  // One of a name table's names (engine/core/enum_names.h); its value.
+  template <typename E, size_t N>
+  E as_name(const std::array<EnumName<E>, N>& table) const {
+    std::vector<std::string> names;
+    for (const EnumName<E>& row : table) names.push_back(row.name);
+    return table[as_enum(names)].value;
+  }
 
   // "FILE: $.path: MESSAGE"
   [[noreturn]] void fail(const std::string& message) const;

@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "engine/core/error.h"
+#include "engine/core/message.h"
 
 namespace cumulo::render {
 
@@ -11,19 +12,8 @@ BudgetMode parse_budget_mode(const std::string& text) {
   std::string t;
   for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (t.size() > 2 && t.substr(t.size() - 2) == "hz") t.resize(t.size() - 2);
-  if (t == "30") return BudgetMode::Hz30;
-  if (t == "40") return BudgetMode::Hz40;
-  if (t == "60") return BudgetMode::Hz60;
-  fail("budget mode \"%s\": expected 30, 40 or 60", text.c_str());
-}
-
-const char* budget_mode_name(BudgetMode m) {
-  switch (m) {
-    case BudgetMode::Hz30: return "30 Hz";
-    case BudgetMode::Hz40: return "40 Hz";
-    case BudgetMode::Hz60: return "60 Hz";
-  }
-  return "?";
+  if (const std::optional<BudgetMode> m = parse_name(kBudgetModeFlagNames, t)) return *m;
+  fail("budget mode %s: expected %s", quote(text).c_str(), names_list(kBudgetModeFlagNames).c_str());
 }
 
 }  // namespace cumulo::render

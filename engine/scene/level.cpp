@@ -45,7 +45,7 @@ void load_models(const JsonView& entities, const std::vector<ecs::Entity>& made,
 LevelInfo load_level_document(const JsonDocument& doc, const std::filesystem::path& directory, ecs::World& world,
                               const ecs::ComponentRegistry& registry, bool with_models) {
   JsonView root = doc.view();
-  check_keys(root, {"$schema", "version", "name", "description", "entities"});
+  check_keys(root, {"$schema", "version", "name", "description", "folders", "entities"});
   JsonView version = root["version"];
   if (version.as<int>() != kLevelVersion)
     version.fail(strf("unsupported level version %d (this build reads version %d)", version.as<int>(), kLevelVersion));
@@ -55,6 +55,17 @@ LevelInfo load_level_document(const JsonDocument& doc, const std::filesystem::pa
   info.directory = directory.empty() ? std::filesystem::path(".") : directory;
   info.name = root.get<std::string>("name", std::filesystem::absolute(info.directory).lexically_normal().filename().string());
   info.description = root.get<std::string>("description", "");
+  if (root.has("folders")) {
+    JsonView folders = root["folders"];
+    if (!folders.is_object()) folders.fail("expected an object of folder paths, e.g. {\"weather\": \"weather\"}");
+    for (const std::string& kind : folders.keys()) {
+      JsonView v = folders[kind];
+      const std::string text = v.as<std::string>();
+      if (text.empty()) v.fail("an empty folder path");
+      const std::filesystem::path p(text);
+      info.folders[kind] = (p.is_absolute() ? p : info.directory / p).lexically_normal();
+    }
+  }
   JsonView entities = root["entities"];
   info.entities = ecs::load_entities(entities, world, registry);  // parses everything before creating
   try {

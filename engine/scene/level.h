@@ -10,7 +10,10 @@
 //
 // Format (content/schemas/level.schema.json):
 //   {"$schema": "...", "version": 1, "name": "sample", "description": "...",
+//    "folders": {"weather": "../../weather"},
 //    "entities": [{"name": "ground", "components": {"Transform": {...}, "Camera": {...}}}, ...]}
+// "folders" names the data folders the level's modules read and write (the clouds' weather states), relative
+// to the level file, so a copied level takes its data with it.
 // Errors name the file and JSON path; a glTF that fails to load is reported at the ModelRef's "path" with
 // the glTF error after it. A level that fails to load leaves the world as it was.
 #include <filesystem>
@@ -37,6 +40,7 @@ struct LevelInfo {
   std::vector<std::string> cameras;   // names of the entities with a Camera, in file order
   std::map<std::string, std::shared_ptr<const Model>> models;  // by resolved path
   Bounds bounds;  // every ModelRef's model bounds placed by its Transform (world space)
+  std::map<std::string, std::filesystem::path> folders;  // "folders", resolved against `directory`
 };
 
 // Uses world.resource<ecs::ComponentRegistry>() when the world has one, else a registry with the scene

@@ -1,4 +1,4 @@
-// Parameters of the path-traced reference (modules/clouds/render/reference_tracer.h), shared by C++ and
+// Parameters of the path-traced reference (modules/clouds/reference/reference_tracer.h), shared by C++ and
 // GLSL. The tracer binds the real-time march's CloudParams (camera, sun, instances, extinction, albedo,
 // phase constants) at CLOUD_BINDING_PARAMS, so both march exactly the same density field; this block adds
 // what only the reference has: the bounce limit, the phase choice, the terrain heightfield, the sky

@@ -135,17 +135,12 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
   Edit out;
   out.json_path = e.path();
   out.noise_seed = static_cast<uint32_t>(hash64(out.json_path, seed ^ 0x5EEDull));
-  static const std::vector<std::string> kKinds = {"sphere", "metaball", "ellipsoid", "box",   "capsule",
-                                                  "mesh",   "particles", "volume",   "group",  "grown"};
-  size_t kind = e["type"].as_enum(kKinds);
-  static const EditKind kKindMap[] = {EditKind::Sphere, EditKind::Sphere,    EditKind::Ellipsoid,
-                                      EditKind::Box,    EditKind::Capsule,   EditKind::Mesh,
-                                      EditKind::Particles, EditKind::Volume, EditKind::Group, EditKind::Grown};
-  out.kind = kKindMap[kind];
+  out.kind = e["type"].as_name(kEditKindNames);
+  const bool metaball = e["type"].as<std::string>() == "metaball";
   std::set<std::string> keys = {"type", "name",  "op",    "blend",  "position",    "rotation",      "scale",
                                 "shear", "erode", "detail_type", "density_scale", "coverage", "comment"};
   out.name = e.get<std::string>("name", "");
-  if (e.has("op")) out.op = static_cast<EditOp>(e["op"].as_enum({"union", "subtract", "intersect"}));
+  if (e.has("op")) out.op = e["op"].as_name(kEditOpNames);
   // A metaball is a sphere that blends by default.
   out.blend = e.has("blend") ? non_negative(e["blend"], 10000.0f) : 0.0f;
   out.transform = parse_transform(e);
@@ -169,7 +164,7 @@ Edit parse_edit(const JsonView& e, Ctx& ctx, const Edit& parent_defaults, uint64
     case EditKind::Sphere:
       keys.insert("radius");
       out.radius = positive(e["radius"]);
-      if (kind == 1 && !e.has("blend")) out.blend = out.radius * 0.5f;  // metaball: soft by default
+      if (metaball && !e.has("blend")) out.blend = out.radius * 0.5f;  // metaball: soft by default
       break;
     case EditKind::Ellipsoid:
       keys.insert("radii");
@@ -378,21 +373,6 @@ Edit recipe_defaults(const Recipe& recipe) {
   d.profile_depth = recipe.profile.depth;
   d.coverage = recipe.default_coverage;
   return d;
-}
-
-const char* edit_kind_name(EditKind k) {
-  switch (k) {
-    case EditKind::Sphere: return "sphere";
-    case EditKind::Ellipsoid: return "ellipsoid";
-    case EditKind::Box: return "box";
-    case EditKind::Capsule: return "capsule";
-    case EditKind::Mesh: return "mesh";
-    case EditKind::Particles: return "particles";
-    case EditKind::Volume: return "volume";
-    case EditKind::Group: return "group";
-    case EditKind::Grown: return "grown";
-  }
-  return "?";
 }
 
 void finalize_edits(Recipe& recipe, float band) {

@@ -25,6 +25,7 @@
 // (a grow spec beside the recipe), "attributes": "simulated" (default: SDF, detail type, density
 // scale and a thickness-following profile depth from the simulation, grow/grown_attributes.h) or
 // "constant" (the faithful per-edit detail_type / density_scale and the recipe's profile depth).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -34,6 +35,8 @@
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+
+#include "engine/core/enum_names.h"
 
 namespace cumulo::clouds::bake {
 
@@ -93,7 +96,16 @@ struct GrownModeling;  // grow/grown_attributes.h
 namespace cumulo::clouds::bake {
 
 enum class EditKind { Sphere, Ellipsoid, Box, Capsule, Mesh, Particles, Volume, Group, Grown };
+// The recipe's "type" names ("metaball": a sphere that blends by default; a kind's name is its first row).
+inline constexpr std::array kEditKindNames{
+    EnumName<EditKind>{EditKind::Sphere, "sphere"},       EnumName<EditKind>{EditKind::Sphere, "metaball"},
+    EnumName<EditKind>{EditKind::Ellipsoid, "ellipsoid"}, EnumName<EditKind>{EditKind::Box, "box"},
+    EnumName<EditKind>{EditKind::Capsule, "capsule"},     EnumName<EditKind>{EditKind::Mesh, "mesh"},
+    EnumName<EditKind>{EditKind::Particles, "particles"}, EnumName<EditKind>{EditKind::Volume, "volume"},
+    EnumName<EditKind>{EditKind::Group, "group"},         EnumName<EditKind>{EditKind::Grown, "grown"}};
 enum class EditOp { Union, Subtract, Intersect };
+inline constexpr std::array kEditOpNames{EnumName<EditOp>{EditOp::Union, "union"}, EnumName<EditOp>{EditOp::Subtract, "subtract"},
+                                         EnumName<EditOp>{EditOp::Intersect, "intersect"}};
 
 struct Edit {
   std::string name;       // optional, for slices and messages
@@ -188,6 +200,6 @@ void finalize_edits(Recipe& recipe, float band);
 
 // The attributes the recipe gives every edit that sets none (its defaults and profile depth), as an Edit.
 Edit recipe_defaults(const Recipe& recipe);
-const char* edit_kind_name(EditKind k);
+inline const char* edit_kind_name(EditKind k) { return name_of(kEditKindNames, k); }
 
 }  // namespace cumulo::clouds::bake

@@ -4,9 +4,11 @@
 #include <cstring>
 #include <cmath>
 
-#include "engine/app/simulation.h"
+#include "engine/app/sim_resources.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
+#include "modules/clouds/weather/level_weather.h"
+#include "modules/clouds/weather/weather_scheduler.h"
 
 namespace cumulo::clouds::gameplay {
 
@@ -15,7 +17,7 @@ LightningEvent lightning_event_from_json(const JsonView& v) {
     if (k != "kind" && k != "position" && k != "radius" && k != "intensity" && k != "duration_s")
       v.fail("unknown key \"" + k + "\" (expected kind, position, radius, intensity, duration_s)");
   LightningEvent e;
-  if (v.has("kind")) e.kind = v["kind"].as_enum({"ground", "internal"}) == 0 ? LightningKind::Ground : LightningKind::Internal;
+  if (v.has("kind")) e.kind = v["kind"].as_name(kLightningKindNames);
   e.position = v["position"].as_vec3();
   if (v.has("radius")) e.radius = v["radius"].as_float_in(1.0f, 1e5f);
   if (v.has("intensity")) e.intensity = v["intensity"].as_float_in(0.0f, 1e6f);
@@ -25,7 +27,7 @@ LightningEvent lightning_event_from_json(const JsonView& v) {
 }
 
 Json lightning_event_to_json(const LightningEvent& e) {
-  return {{"kind", e.kind == LightningKind::Ground ? "ground" : "internal"},
+  return {{"kind", name_of(kLightningKindNames, e.kind)},
           {"position", {e.position.x, e.position.y, e.position.z}},
           {"radius", e.radius},
           {"intensity", e.intensity},
@@ -71,6 +73,24 @@ ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKin
 }
 
 void add_lightning_system(ecs::Scheduler& s) {
+  // The first WeatherScheduler's weather sets how often and where lightning strikes (after the schedulers
+  // advanced: weather_systems.h).
+  s.add_system(ecs::Phase::Update, "lightning weather", [](ecs::World& w, const ecs::FrameContext&) {
+    const weather::LevelWeather* level = w.try_resource<weather::LevelWeather>();
+    if (!level || !level->library) return;
+    bool first = true;
+    w.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& ws) {
+      if (!first) return;
+      first = false;
+      auto* lw = w.try_resource<LightningWeather>();
+      if (!lw) lw = &w.set_resource<LightningWeather>();
+      const bool encounter_box = ws.encounter_active && ws.has_encounter_lightning_volume;
+      lw->per_minute = ws.has_lightning_volume || encounter_box
+                           ? weather::weather_now(ws, *level->library).state.lightning_per_minute : 0.0f;
+      lw->box_min = encounter_box ? ws.encounter_lightning_min : ws.lightning_min;
+      lw->box_max = encounter_box ? ws.encounter_lightning_max : ws.lightning_max;
+    });
+  });
   s.add_system(ecs::Phase::Update, "lightning", [](ecs::World& w, const ecs::FrameContext& f) {
     const float dt = float(f.dt);
     std::vector<ecs::Entity> expired;

@@ -7,12 +7,14 @@
 // strike_lightning(). Deterministic for the seed.
 //
 //   "LightningEvent": {"kind": "internal", "position": [0, 900, 0], "radius": 400, "intensity": 60, "duration_s": 0.8}
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "engine/core/enum_names.h"
 #include "engine/core/json.h"
 #include "engine/core/random.h"
 #include "engine/ecs/scheduler.h"
@@ -22,6 +24,8 @@
 namespace cumulo::clouds::gameplay {
 
 enum class LightningKind : uint8_t { Ground, Internal };
+inline constexpr std::array kLightningKindNames{EnumName<LightningKind>{LightningKind::Ground, "ground"},
+                                                EnumName<LightningKind>{LightningKind::Internal, "internal"}};
 
 struct LightningEvent {
   LightningKind kind = LightningKind::Internal;
@@ -44,7 +48,7 @@ float lightning_envelope(const LightningEvent& e);
 ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKind kind = LightningKind::Internal,
                              float intensity = 60.0f, float radius = 400.0f);
 
-// Where and how often the weather spawns flashes: set each step by the module from the weather now.
+// Where and how often the weather spawns flashes: set each step from the first WeatherScheduler's weather.
 struct LightningWeather {
   float per_minute = 0.0f;
   glm::vec3 box_min{0.0f}, box_max{0.0f};  // spawn volume (the first cloudscape's world box, lower half)
@@ -52,7 +56,8 @@ struct LightningWeather {
   bool seeded = false;
 };
 
-// Update phase: spawns (Poisson at LightningWeather::per_minute), ages and removes flashes.
+// Update phase, after the weather schedulers: LightningWeather from the weather now ("lightning weather"),
+// then spawns (Poisson at LightningWeather::per_minute), ages and removes flashes ("lightning").
 void add_lightning_system(ecs::Scheduler& s);
 
 struct LightningLight {

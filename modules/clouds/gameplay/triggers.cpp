@@ -1,6 +1,6 @@
 #include "modules/clouds/gameplay/triggers.h"
 
-#include "engine/app/simulation.h"
+#include "engine/app/sim_resources.h"
 #include "engine/core/error.h"
 #include "engine/scene/components.h"
 #include "engine/scene/sun.h"
@@ -64,7 +64,7 @@ TriggerAction action_from_json(const JsonView& v) {
     case TriggerAction::Kind::StrikeLightning:
       only_keys(v, {"do", "position", "kind", "intensity", "radius"});
       a.position = v["position"].as_vec3();
-      a.flag = v.has("kind") && v["kind"].as_enum({"ground", "internal"}) == 0;  // true: a ground discharge
+      a.flag = v.has("kind") && v["kind"].as_name(kLightningKindNames) == LightningKind::Ground;  // true: a ground discharge
       a.number = v.has("intensity") ? v["intensity"].as_float_in(0.0f, 1e6f) : LightningEvent{}.intensity;
       a.radius = v.has("radius") ? v["radius"].as_float_in(1.0f, 1e5f) : LightningEvent{}.radius;
       break;
@@ -91,7 +91,7 @@ Json action_to_json(const TriggerAction& a) {
     case TriggerAction::Kind::StrikeLightning:
       return {{"do", "strike_lightning"},
               {"position", {a.position.x, a.position.y, a.position.z}},
-              {"kind", a.flag ? "ground" : "internal"},
+              {"kind", name_of(kLightningKindNames, a.flag ? LightningKind::Ground : LightningKind::Internal)},
               {"intensity", a.number},
               {"radius", a.radius}};
     case TriggerAction::Kind::SetTimeOfDay: return {{"do", "set_time_of_day"}, {"hours", a.number}};
@@ -176,6 +176,15 @@ std::vector<std::string> trigger_weather_states(const Trigger& t) {
   std::vector<std::string> out;
   for (const TriggerAction& a : t.actions)
     if (a.kind == TriggerAction::Kind::SetWeather) out.push_back(a.text);
+  return out;
+}
+
+std::vector<weather::NamedState> trigger_weather_references(const ecs::World& world, const std::filesystem::path& level_file) {
+  std::vector<weather::NamedState> out;
+  world.view<const Trigger>().each([&](ecs::Entity e, const Trigger& t) {
+    for (const std::string& state : trigger_weather_states(t))
+      out.push_back({state, weather::level_entity_where(world, e, level_file, "Trigger set_weather")});
+  });
   return out;
 }
 

@@ -16,6 +16,7 @@
 // Volumes are `box` {min, max} or `sphere` {center, radius}; the viewer is app::Viewer's Transform.
 // A state named by set_weather must exist (checked when the level loads); an entity named by
 // move_cloudscape must exist and hold a Cloudscape (checked at the first firing: entities may be added).
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "engine/core/json.h"
 #include "engine/ecs/scheduler.h"
 #include "engine/ecs/serialize.h"
+#include "modules/clouds/weather/level_weather.h"
 
 namespace cumulo::clouds::gameplay {
 
@@ -63,6 +65,8 @@ Json trigger_to_json(const Trigger& t);
 void register_trigger_component(ecs::ComponentRegistry& registry);
 // The weather states its set_weather actions name.
 std::vector<std::string> trigger_weather_states(const Trigger& t);
+// Every trigger's states with their place in the level, for weather::load_level_weather to check.
+std::vector<weather::NamedState> trigger_weather_references(const ecs::World& world, const std::filesystem::path& level_file);
 
 // Update phase (after the scripted events): fires triggers and runs their actions.
 void add_trigger_system(ecs::Scheduler& s);

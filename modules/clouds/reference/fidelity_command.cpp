@@ -17,7 +17,6 @@
 #include "engine/core/png.h"
 #include "engine/core/time.h"
 #include "engine/gpu/context.h"
-#include "modules/clouds/clouds_module.h"
 #include "modules/clouds/reference/exr_file.h"
 #include "modules/clouds/reference/fidelity_features.h"
 #include "modules/clouds/reference/fidelity_metrics.h"
@@ -100,9 +99,8 @@ struct FidelityOptions {
 
 // The real-time image of a still view: `warmup` frames after a restart of the history, then the mean of
 // `frames` frames' scene colours (temporal accumulation on, the simulation held still).
-std::vector<glm::vec4> realtime_image(RenderSession& s, CloudsModule& m, render::HdrCapture& capture, ecs::Entity camera,
+std::vector<glm::vec4> realtime_image(RenderSession& s, render::CloudFeature& f, render::HdrCapture& capture, ecs::Entity camera,
                                       const FidelityOptions& o) {
-  render::CloudFeature& f = m.feature();
   f.set_reference(nullptr);
   f.restart_history();
   f.set_hdr_capture(nullptr);
@@ -153,7 +151,7 @@ struct ViewResult {
   nlohmann::ordered_json images = nlohmann::ordered_json::object();
 };
 
-int run_fidelity(FidelityOptions& o, CloudsModule& module) {
+int run_fidelity(FidelityOptions& o, const CloudsRun& run) {
   const fs::path level_dir = fs::path(o.level).parent_path();
   const fs::path views_file = o.views_file.empty() ? level_dir / "fidelity.json" : fs::path(o.views_file);
   if (!fs::exists(views_file)) fail("%s: no fidelity views (give --views-file)", views_file.string().c_str());
@@ -170,7 +168,7 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
   const fs::path images = o.images.empty() ? fs::path(fs::path(o.out).replace_extension("").string() + "_images") : fs::path(o.images);
   fs::create_directories(images);
 
-  render::CloudFeature& feature = module.feature();
+  render::CloudFeature& feature = run.feature;
   feature.options().reference_comparable = true;
   // The lighting is measured with every pixel marched every frame (the 2023 talk's method) unless
   // --cloud-reprojection 4 or 16 asks for the 2015 talk's: in a still view the reprojection's clamp of the history
@@ -179,7 +177,7 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
   RenderSessionDesc d;
   d.level = o.level;
   d.width = o.width, d.height = o.height;
-  RenderSession session(d, module);
+  RenderSession session(d, run);
   render::ReferenceTracer tracer(session.ctx(), feature.pipeline_library());
   render::HdrCapture capture(session.ctx());
   const float level_tod = session.time_of_day();
@@ -214,7 +212,7 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
     std::vector<gpu::Rgba8Image> rt_preset_pngs;
     for (render::CloudLightingPreset p : o.presets) {
       feature.options().lighting = p;
-      rt_presets.push_back(realtime_image(session, module, capture, camera, o));
+      rt_presets.push_back(realtime_image(session, feature, capture, camera, o));
       rt_preset_pngs.push_back(session.screenshot());
     }
     feature.options().lighting = o.presets.front();
@@ -224,7 +222,7 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
     gpu::Rgba8Image rt_off_png;
     if (!v.effect.empty()) {
       feature.options().effects = all_effects & ~render::cloud_effect_bit(v.effect);
-      rt_off = realtime_image(session, module, capture, camera, o);
+      rt_off = realtime_image(session, feature, capture, camera, o);
       rt_off_png = session.screenshot();
       feature.options().effects = all_effects;
     }
@@ -415,12 +413,11 @@ int run_fidelity(FidelityOptions& o, CloudsModule& module) {
 
 }  // namespace
 
-void register_fidelity_command(CommandRegistry& registry) {
+void register_fidelity_command(CommandRegistry& registry, const CloudsRun& run) {
   registry.add({"fidelity", "measure the real-time clouds against the path-traced reference, view by view (JSON + images)",
-                [](int argc, char** argv) {
+                [run](int argc, char** argv) {
                   FidelityOptions o;
                   std::string size, views, constants;
-                  CloudsModule module;
                   ArgParser p("cumulo fidelity",
                               "For each view of the level's fidelity set (fidelity.json beside the level: its cameras and\n"
                               "close-ups of each lighting effect of the talks), render the real-time image (still, averaged\n"
@@ -441,9 +438,8 @@ void register_fidelity_command(CommandRegistry& registry) {
                       .option("--constants", "A,B", "real-time lighting constants compared, the first also for the effects "
                               "and images (default slab,talk: the default lighting and the talks' side by side)", &constants);
                   add_reference_options(p, o.ref);
-                  module.feature().add_run_options(p);  // --cloud-* (the real-time side's switches)
+                  run.add_run_options(p);  // --cloud-* (the real-time side's switches)
                   if (!p.parse(argc, argv)) return 0;
-                  module.feature().check_run_options();
                   check_reference_options(o.ref);
                   if (!size.empty()) app::parse_size(size, o.width, o.height);
                   if (o.frames < 1 || o.frames > 1000) fail("--frames: %u is outside 1..1000", o.frames);
@@ -452,16 +448,14 @@ void register_fidelity_command(CommandRegistry& registry) {
                     o.presets.clear();
                     std::stringstream cs(constants);
                     for (std::string item; std::getline(cs, item, ',');) {
-                      render::CloudLightingPreset pr;
-                      if (!render::parse_lighting_preset(item, &pr)) fail("--constants: expected talk, tuned or diffusion, got \"%s\"", item.c_str());
-                      o.presets.push_back(pr);
+                      o.presets.push_back(parse_name_or_fail(render::kCloudLightingPresetNames, "--constants", item));
                     }
                     if (o.presets.empty()) fail("--constants: none named");
                   }
                   std::stringstream ss(views);
                   for (std::string item; std::getline(ss, item, ',');)
                     if (!item.empty()) o.only.push_back(item);
-                  return run_fidelity(o, module);
+                  return run_fidelity(o, run);
                 }});
 }
 

@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "modules/clouds/render/reference_tracer.h"
+#include "modules/clouds/reference/reference_tracer.h"
 
 namespace cumulo::clouds {
 

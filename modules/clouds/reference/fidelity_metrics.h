@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/gpu/readback.h"
-#include "modules/clouds/render/reference_tracer.h"
+#include "modules/clouds/reference/reference_tracer.h"
 
 namespace cumulo::clouds {
 

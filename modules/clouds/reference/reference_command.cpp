@@ -11,7 +11,6 @@
 #include "engine/core/error.h"
 #include "engine/core/time.h"
 #include "engine/gpu/context.h"
-#include "modules/clouds/clouds_module.h"
 #include "modules/clouds/reference/exr_file.h"
 #include "modules/clouds/reference/fidelity_metrics.h"
 #include "modules/clouds/reference/render_session.h"
@@ -31,8 +30,9 @@ void add_reference_options(ArgParser& p, ReferenceOptions& o) {
 void check_reference_options(ReferenceOptions& o) {
   if (o.spp < 1 || o.spp > 1000000) fail("--spp: %u is outside 1..1000000", o.spp);
   if (o.max_bounces < 1 || o.max_bounces > 4096) fail("--max-bounces: %u is outside 1..4096", o.max_bounces);
-  if (!render::parse_reference_phase(o.phase_text, &o.phase) || o.phase == render::ReferencePhase::Isotropic)
-    fail("--phase: expected cloud or mie, got \"%s\"", o.phase_text.c_str());
+  // Isotropic is the tests' phase, not a choice of the command.
+  constexpr std::array kPhases{render::kReferencePhaseNames[0], render::kReferencePhaseNames[1]};
+  o.phase = parse_name_or_fail(kPhases, "--phase", o.phase_text);
 }
 
 render::ReferenceImage accumulate_reference(RenderSession& session, render::ReferenceTracer& tracer, ecs::Entity camera,
@@ -71,18 +71,18 @@ render::ReferenceImage accumulate_reference(RenderSession& session, render::Refe
 namespace {
 
 int run_reference(const std::string& level, const std::string& camera_name, std::optional<float> tod, uint32_t w, uint32_t h,
-                  const ReferenceOptions& o, const std::string& out, CloudsModule& module) {
+                  const ReferenceOptions& o, const std::string& out, const CloudsRun& run) {
   RenderSessionDesc d;
   d.level = level;
   d.width = w, d.height = h;
   d.time_of_day = tod;
-  RenderSession session(d, module);
-  render::ReferenceTracer tracer(session.ctx(), module.feature().pipeline_library());
-  module.feature().set_reference(&tracer);
+  RenderSession session(d, run);
+  render::ReferenceTracer tracer(session.ctx(), run.feature.pipeline_library());
+  run.feature.set_reference(&tracer);
   const ecs::Entity camera = session.camera(camera_name);
   double seconds = 0;
   const render::ReferenceImage img = accumulate_reference(session, tracer, camera, o, camera_name.empty() ? "default camera" : camera_name, &seconds);
-  module.feature().set_reference(nullptr);
+  run.feature.set_reference(nullptr);
   write_exr(out, img.width, img.height, img.radiance);
   namespace fs = std::filesystem;
   const fs::path png = fs::path(out).replace_extension(".png");
@@ -115,12 +115,11 @@ int run_reference(const std::string& level, const std::string& camera_name, std:
 
 }  // namespace
 
-void register_reference_command(CommandRegistry& registry) {
+void register_reference_command(CommandRegistry& registry, const CloudsRun& run) {
   registry.add({"reference", "path-trace a view of a level: the ground truth of the cloud lighting (EXR + PNG)",
-                [](int argc, char** argv) {
+                [run](int argc, char** argv) {
                   std::string level, camera, size, out, tod_text;
                   ReferenceOptions o;
-                  CloudsModule module;
                   ArgParser p("cumulo reference",
                               "Path-trace a view of a level on the Vulkan device: delta tracking through the real-time\n"
                               "march's density field, the same sun, the atmosphere's sky, the terrain as a Lambertian\n"
@@ -144,7 +143,7 @@ void register_reference_command(CommandRegistry& registry) {
                     if (!end || *end || !(v >= 0.0f && v <= 24.0f)) fail("--time-of-day: expected hours 0..24, got \"%s\"", tod_text.c_str());
                     tod = v;
                   }
-                  return run_reference(level, camera, tod, w, h, o, out, module);
+                  return run_reference(level, camera, tod, w, h, o, out, run);
                 }});
 }
 

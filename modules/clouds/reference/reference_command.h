@@ -5,7 +5,8 @@
 #include <string>
 
 #include "engine/ecs/entity.h"
-#include "modules/clouds/render/reference_tracer.h"
+#include "modules/clouds/options/clouds_run.h"
+#include "modules/clouds/reference/reference_tracer.h"
 
 namespace cumulo {
 class ArgParser;
@@ -31,7 +32,7 @@ void check_reference_options(ReferenceOptions& o);  // throws naming the flag
 render::ReferenceImage accumulate_reference(RenderSession& session, render::ReferenceTracer& tracer, ecs::Entity camera,
                                             const ReferenceOptions& o, const std::string& label, double* seconds);
 
-void register_reference_command(CommandRegistry& registry);
-void register_fidelity_command(CommandRegistry& registry);
+void register_reference_command(CommandRegistry& registry, const CloudsRun& run);
+void register_fidelity_command(CommandRegistry& registry, const CloudsRun& run);
 
 }  // namespace cumulo::clouds

@@ -1,7 +1,7 @@
 #pragma once
 // A level rendered frame by frame with the simulation held still (cumulo reference, cumulo fidelity): the
-// clouds module's renderer on a headless Vulkan device, a camera placed by name or by pose, the time of
-// day set, and each frame's tonemapped output for a PNG. Nothing moves between frames unless the caller
+// engine's headless session (engine/app/headless_session.h) with every module, a camera placed by name or
+// by pose, the time of day set, and each frame's tonemapped output for a PNG. Nothing moves between frames unless the caller
 // steps the simulation, so a real-time image can be averaged and a reference accumulated on the same scene.
 #include <memory>
 #include <optional>
@@ -9,7 +9,9 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/app/headless_session.h"
 #include "engine/app/simulation.h"
+#include "modules/clouds/options/clouds_run.h"
 #include "engine/gpu/readback.h"
 #include "engine/render/budget_mode.h"
 
@@ -17,8 +19,6 @@ namespace cumulo::gpu {
 class Context;
 }
 namespace cumulo::clouds {
-
-class CloudsModule;
 
 struct RenderSessionDesc {
   std::string level;
@@ -30,12 +30,11 @@ struct RenderSessionDesc {
 class RenderSession {
  public:
   // Loads the level (throws cumulo::Error naming the file) and creates the device and the renderer with
-  // `module` (not owned; its options are already parsed).
-  RenderSession(const RenderSessionDesc& desc, CloudsModule& module);
-  ~RenderSession();
+  // every module of `run` (their options already parsed).
+  RenderSession(const RenderSessionDesc& desc, const CloudsRun& run);
 
-  app::Simulation& sim() { return *sim_; }
-  gpu::Context& ctx() { return *ctx_; }
+  app::Simulation& sim() { return session_->sim(); }
+  gpu::Context& ctx() { return session_->ctx(); }
   uint32_t width() const { return desc_.width; }
   uint32_t height() const { return desc_.height; }
   // The named camera entity (throws naming the level when there is none of that name).
@@ -50,13 +49,8 @@ class RenderSession {
   gpu::Rgba8Image screenshot();
 
  private:
-  struct Gpu;
   RenderSessionDesc desc_;
-  CloudsModule& module_;
-  std::unique_ptr<app::Simulation> sim_;
-  std::unique_ptr<gpu::Context> ctx_;
-  std::unique_ptr<Gpu> gpu_;
-  uint64_t frame_index_ = 0;
+  std::unique_ptr<app::HeadlessSession> session_;
 };
 
 }  // namespace cumulo::clouds

@@ -70,14 +70,6 @@ gpu::Image upload_volume(gpu::Context& ctx, const Volume& v, VkFormat format, co
   return image;
 }
 
-const char* format_set_name(CloudFormatSet s) { return s == CloudFormatSet::Compressed ? "compressed" : "uncompressed"; }
-
-bool parse_format_set(std::string_view name, CloudFormatSet* out) {
-  if (name == "compressed") return *out = CloudFormatSet::Compressed, true;
-  if (name == "uncompressed") return *out = CloudFormatSet::Uncompressed, true;
-  return false;
-}
-
 CloudFormatSet default_format_set(const gpu::DeviceInfo& device) {
   if (device.is_cpu() || !device.texture_compression_bc) return CloudFormatSet::Uncompressed;
   return CloudFormatSet::Compressed;

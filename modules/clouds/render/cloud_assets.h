@@ -18,6 +18,7 @@
 // (imports, older bakes), loads with threshold 0 everywhere.
 // The modeling and SDF choices are independent (CloudFormats), so the 16-bit vs BC1 SDF ablation keeps
 // the modeling data fixed. Every error is a cumulo::Error naming the file.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -28,6 +29,7 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/enum_names.h"
 #include "engine/gpu/image.h"
 #include "modules/clouds/volume/volume.h"
 
@@ -39,8 +41,9 @@ struct DeviceInfo;
 namespace cumulo::clouds::render {
 
 enum class CloudFormatSet { Compressed, Uncompressed };
-const char* format_set_name(CloudFormatSet s);                       // "compressed" | "uncompressed"
-bool parse_format_set(std::string_view name, CloudFormatSet* out);  // false if unknown
+inline constexpr std::array kCloudFormatSetNames{EnumName<CloudFormatSet>{CloudFormatSet::Compressed, "compressed"},
+                                                 EnumName<CloudFormatSet>{CloudFormatSet::Uncompressed, "uncompressed"}};
+inline const char* format_set_name(CloudFormatSet s) { return name_of(kCloudFormatSetNames, s); }
 
 struct CloudFormats {
   bool bc1_modeling = false;  // modeling_bc1.nvdf (BC1) instead of modeling.nvdf (RGBA8)

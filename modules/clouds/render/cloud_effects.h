@@ -27,14 +27,6 @@ class PipelineLibrary;
 
 namespace cumulo::clouds::render {
 
-struct BoltSegmentFrame {
-  glm::vec3 a{0.0f}, b{0.0f};
-  float brightness = 1.0f;
-};
-struct BoltFrame {
-  std::vector<BoltSegmentFrame> segments;  // gameplay::lightning_bolt
-  float intensity = 0.0f;                  // the flash's envelope x peak intensity now
-};
 // A column of rain under a cloud: from `base_center` (the cloud base) down to `bottom` (world y).
 struct RainColumn {
   glm::vec3 base_center{0.0f};

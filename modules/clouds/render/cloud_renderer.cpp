@@ -278,33 +278,6 @@ HistoryImports import_history(CloudResources& res, RenderGraph& graph, bool came
 
 }  // namespace
 
-const char* ablation_name(CloudAblation a) {
-  switch (a) {
-    case CloudAblation::Base: return "base";
-    case CloudAblation::VoxelLighting: return "voxel-lighting";
-    case CloudAblation::Full: return "full";
-  }
-  return "?";
-}
-bool parse_ablation(std::string_view n, CloudAblation* out) {
-  for (CloudAblation a : {CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full})
-    if (n == ablation_name(a)) return *out = a, true;
-  return false;
-}
-const char* lighting_preset_name(CloudLightingPreset p) {
-  switch (p) {
-    case CloudLightingPreset::Talk: return "talk";
-    case CloudLightingPreset::Tuned: return "tuned";
-    case CloudLightingPreset::Diffusion: return "diffusion";
-    case CloudLightingPreset::Slab: return "slab";
-  }
-  return "?";
-}
-bool parse_lighting_preset(std::string_view n, CloudLightingPreset* out) {
-  for (CloudLightingPreset p : {CloudLightingPreset::Talk, CloudLightingPreset::Tuned, CloudLightingPreset::Diffusion, CloudLightingPreset::Slab})
-    if (n == lighting_preset_name(p)) return *out = p, true;
-  return false;
-}
 // The diffusion preset's multiple-scattering strength and ambient occlusion scale, calibrated with cumulo fidelity on
 // three views of our own (not the acceptance set: a tower from the sunlit side, a mediocris from below against the
 // sun, a humilis field at noon; 48 spp): strength 1 / 1.5 / 2 / 4 gave in-cloud bias -17..-36 % (talk constants) ...
@@ -403,30 +376,6 @@ uint32_t cloud_effect_bit(std::string_view name) {
   for (const CloudEffectName& e : kCloudEffects)
     if (name == e.name) return e.bit;
   return 0;
-}
-const char* debug_view_name(CloudDebugView v) {
-  switch (v) {
-    case CloudDebugView::None: return "none";
-    case CloudDebugView::Profile: return "profile";
-    case CloudDebugView::Steps: return "steps";
-    case CloudDebugView::LightGrid: return "light-grid";
-    case CloudDebugView::Split: return "split";
-  }
-  return "?";
-}
-const char* light_grid_method_name(CloudLightGridMethod m) {
-  return m == CloudLightGridMethod::Rays ? "rays" : "sweep";
-}
-bool parse_light_grid_method(std::string_view n, CloudLightGridMethod* out) {
-  for (CloudLightGridMethod m : {CloudLightGridMethod::Rays, CloudLightGridMethod::Sweep})
-    if (n == light_grid_method_name(m)) return *out = m, true;
-  return false;
-}
-bool parse_debug_view(std::string_view n, CloudDebugView* out) {
-  for (CloudDebugView v : {CloudDebugView::None, CloudDebugView::Profile, CloudDebugView::Steps, CloudDebugView::LightGrid,
-                           CloudDebugView::Split})
-    if (n == debug_view_name(v)) return *out = v, true;
-  return false;
 }
 static_assert(int(CloudDebugView::Profile) == CLOUD_DEBUG_PROFILE && int(CloudDebugView::Steps) == CLOUD_DEBUG_STEPS &&
               int(CloudDebugView::LightGrid) == CLOUD_DEBUG_LIGHT_GRID && int(CloudDebugView::Split) == CLOUD_DEBUG_SPLIT);

@@ -60,6 +60,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "engine/core/enum_names.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/frames.h"
 #include "engine/gpu/image.h"
@@ -67,6 +68,7 @@
 #include "engine/render/render_feature.h"
 #include "engine/render/graph/render_graph.h"
 #include "engine/scene/camera.h"
+#include "modules/clouds/frame/cloud_frame.h"
 #include "modules/clouds/render/cloud_assets.h"
 #include "modules/clouds/scene/density_query.h"
 #include "shaders/shared/cloud_params.h"
@@ -89,8 +91,10 @@ enum class CloudAblation : uint8_t {
   VoxelLighting,  // base stepping + 2 marched light samples, then the light grid
   Full,           // + SDF and adaptive step placement (the shipped method)
 };
-const char* ablation_name(CloudAblation a);                      // "base" | "voxel-lighting" | "full"
-bool parse_ablation(std::string_view name, CloudAblation* out);  // false if unknown
+inline constexpr std::array kCloudAblationNames{EnumName<CloudAblation>{CloudAblation::Base, "base"},
+                                                EnumName<CloudAblation>{CloudAblation::VoxelLighting, "voxel-lighting"},
+                                                EnumName<CloudAblation>{CloudAblation::Full, "full"}};
+inline const char* ablation_name(CloudAblation a) { return name_of(kCloudAblationNames, a); }
 
 // How the light grid is computed (both give the same sums; the sweep is O(voxels) instead of
 // O(voxels x ray length)).
@@ -98,12 +102,16 @@ enum class CloudLightGridMethod : uint8_t {
   Rays,   // the talk: a ray from every voxel to the grid boundary (light_grid_update.comp)
   Sweep,  // level by level from the light: each voxel adds its stretch to the next level's sum (light_grid_sweep.comp)
 };
-const char* light_grid_method_name(CloudLightGridMethod m);                     // "rays" | "sweep"
-bool parse_light_grid_method(std::string_view name, CloudLightGridMethod* out);  // false if unknown
+inline constexpr std::array kCloudLightGridMethodNames{EnumName<CloudLightGridMethod>{CloudLightGridMethod::Rays, "rays"},
+                                                       EnumName<CloudLightGridMethod>{CloudLightGridMethod::Sweep, "sweep"}};
+inline const char* light_grid_method_name(CloudLightGridMethod m) { return name_of(kCloudLightGridMethodNames, m); }
 
 enum class CloudDebugView : uint8_t { None, Profile, Steps, LightGrid, Split };
-const char* debug_view_name(CloudDebugView v);                     // "none" | "profile" | "steps" | "light-grid" | "split"
-bool parse_debug_view(std::string_view name, CloudDebugView* out);  // false if unknown
+inline constexpr std::array kCloudDebugViewNames{
+    EnumName<CloudDebugView>{CloudDebugView::None, "none"}, EnumName<CloudDebugView>{CloudDebugView::Profile, "profile"},
+    EnumName<CloudDebugView>{CloudDebugView::Steps, "steps"}, EnumName<CloudDebugView>{CloudDebugView::LightGrid, "light-grid"},
+    EnumName<CloudDebugView>{CloudDebugView::Split, "split"}};
+inline const char* debug_view_name(CloudDebugView v) { return name_of(kCloudDebugViewNames, v); }
 
 struct CloudSettings {
   CloudAblation ablation = CloudAblation::Full;
@@ -213,8 +221,11 @@ uint32_t cloud_effect_bit(std::string_view name);
 // its diffused light, a ground bounce (ground_albedo) and a forward lobe of the multiple scattering
 // (ms_anisotropy); docs/fidelity/diffusion_lighting.md has what each measured.
 enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion, Slab };
-const char* lighting_preset_name(CloudLightingPreset p);                     // "talk" | "tuned" | "diffusion" | "slab"
-bool parse_lighting_preset(std::string_view name, CloudLightingPreset* out);  // false if unknown
+inline constexpr std::array kCloudLightingPresetNames{
+    EnumName<CloudLightingPreset>{CloudLightingPreset::Talk, "talk"}, EnumName<CloudLightingPreset>{CloudLightingPreset::Tuned, "tuned"},
+    EnumName<CloudLightingPreset>{CloudLightingPreset::Diffusion, "diffusion"},
+    EnumName<CloudLightingPreset>{CloudLightingPreset::Slab, "slab"}};
+inline const char* lighting_preset_name(CloudLightingPreset p) { return name_of(kCloudLightingPresetNames, p); }
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p);
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
@@ -241,12 +252,6 @@ struct CloudInstance : CloudPlacement {
 shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun_direction, double time);
 // World AABB of an instance's transformed box (conservative for a rotated box).
 void instance_world_bounds(const CloudInstance& inst, glm::vec3& lo, glm::vec3& hi);
-
-struct CloudPointLight {  // secondary sources (lightning): the talk's potential-energy field
-  glm::vec3 position{0.0f};
-  float radius = 100.0f;
-  glm::vec3 color{0.0f};  // colour x intensity (linear)
-};
 
 struct CloudFrameInputs {
   scene::CameraView camera;
@@ -297,7 +302,7 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
 shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, const std::vector<uint32_t>& slots);
 
 inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
-inline constexpr uint32_t kMaxPointLights = 4;  // CLOUD_MAX_POINT_LIGHTS
+inline constexpr uint32_t kMaxPointLights = kMaxCloudPointLights;  // CLOUD_MAX_POINT_LIGHTS
 inline constexpr uint32_t kMaxAssets = 2;       // CLOUD_MAX_ASSETS: distinct assets among the instances
 
 struct CloudResourcesDesc {

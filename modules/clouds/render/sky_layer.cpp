@@ -45,20 +45,6 @@ TextureDesc texture_desc_3d(const gpu::Image& img) {
 
 }  // namespace
 
-void apply_weather(const weather::WeatherState& w, SkyLayerFrame& sky) {
-  sky.coverage = w.coverage;
-  sky.cloud_type = w.cloud_type;
-  sky.precipitation = std::max(w.precipitation, w.rain_intensity);
-  sky.wind_direction = w.wind_direction;
-  sky.wind_speed = w.wind_speed;
-  sky.height_skew = w.height_skew;
-  sky.anvil_bias = w.anvil_bias;
-  sky.map = w.cloud_map;
-  // Fewer high clouds under a closing low deck (they would not be seen) and in clear weather.
-  sky.high_coverage =
-      0.2f + 0.3f * std::clamp(w.coverage, 0.0f, 1.0f) * (1.0f - std::clamp(w.precipitation, 0.0f, 1.0f));
-}
-
 CloudMapImage make_cloud_map(const weather::CloudMapSource& src, uint32_t n) {
   CloudMapImage m;
   // The largest features are scale_km across; a tile holds 4 of them (period 4 of the fBm).
@@ -273,7 +259,6 @@ std::vector<float> SkyLayer::probe_density(const SkyLayerFrame& sky, const Cloud
 
 SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky,
                                        const CloudFrameInputs& in, TextureHandle scene_depth) {
-  if (!sky.enabled) return {};
   Impl& m = *impl_;
   m.ensure_map(sky.map, in.frame_index + 1);
   const CloudSettings& s = in.settings;

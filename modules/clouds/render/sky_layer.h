@@ -4,7 +4,7 @@
 // and the 2017 talk's weather map). shaders/clouds/sky_layer.comp has the density model and its sources.
 //
 //   SkyLayer sky(ctx, library, prepare_sky_noise());
-//   SkyLayerFrame p;                              // defaults, or from the weather: apply_weather(state, p)
+//   const SkyLayerFrame& p = cloud_frame.sky;      // defaults, or from the weather (frame/cloud_extraction.h)
 //   SkyLayer::Outputs o = sky.add_passes(graph, p, cloud_inputs, scene_depth);
 //   cloud_inputs.sky_color = o.color; cloud_inputs.sky_depth = o.depth;   // composited with the voxel clouds
 //
@@ -29,33 +29,6 @@ class PipelineLibrary;
 }  // namespace cumulo::gpu
 
 namespace cumulo::clouds::render {
-
-// The 2.5D sky's parameters: a plain struct of the frame (CloudFrame::sky) with defaults; the weather
-// state drives the first group (apply_weather).
-struct SkyLayerFrame {
-  bool enabled = false;
-  // From the weather state.
-  float coverage = 0.4f;       // 0..1: scales the map's R (0.5 in the map = this coverage)
-  float cloud_type = 1.0f;     // 0 stratus .. 0.5 stratocumulus .. 1 cumulus (the map's B shifts it)
-  float precipitation = 0.0f;  // 0..1: scales the map's G; grows cumulonimbus at 70 % coverage
-  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
-  float wind_speed = 4.0f;     // m/s: the map drifts, the noise scrolls
-  float height_skew = 0.1f;    // tops lean downwind by this fraction of the shell's thickness
-  float anvil_bias = 0.0f;
-  weather::CloudMapSource map;
-  // The layer itself (2015: "between 1500 and 4000 meters", "within a 35,000 meter radius", cumulus
-  // toward the horizon from 15 km at about 50 % coverage).
-  float bottom_m = 1500.0f, top_m = 4000.0f;
-  float planet_radius_m = 6360e3f;
-  float draw_distance_m = 35000.0f;
-  float horizon_bias_start_m = 15000.0f, horizon_coverage = 0.5f;
-  float high_coverage = 0.35f;  // the 2D cirrus / alto layers
-  float high_altitude_m = 7000.0f;
-  float yield_fade_m = 1500.0f;  // the density fades in over this distance outside a voxel box's footprint
-  float yield_fade_vertical_m = 400.0f;  // and over this height above (or below) the box
-  float extinction_scale = 0.4f; // x the voxel clouds' extinction: the shell's densities are per 10 m, not per 1 m of voxel
-};
-void apply_weather(const weather::WeatherState& w, SkyLayerFrame& sky);
 
 // A cloud map for the GPU: RGBA8, R coverage, G precipitation, B type, 0.5 = the state's value; tiles.
 struct CloudMapImage {

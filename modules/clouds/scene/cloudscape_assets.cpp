@@ -1,5 +1,6 @@
 #include "modules/clouds/scene/cloudscape_assets.h"
 
+#include <cmath>
 #include <cstdio>
 #include <functional>
 
@@ -10,6 +11,8 @@
 #include "engine/core/log.h"
 #include "engine/core/progress.h"
 #include "engine/gpu/context.h"
+#include "engine/scene/components.h"
+#include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/bake/bake.h"
 #include "modules/clouds/noise/noise_encode.h"
 #include "modules/clouds/noise/noise_textures.h"
@@ -161,6 +164,22 @@ fs::path prepare_sky_noise(int size, uint64_t seed) {
   save_volume(dir / "sky_noise_detail.nvdf", noise_to_volume(detail, VolumeEncoding::RGBA8, kSkyDetailChannels));
   save_volume(dir / "curl_noise.nvdf", noise_to_volume(curl, VolumeEncoding::RGBA8, curl_channels(curl.signed_range)));
   return dir;
+}
+
+bool resolve_cloudscapes(ecs::World& world, const fs::path& level_dir) {
+  bool any = false;
+  world.view<Cloudscape>().each([&](ecs::Entity e, Cloudscape& c) {
+    if (const auto* t = static_cast<const ecs::World&>(world).try_get<scene::Transform>(e)) {
+      const glm::vec3 s = t->scale;
+      if (std::fabs(s.x - s.y) > 1e-4f * std::fabs(s.x) || std::fabs(s.x - s.z) > 1e-4f * std::fabs(s.x) || !(s.x > 0.0f))
+        fail("%s: a Cloudscape's Transform needs one positive uniform scale, got (%g, %g, %g)", c.where.c_str(), s.x, s.y,
+             s.z);
+    }
+    const fs::path p(c.asset);
+    c.resolved = prepare_cloudscape_asset((p.is_absolute() ? p : level_dir / p).lexically_normal(), c.where);
+    any = true;
+  });
+  return any;
 }
 
 }  // namespace cumulo::clouds

@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <string>
 
+#include "engine/ecs/world.h"
+
 namespace cumulo::clouds {
 
 // Bumped whenever the baker's output for the same recipe changes (part of the cache key).
@@ -24,6 +26,10 @@ std::filesystem::path prepare_voxel_noise(int size = 128, uint64_t seed = 1);
 // The 2015 sky noises for the 2.5D sky (sky_noise_base.nvdf, sky_noise_detail.nvdf, curl_noise.nvdf, as
 // `cumulo noise` writes them), generated into the cache on first use; returns their folder.
 std::filesystem::path prepare_sky_noise(int size = 128, uint64_t seed = 1);
+// Every Cloudscape of a loaded level resolved (Cloudscape::resolved; paths relative to `level_dir`);
+// throws naming the Cloudscape's place for a bad asset or a Transform without one positive uniform scale.
+// Returns whether there is any.
+bool resolve_cloudscapes(ecs::World& world, const std::filesystem::path& level_dir);
 // The bake-cache folder a recipe would use (for tests and messages).
 std::filesystem::path bake_cache_folder(const std::filesystem::path& recipe);
 

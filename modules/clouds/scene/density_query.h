@@ -26,7 +26,7 @@ struct CloudPlacement {
   glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
   float wind_speed = 0.0f;
   float dissipation = 0.0f;
-  // The weather's coverage 0..1 (weather_lighting.h): cloud whose coverage threshold is above it thins and goes
+  // The weather's coverage 0..1 (frame/cloud_extraction.h): cloud whose coverage threshold is above it thins and goes
   // (coverage_presence). 1: every cloud present (no weather).
   float coverage = 1.0f;
 };

@@ -173,8 +173,7 @@ TEST_F(SkyLayerGpu, TheDensityFadesInAlongAVoxelBoxBorderWithoutAStep) {
   inst.asset = asset;
   inst.position = glm::vec3(0.0f, 500.0f, 0.0f);
   in.instances.push_back(inst);
-  clouds::render::SkyLayerFrame f;
-  f.enabled = true;
+  clouds::SkyLayerFrame f;
   f.coverage = 0.9f;
   f.cloud_type = 0.0f;  // a stratus deck, 1.5-2.1 km
   // Points beyond the box's +x face, d = -600 .. 3000 m from it, over the footprint's z range, in the deck.

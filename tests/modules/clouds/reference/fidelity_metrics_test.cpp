@@ -8,7 +8,7 @@
 #include "modules/clouds/reference/exr_file.h"
 #include "modules/clouds/reference/fidelity_features.h"
 #include "modules/clouds/reference/fidelity_metrics.h"
-#include "modules/clouds/render/reference_scene.h"
+#include "modules/clouds/reference/reference_scene.h"
 #include "engine/scene/model.h"
 #include "tests/support/temp_dir.h"
 

@@ -21,7 +21,7 @@
 #include "engine/gpu/descriptors.h"
 #include "engine/gpu/sampler.h"
 #include "engine/gpu/pipeline_library.h"
-#include "modules/clouds/render/weather_lighting.h"
+#include "modules/clouds/frame/cloud_extraction.h"
 #include "modules/clouds/scene/density_query.h"
 #include "tests/modules/clouds/render/cloud_test_util.h"
 
@@ -464,10 +464,8 @@ TEST_F(CloudRender, LightGridSweepAgreesWithTheTalksRays) {
     EXPECT_GT(p_image, 60.0) << k.name;
     EXPECT_GT(p_slice, 35.0) << k.name;
   }
-  CloudLightGridMethod parsed;
-  EXPECT_TRUE(parse_light_grid_method("rays", &parsed));
-  EXPECT_EQ(parsed, CloudLightGridMethod::Rays);
-  EXPECT_FALSE(parse_light_grid_method("ray", &parsed));
+  EXPECT_EQ(parse_name(kCloudLightGridMethodNames, "rays"), CloudLightGridMethod::Rays);
+  EXPECT_FALSE(parse_name(kCloudLightGridMethodNames, "ray"));
 }
 
 // 40/60 Hz with the cloud box beyond the split distance: the near march and the merge are left out and
@@ -655,20 +653,26 @@ TEST(CloudDensity, CoverageRemovesCloudAboveItsThreshold) {
   EXPECT_FLOAT_EQ(coverage_presence(0.0f, 0.0f), 1.0f);  // threshold 0: at any coverage
 }
 
-// The weather's coverage reaches every instance and its parameter block (weather_lighting.h).
+// The weather's coverage reaches every instance of the frame and its parameter block (frame/cloud_extraction.h).
 TEST(CloudInputs, WeatherCoverageReachesEveryInstance) {
-  CloudFrameInputs in;
-  in.instances.resize(2);
-  EXPECT_EQ(in.instances[0].coverage, 1.0f);  // no weather: every cloud
+  CloudFrame frame;
+  frame.instances.resize(2);
+  EXPECT_EQ(frame.instances[0].coverage, 1.0f);  // no weather: every cloud
   weather::WeatherState w;
   w.coverage = 0.35f;
   w.voxel_density = 1.0f;
-  apply_weather(w, in);
-  for (const CloudInstance& i : in.instances) EXPECT_EQ(i.coverage, 0.35f);
+  w.lighting.absorption = 0.07f;
+  apply_weather(w, frame);
+  for (const CloudInstanceFrame& i : frame.instances) EXPECT_EQ(i.coverage, 0.35f);
+  ASSERT_TRUE(frame.weather_lighting);
+  EXPECT_EQ(frame.weather_lighting->extinction, 0.07f);
+  EXPECT_EQ(frame.sky.coverage, 0.35f);
+  CloudInstance inst;
+  static_cast<CloudPlacement&>(inst) = frame.instances[1];
   auto asset = std::make_shared<CloudAsset>();
   asset->bounds_max = glm::vec3(1.0f);
-  in.instances[1].asset = asset;
-  EXPECT_EQ(cloud_instance_params(in.instances[1], glm::vec3(0, 1, 0), 0.0).weather.x, 0.35f);
+  inst.asset = asset;
+  EXPECT_EQ(cloud_instance_params(inst, glm::vec3(0, 1, 0), 0.0).weather.x, 0.35f);
 }
 
 
@@ -716,13 +720,9 @@ TEST_F(CloudRender, DebugViewsDrawSomethingDifferentFromTheImage) {
     for (size_t i = 0; i < f.hdr.size(); ++i) differs += f.hdr[i] != normal.hdr[i];
     EXPECT_GT(differs, f.hdr.size() / 50) << debug_view_name(v);
   }
-  CloudDebugView parsed;
-  EXPECT_TRUE(parse_debug_view("light-grid", &parsed));
-  EXPECT_EQ(parsed, CloudDebugView::LightGrid);
-  CloudAblation ab;
-  EXPECT_TRUE(parse_ablation("voxel-lighting", &ab));
-  EXPECT_EQ(ab, CloudAblation::VoxelLighting);
-  EXPECT_FALSE(parse_ablation("fast", &ab));
+  EXPECT_EQ(parse_name(kCloudDebugViewNames, "light-grid"), CloudDebugView::LightGrid);
+  EXPECT_EQ(parse_name(kCloudAblationNames, "voxel-lighting"), CloudAblation::VoxelLighting);
+  EXPECT_FALSE(parse_name(kCloudAblationNames, "fast"));
 }
 
 // Aerial perspective in the composite: each cloud pixel is seen through the height fog at its
@@ -826,11 +826,10 @@ TEST_F(CloudRender, EachLightingEffectSwitchChangesOnlyWhatItNames) {
 // so the cloud's shadowed side, deep in optical depth toward the sun, is lighter than with the talks' model; the
 // name round-trips and the talk preset restores every constant.
 TEST_F(CloudRender, DiffusionLightingLightensTheShadowedSide) {
-  CloudLightingPreset p{};
-  ASSERT_TRUE(parse_lighting_preset("diffusion", &p));
+  const CloudLightingPreset p = parse_name(kCloudLightingPresetNames, "diffusion").value();
   EXPECT_EQ(p, CloudLightingPreset::Diffusion);
   EXPECT_STREQ(lighting_preset_name(p), "diffusion");
-  EXPECT_FALSE(parse_lighting_preset("wrenninge", &p));
+  EXPECT_FALSE(parse_name(kCloudLightingPresetNames, "wrenninge"));
   CloudFrameInputs in = inputs(asset(), camera({-300.0f, 160.0f, 250.0f}));
   in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.4f, -1.0f));  // behind the cloud, seen from its shadowed side
   const Frame talk = render(in);
@@ -881,8 +880,7 @@ TEST_F(CloudRender, DiffusionLightingShadowsOneCloudByAnother) {
 // the chamber is enclosed (the sky's optical depth above it), so the chamber's far wall is lit through the cloud as
 // one medium, not as another cloud behind a gap (Beer-Lambert). The sweep's w agrees with the talk's rays.
 TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
-  CloudLightingPreset p{};
-  ASSERT_TRUE(parse_lighting_preset("slab", &p));
+  const CloudLightingPreset p = parse_name(kCloudLightingPresetNames, "slab").value();
   EXPECT_EQ(p, CloudLightingPreset::Slab);
   EXPECT_STREQ(lighting_preset_name(p), "slab");
   const scene::CameraView inside = camera(kCloudCentre + glm::vec3(0.0f, 20.0f, 0.0f), kCloudCentre + glm::vec3(30.0f, -100.0f, 0.0f), 70.0f);  // the floor

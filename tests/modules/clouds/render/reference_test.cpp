@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "modules/clouds/render/reference_tracer.h"
+#include "modules/clouds/reference/reference_tracer.h"
 #include "tests/modules/clouds/render/cloud_test_util.h"
 
 namespace cumulo::clouds::render::test {

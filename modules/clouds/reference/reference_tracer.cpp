@@ -1,4 +1,4 @@
-#include "modules/clouds/render/reference_tracer.h"
+#include "modules/clouds/reference/reference_tracer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,19 +27,6 @@ namespace {
 constexpr VkFormat kAccumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 }
 
-const char* reference_phase_name(ReferencePhase p) {
-  switch (p) {
-    case ReferencePhase::Cloud: return "cloud";
-    case ReferencePhase::Mie: return "mie";
-    case ReferencePhase::Isotropic: return "isotropic";
-  }
-  return "?";
-}
-bool parse_reference_phase(std::string_view n, ReferencePhase* out) {
-  for (ReferencePhase p : {ReferencePhase::Cloud, ReferencePhase::Mie, ReferencePhase::Isotropic})
-    if (n == reference_phase_name(p)) return *out = p, true;
-  return false;
-}
 
 MiePhase MiePhase::for_droplet(float d) {
   d = std::clamp(d, 5.0f, 50.0f);  // the fit's range

@@ -6,9 +6,10 @@
 // markdown table on stdout, JSON to --out, a progress line per run on stderr. Speed is measured here,
 // never asserted by a timed test.
 #include "engine/core/command.h"
+#include "modules/clouds/options/clouds_run.h"
 
 namespace cumulo::clouds {
 
-void register_bench_command(CommandRegistry& registry);
+void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds);
 
 }  // namespace cumulo::clouds

@@ -1,4 +1,4 @@
-#include "modules/clouds/render/reference_scene.h"
+#include "modules/clouds/reference/reference_scene.h"
 
 #include <algorithm>
 #include <cmath>

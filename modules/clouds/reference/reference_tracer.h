@@ -16,6 +16,7 @@
 //   tracer.settings().max_bounces = 64;
 //   feature.set_reference(&tracer);        // CloudFeature calls add_passes in place of the cloud passes
 //   ... frames ...; ReferenceImage img = tracer.read();   // once a frame completed
+#include <array>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -25,13 +26,15 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/enum_names.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/frames.h"
 #include "engine/gpu/image.h"
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/graph/render_graph.h"
+#include "modules/clouds/render/cloud_feature.h"
 #include "modules/clouds/render/cloud_renderer.h"
-#include "modules/clouds/render/reference_scene.h"
+#include "modules/clouds/reference/reference_scene.h"
 
 namespace cumulo::gpu {
 class Context;
@@ -46,8 +49,10 @@ enum class ReferencePhase : uint8_t {
   Mie,        // Jendersie & d'Eon 2023's approximate Mie phase for water droplets (HG + Draine)
   Isotropic,  // tests
 };
-const char* reference_phase_name(ReferencePhase p);                    // "cloud" | "mie" | "isotropic"
-bool parse_reference_phase(std::string_view name, ReferencePhase* out);  // false if unknown
+inline constexpr std::array kReferencePhaseNames{EnumName<ReferencePhase>{ReferencePhase::Cloud, "cloud"},
+                                                 EnumName<ReferencePhase>{ReferencePhase::Mie, "mie"},
+                                                 EnumName<ReferencePhase>{ReferencePhase::Isotropic, "isotropic"}};
+inline const char* reference_phase_name(ReferencePhase p) { return name_of(kReferencePhaseNames, p); }
 
 // Jendersie & d'Eon 2023 ("An Approximate Mie Scattering Function for Fog and Cloud Rendering"), their fit
 // for droplet diameters 5..50 um: g_HG, g_D, alpha and the Draine weight.
@@ -88,7 +93,7 @@ struct ReferenceImage {
   double majorant_violations = 0.0;  // densities found above the majorant (0: the bound held)
 };
 
-class ReferenceTracer {
+class ReferenceTracer final : public CloudFrameOverride {
  public:
   ReferenceTracer(gpu::Context& ctx, gpu::PipelineLibrary& library);
   ~ReferenceTracer();
@@ -110,7 +115,7 @@ class ReferenceTracer {
   // Adds the passes (trace, resolve, readback; the majorants once per asset) and returns the new `hdr`.
   cumulo::render::TextureHandle add_passes(cumulo::render::RenderGraph& graph, const cumulo::render::FrameSnapshot& snapshot,
                                            const CloudFrameInputs& in, const CloudLightOutputs& light,
-                                           cumulo::render::TextureHandle hdr, cumulo::render::TextureHandle depth);
+                                           cumulo::render::TextureHandle hdr, cumulo::render::TextureHandle depth) override;
   cumulo::render::TextureHandle add_passes(cumulo::render::RenderGraph& graph, const CloudFrameInputs& in,
                                            const CloudLightOutputs& light, cumulo::render::TextureHandle hdr,
                                            cumulo::render::TextureHandle depth);

@@ -1,0 +1,172 @@
+#include "modules/clouds/bench/bench_command.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "engine/app/headless_session.h"
+#include "engine/app/run_options.h"
+#include "engine/app/simulation.h"
+#include "engine/core/args.h"
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/core/log.h"
+#include "engine/gpu/context.h"
+#include "modules/clouds/bench/bench_runs.h"
+#include "modules/clouds/bench/bench_tables.h"
+
+namespace cumulo::clouds {
+namespace {
+
+using namespace bench;
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// One configuration for one round: warm-up frames, then the measured ones' pass timings and steps.
+void measure_run(app::HeadlessSession& session, render::CloudFeature& feature, const BenchOptions& o, Run& run,
+                 bool sun_moving, bool keep_image) {
+  feature.options().light_grid_always_update = sun_moving;
+  feature.options().ablation = run.ablation;
+  const ecs::Entity camera = session.sim().camera(run.view);
+  for (uint32_t f = 0; f < o.warmup + o.frames; ++f) {
+    session.render(camera, cumulo::render::BudgetMode(run.mode));
+    if (f < o.warmup) continue;
+    double c = 0, g = 0, w = 0, k = 0;
+    for (auto& [name, ms] : session.pass_timings()) {
+      if (name == render::CloudFeature::kStepsReadbackPass) continue;
+      run.pass_samples[name].push_back(ms);
+      w += ms;
+      if (is_cloud_pass(name)) c += ms;
+      if (is_sky_pass(name)) k += ms;
+      if (name == "geometry") g += ms;
+    }
+    run.cloud.push_back(c);
+    run.sky.push_back(k);
+    run.geometry.push_back(g);
+    run.whole.push_back(w);
+    run.steps.push_back(feature.read_steps_per_pixel());
+  }
+  if (keep_image) run.image = session.screenshot();
+}
+
+// GPU memory: the loaded set, and both format sets of the first cloudscape for the talk's budget.
+nlohmann::ordered_json measure_memory(app::HeadlessSession& session, render::CloudFeature& feature, const BenchOptions& o) {
+  nlohmann::ordered_json memory = nlohmann::ordered_json::object();
+  render::CloudAssetCache& cache = *feature.asset_cache();
+  const cumulo::render::FrameSnapshot s = session.extract(session.sim().camera(o.views.front()), cumulo::render::BudgetMode::Hz30);
+  const auto& frame = s.extensions.get<CloudFrame>();
+  for (auto set : {render::CloudFormatSet::Compressed, render::CloudFormatSet::Uncompressed}) {
+    auto asset = cache.cloudscape(frame.instances.front().folder, render::CloudFormats::from_set(set));
+    memory[std::string("cloudscape_") + render::format_set_name(set)] = asset->gpu_bytes;
+  }
+  memory["light_grids_and_history"] = render::persistent_gpu_bytes(*feature.resources());
+  memory["all_cloud_assets_loaded"] = cache.gpu_bytes();
+  return memory;
+}
+
+void report(const BenchOptions& o, const gpu::DeviceInfo& device, const nlohmann::ordered_json& memory,
+            const std::vector<Run>& runs, const std::vector<Run>& moving) {
+  std::printf("## cumulo bench: %s, %ux%u, %u frames per run x %u rounds (median, after %u warm-up frames)\n\n",
+              device.name.c_str(), o.width, o.height, o.frames, o.rounds, o.warmup);
+  std::printf("%s\n", runs_markdown(runs).c_str());
+  const std::vector<Summary> sums = summarize(runs, moving, o.views);
+  std::printf("Targets (issue 8: full vs base >= 4.5x / 3x / 2.5x ground / mixed / immersed; the 60 Hz split >= 45 %% "
+              "cheaper at >= 35 dB; light grid < 5 %%; 20 fps at 320x180 on lavapipe):\n\n%s\n",
+              summary_markdown(sums).c_str());
+  std::printf("GPU memory (bytes):\n");
+  for (auto& [k, v] : memory.items()) std::printf("  %-40s %12llu\n", k.c_str(), (unsigned long long)v.get<uint64_t>());
+  if (o.out.empty()) return;
+  write_file_atomic(o.out, bench_json(o, device, memory, runs, sums).dump(2) + "\n");
+  std::printf("cumulo bench: wrote %s\n", o.out.c_str());
+}
+
+int run_bench(const BenchOptions& o, const CloudsRun& clouds) {
+  render::CloudFeature& feature = clouds.feature;
+  app::HeadlessSessionDesc d;
+  d.sim.level = o.level;
+  d.sim.modules = clouds.modules;
+  d.width = o.width;
+  d.height = o.height;
+  app::HeadlessSession session(d);
+  if (!feature.resources()) fail("%s: the level has no Cloudscape entity to measure", o.level.c_str());
+  feature.set_measure_steps(true);
+  // The matrix; moving: full runs with the light grid updating every frame. The sample level's sun is
+  // still, so the light grid rests once built (light_grid_sweep.comp); these runs keep its updates going
+  // (as a moving sun does) to measure what they cost.
+  std::vector<Run> runs, moving;
+  for (const std::string& view : o.views)
+    for (int mode : o.modes)
+      for (CloudAblation ablation : o.ablations) runs.push_back(Run{view, ablation, mode});
+  if (std::find(o.ablations.begin(), o.ablations.end(), CloudAblation::Full) != o.ablations.end())
+    for (const std::string& view : o.views)
+      for (int mode : o.modes) moving.push_back(Run{view, CloudAblation::Full, mode});
+  const size_t total = (runs.size() + moving.size()) * o.rounds;
+  size_t done = 0;
+  for (uint32_t round = 0; round < o.rounds; ++round)
+    for (size_t index = 0; index < runs.size() + moving.size(); ++index) {
+      const bool sun_moving = index >= runs.size();
+      Run& run = sun_moving ? moving[index - runs.size()] : runs[index];
+      measure_run(session, feature, o, run, sun_moving, round + 1 == o.rounds && !sun_moving);
+      std::fprintf(stderr, "cumulo bench: [%zu/%zu] %s %s%s %d Hz: clouds %.2f ms, frame %.2f ms, %.1f steps/px\n",
+                   ++done, total, run.view.c_str(), render::ablation_name(run.ablation),
+                   sun_moving ? " (light grid updating)" : "", run.mode, median(run.cloud), median(run.whole),
+                   median(run.steps));
+    }
+  feature.options().light_grid_always_update = false;
+  feature.set_measure_steps(false);
+  finish_runs(runs, moving);
+  const nlohmann::ordered_json memory = measure_memory(session, feature, o);
+  const int code = session.finish();
+  report(o, session.ctx().info(), memory, runs, moving);
+  return code;
+}
+
+}  // namespace
+
+void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds) {
+  registry.add({"bench", "measure the cloud renderer: cameras x ablations x budget modes (table + JSON)", [clouds](int argc, char** argv) {
+                  BenchOptions o;
+                  std::string size, views, ablations, modes;
+                  ArgParser p("cumulo bench",
+                              "Measure the cloud renderer on this device: the level's cameras x the talk's ablation steps\n"
+                              "(base, voxel-lighting, full) x budget modes (30: one march, 60: near/far split). Prints a\n"
+                              "markdown table; --out writes JSON (device, size, frames, memory, runs).");
+                  p.option("--level", "LEVEL", "level with a Cloudscape (default content/levels/sample/level.json)", &o.level)
+                      .option("--size", "WxH", "render size (default 320x180; 960x540 on a GPU)", &size)
+                      .option("--frames", "N", "measured frames per run (default 6)", &o.frames)
+                      .option("--warmup", "N", "frames rendered before measuring (default 3)", &o.warmup)
+                      .option("--rounds", "N", "times the whole matrix is run in turn, samples pooled (default 3)", &o.rounds)
+                      .option("--out", "FILE.json", "write the results as JSON", &o.out)
+                      .option("--views", "A,B", "cameras (default ground,mixed,immersed)", &views)
+                      .option("--ablations", "A,B", "ablation steps (default base,voxel-lighting,full)", &ablations)
+                      .option("--modes", "30,60", "budget modes (default 30,60)", &modes);
+                  clouds.add_run_options(p);  // --cloud-formats, --cloud-temporal, ...
+                  if (!p.parse(argc, argv)) return 0;
+                  if (!size.empty()) app::parse_size(size, o.width, o.height);
+                  if (o.frames < 1 || o.frames > 1000) fail("--frames: %u is outside 1..1000", o.frames);
+                  if (o.warmup > 100) fail("--warmup: %u is outside 0..100", o.warmup);
+                  if (o.rounds < 1 || o.rounds > 100) fail("--rounds: %u is outside 1..100", o.rounds);
+                  if (!views.empty()) o.views = split_list(views);
+                  if (o.views.empty()) fail("--views: no camera named");
+                  if (!ablations.empty()) {
+                    o.ablations.clear();
+                    for (const std::string& a : split_list(ablations)) {
+                      o.ablations.push_back(parse_name_or_fail(render::kCloudAblationNames, "--ablations", a));
+                    }
+                  }
+                  if (!modes.empty()) {
+                    o.modes.clear();
+                    for (const std::string& m : split_list(modes))
+                      o.modes.push_back(cumulo::render::budget_hz(cumulo::render::parse_budget_mode(m)));
+                  }
+                  return run_bench(o, clouds);
+                }});
+}
+
+}  // namespace cumulo::clouds

@@ -1,0 +1,70 @@
+#pragma once
+// `cumulo bench`'s measurements: the options of a run of the matrix, each configuration's samples and
+// medians, and the per-view figures the targets name (bench_tables.h prints and writes them).
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "engine/core/file_io.h"
+#include "engine/gpu/readback.h"
+#include "modules/clouds/render/cloud_renderer.h"
+
+namespace cumulo::clouds::bench {
+
+using render::CloudAblation;
+
+struct BenchOptions {
+  std::string level = (repo_root() / "content/levels/sample/level.json").string();
+  uint32_t width = 320, height = 180;
+  uint32_t frames = 6;  // measured frames per run, after the warm-up
+  uint32_t warmup = 3;  // lavapipe JITs on first use; the light grid is rebuilt whole on the first frame
+  // The whole matrix is run this many times in turn and each run's samples pooled: a CPU device's speed
+  // drifts over a minute (other work, clocks), and interleaving keeps the ratios within one run fair.
+  uint32_t rounds = 3;
+  std::string out;
+  std::vector<std::string> views{"ground", "mixed", "immersed"};
+  std::vector<CloudAblation> ablations{CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full};
+  std::vector<int> modes{30, 60};
+};
+
+struct Run {
+  std::string view;
+  CloudAblation ablation = CloudAblation::Full;
+  int mode = 30;
+  double cloud_ms = 0, geometry_ms = 0, frame_ms = 0, steps_per_pixel = 0;
+  double sky_ms = 0;  // the 2.5D sky and the light shafts (is_sky_pass)
+  std::map<std::string, double> passes;  // median ms
+  double psnr_vs_30hz_db = 0;  // 60 Hz runs: the final image against the 30 Hz run's (tonemapped, 8-bit)
+  // Samples pooled over the rounds, and the last round's final image.
+  std::vector<double> cloud, geometry, whole, steps, sky;
+  std::map<std::string, std::vector<double>> pass_samples;
+  gpu::Rgba8Image image;
+};
+
+// Per view, the figures the issue's targets name (each needs its runs in the matrix; NAN otherwise).
+struct Summary {
+  std::string view;
+  double full_vs_base_30 = NAN, full_vs_base_60 = NAN;  // base cloud ms / full cloud ms
+  double split_saving = NAN;                            // 1 - full 60 Hz / full 30 Hz cloud ms
+  double split_psnr_db = NAN;                           // full 60 Hz image vs full 30 Hz
+  double light_grid_share_30 = NAN, light_grid_share_60 = NAN;  // light grid ms / cloud ms (full, sun still)
+  double light_grid_moving_30 = NAN, light_grid_moving_60 = NAN;  // the same with the grid updating every frame
+  double fps_60 = NAN;                                  // 1000 / frame ms, full 60 Hz
+};
+
+// PSNR of two 8-bit RGBA images over RGB (dB; 99 when identical).
+double psnr_rgb(const gpu::Rgba8Image& a, const gpu::Rgba8Image& b);
+const Run* find_run(const std::vector<Run>& runs, const std::string& view, CloudAblation a, int mode);
+double median(std::vector<double> v);
+// The world-facing passes of issue 10 (the 2.5D sky, light shafts): the same in every ablation, so they
+// are timed on their own and kept out of the voxel clouds' time (whose ablation ratios they would dilute).
+bool is_sky_pass(const std::string& name);
+bool is_cloud_pass(const std::string& name);
+// The medians of every run's samples, and the 60 Hz runs' PSNR against their 30 Hz run.
+void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving);
+std::vector<Summary> summarize(const std::vector<Run>& runs, const std::vector<Run>& moving,
+                               const std::vector<std::string>& views);
+
+}  // namespace cumulo::clouds::bench

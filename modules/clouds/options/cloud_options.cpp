@@ -1,0 +1,145 @@
+#include "modules/clouds/options/cloud_options.h"
+
+#include <array>
+
+#include "engine/core/args.h"
+#include "engine/core/enum_names.h"
+#include "engine/core/error.h"
+
+namespace cumulo::clouds {
+namespace {
+
+using render::CloudRenderOptions;
+
+// --cloud-reprojection: 1 of N pixels, stored as the block's side (CloudSettings::reprojection_block).
+constexpr std::array kReprojectionNames{EnumName<uint32_t>{0, "auto"}, EnumName<uint32_t>{1, "1"},
+                                        EnumName<uint32_t>{2, "4"}, EnumName<uint32_t>{4, "16"}};
+constexpr std::array kLightGridNames{EnumName<bool>{true, "talk"}, EnumName<bool>{false, "device"}};
+constexpr std::array kLightSampleNoiseNames{EnumName<bool>{true, "mean"}, EnumName<bool>{false, "sampled"}};
+
+void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
+  p.on_off("--clouds", "draw the cloud module's passes (default on)", &o.enabled)
+      .choice("--cloud-debug", render::kCloudDebugViewNames, "cloud debug view (default none)", &o.debug)
+      .option("--cloud-formats", names_choice(render::kCloudFormatSetNames),
+              "cloud GPU formats: compressed (BC1) or uncompressed (RGBA8 + R16); default by device",
+              [&o](const std::string& s) { o.formats = parse_name_or_fail(render::kCloudFormatSetNames, "--cloud-formats", s); })
+      .choice("--cloud-ablation", render::kCloudAblationNames,
+              "cloud march variant of the talk's cost table: base, voxel-lighting, full (default)", &o.ablation)
+      .on_off("--cloud-temporal", "temporal accumulation of the jittered cloud march (default on)", &o.temporal)
+      .choice("--cloud-reprojection", kReprojectionNames,
+              "march 1 of N pixels per frame and reproject the rest (with temporal on): 1 every pixel, 4, 16 as in "
+              "the 2015 talk, auto (default: 4 at 30 Hz, 16 for the 40/60 Hz far segment)",
+              &o.reprojection_block)
+      .choice("--cloud-light-grid", kLightGridNames,
+              "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",
+              &o.talk_light_grid)
+      .choice("--cloud-light-grid-method", render::kCloudLightGridMethodNames,
+              "light grid computation: the talk's ray from every voxel, or a sweep level by level from the light "
+              "(default; the same sums at a fraction of the cost)",
+              &o.light_grid_method)
+      .choice("--cloud-light-sample-noise", kLightSampleNoiseNames,
+              "noise in the two marched light samples: its mean (default), or sampled as in the talk",
+              &o.light_sample_noise_mean)
+      .on_off("--cloud-shadows", "the clouds' shadow on the terrain and the ocean (default on)", &o.shadows)
+      .on_off("--cloud-terrain-shadow", "the terrain's shadow on the clouds (default on)", &o.terrain_shadow)
+      .on_off("--cloud-light-shafts", "light shafts through gaps in the clouds (default on)", &o.light_shafts)
+      .on_off("--cloud-rain", "the rain columns under precipitating clouds (default on)", &o.rain)
+      .choice("--cloud-sky", kOnOffNames, "auto",
+              "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
+              &o.sky)
+      .option("--cloud-effects-off", "LIST",
+              "switch off lighting effects of the talks in the march, comma-separated: silver-lining, dark-edges, "
+              "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",
+              [&o](const std::string& list) {
+                o.effects = CLOUD_EFFECTS_ALL;
+                for (size_t b = 0; b < list.size();) {
+                  size_t e = list.find(',', b);
+                  if (e == std::string::npos) e = list.size();
+                  const std::string name = list.substr(b, e - b);
+                  const uint32_t bit = render::cloud_effect_bit(name);
+                  if (!name.empty() && !bit)
+                    fail("--cloud-effects-off: unknown effect \"%s\" (expected silver-lining, dark-edges, inner-glow, "
+                         "long-shadows, ambient-direction or lightning-glow)", name.c_str());
+                  o.effects &= ~bit;
+                  b = e + 1;
+                }
+              });
+}
+
+void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
+  p.choice("--cloud-lighting", render::kCloudLightingPresetNames,
+           "the lighting model: the talks' constants, the set tuned against the path-traced reference "
+           "(cumulo fidelity), diffusion's falloff of the multiple scattering through a cloud and Beer-Lambert "
+           "across other clouds, or the slab (default; issue 21): a slab's falloff from the cloud's depth on both "
+           "sides along the sun's line, enclosed air (a chamber) inside the cloud, the sky from the upper "
+           "hemisphere, its diffused light, a ground bounce and a forward lobe of the multiple scattering",
+           &o.lighting)
+      .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
+              &o.ms_strength)
+      .range(0.0, 100.0)
+      .option("--cloud-ambient-occlusion", "X",
+              "the scale of the summed sky density on the ambient, overriding the preset's (talk: 0.1)",
+              &o.ambient_occlusion)
+      .range(0.0, 100.0)
+      .option("--cloud-ms-attenuation-inside", "X",
+              "the multiple-scattering field's attenuation deep inside a cloud toward the sun (the inner glow's "
+              "relaxation), overriding the preset's (talk: 0.05)",
+              &o.ms_attenuation_inside)
+      .range(0.0, 10.0)
+      .option("--cloud-ms-other-clouds", "X",
+              "with the diffusion lighting, the Beer-Lambert coefficient of other clouds' optical depth on the multiple "
+              "scattering, overriding the preset's (diffusion: 1; 0: other clouds shadow it as its own cloud does)",
+              &o.ms_other_clouds)
+      .range(0.0, 10.0)
+      .option("--cloud-ms-enclosed", "X",
+              "with the diffusion lighting, the own cloud goes on across air under at least this sky optical depth (a "
+              "chamber inside a cloud), overriding the preset's (slab: 3; 0: it ends at the first air toward the sun)",
+              &o.ms_enclosed)
+      .range(0.0, 1000.0)
+      .option("--cloud-ground-albedo", "X",
+              "with the slab lighting, the ground's albedo for the light it bounces into the clouds' bases, overriding "
+              "the preset's (slab: 0.1; 0: no bounce)",
+              &o.ground_albedo)
+      .range(0.0, 1.0)
+      .option("--cloud-light-sample-m", "M",
+              "the length of each of the two marched light samples before the light grid (default 24 m)",
+              &o.light_sample_m)
+      .range(1.0, 200.0)
+      .option("--cloud-edge-depth", "X",
+              "with the slab lighting, the dark edges from the optical depth to the nearest surface, 1 - exp(-X depth), "
+              "overriding the preset's (0: the talks' profile)",
+              &o.edge_depth)
+      .range(0.0, 100.0)
+      .choice("--cloud-instance-shadows", kOnOffNames, "preset",
+              "other cloud instances' clouds shadow an instance's (the storm cloud and the cloudscape), overriding the "
+              "preset's (slab: on)",
+              &o.instance_shadows)
+      .option("--cloud-ms-lateral", "C",
+              "with the slab lighting, the multiple scattering's leak through a surface nearer than both ends of the sun's "
+              "line through the cloud, overriding the preset's (0: none)",
+              &o.ms_lateral)
+      .range(0.0, 100.0)
+      .choice("--cloud-sky-mean", kOnOffNames, "preset",
+              "the clouds' sky light from the sky's mean radiance over the upper hemisphere (on) or 0.5 (zenith + "
+              "horizon) (off), overriding the preset's (slab: off)",
+              &o.sky_mean)
+      .option("--cloud-ms-anisotropy", "X",
+              "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
+              "phase function's mean cosine, overriding the preset's (0: isotropic)",
+              &o.ms_anisotropy)
+      .range(0.0, 2.0);
+}
+
+}  // namespace
+
+void add_cloud_run_options(ArgParser& p, CloudRenderOptions& render, CloudSimulationOptions& simulation) {
+  add_pass_options(p, render);
+  add_lighting_options(p, render);
+  p.option("--weather", "ID", "start in this weather state of the level's weather folder (clear, fair_cumulus, ...)",
+           &simulation.weather)
+      .option("--weather-dir", "DIR",
+              "the folder of weather states (default: the level's, content/weather/ for the sample; the editor saves there)",
+              &simulation.weather_dir);
+}
+
+}  // namespace cumulo::clouds

@@ -1,0 +1,33 @@
+#include "modules/clouds/render/cloud_render_options.h"
+
+namespace cumulo::clouds::render {
+
+CloudSettings cloud_settings(const CloudRenderOptions& o) {
+  CloudSettings s;
+  s.ablation = o.ablation;
+  s.debug = o.debug;
+  s.temporal = o.temporal;
+  s.light_grid_method = o.light_grid_method;
+  s.light_sample_noise_mean = o.light_sample_noise_mean;
+  s.light_grid_always_update = o.light_grid_always_update;
+  s.reprojection_block = o.reprojection_block;
+  s.shadows = o.shadows;
+  s.terrain_shadow = o.terrain_shadow;
+  s.effects = o.effects;
+  apply_lighting_preset(s, o.lighting);
+  if (o.ms_strength >= 0.0f) s.ms_strength = o.ms_strength;
+  if (o.ambient_occlusion >= 0.0f) s.ambient_occlusion_scale = o.ambient_occlusion;
+  if (o.ms_attenuation_inside >= 0.0f) s.ms_attenuation_inside = o.ms_attenuation_inside;
+  if (o.ms_other_clouds >= 0.0f) s.ms_other_cloud_attenuation = o.ms_other_clouds;
+  if (o.ms_enclosed >= 0.0f) s.ms_enclosed_sky_depth = o.ms_enclosed;
+  if (o.ground_albedo >= 0.0f) s.ground_albedo = o.ground_albedo;
+  if (o.ms_anisotropy >= 0.0f) s.ms_anisotropy = o.ms_anisotropy;
+  if (o.light_sample_m > 0.0f) s.light_sample_m = o.light_sample_m;
+  if (o.edge_depth >= 0.0f) s.edge_depth_scale = o.edge_depth;
+  if (o.ms_lateral >= 0.0f) s.ms_lateral = o.ms_lateral;
+  if (o.sky_mean) s.sky_mean_ambient = *o.sky_mean;
+  if (o.instance_shadows) s.instance_shadows = *o.instance_shadows;
+  return s;
+}
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,53 @@
+#pragma once
+// What the clouds' real-time frame draws and how: the renderer's part of the clouds' `cumulo run` flags
+// (parsed once, options/cloud_options.h), which `cumulo bench` and `cumulo fidelity` also set between
+// frames. Plain data.
+#include <cstdint>
+#include <optional>
+
+#include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/render/cloud_renderer.h"
+
+namespace cumulo::clouds::render {
+
+struct CloudRenderOptions {
+  bool enabled = true;  // --clouds
+  CloudDebugView debug = CloudDebugView::None;
+  std::optional<CloudFormatSet> formats;  // empty: default_format_set(device)
+  CloudAblation ablation = CloudAblation::Full;
+  bool temporal = true;
+  uint32_t reprojection_block = 0;  // CloudSettings::reprojection_block (0: by budget mode)
+  bool talk_light_grid = false;  // true: 256x256x32 on every device
+  CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
+  bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
+  bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
+  bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
+  std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
+  bool light_shafts = true;  // --cloud-light-shafts
+  bool rain = true;          // --cloud-rain
+  bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
+  uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
+  CloudLightingPreset lighting = CloudLightingPreset::Slab;  // --cloud-lighting talk|tuned|diffusion|slab
+  // The preset's constants overridden by flags (< 0 or empty: the preset's).
+  float ms_strength = -1.0f;            // --cloud-ms-strength
+  float ambient_occlusion = -1.0f;      // --cloud-ambient-occlusion
+  float ms_attenuation_inside = -1.0f;  // --cloud-ms-attenuation-inside
+  float ms_other_clouds = -1.0f;        // --cloud-ms-other-clouds
+  float ms_enclosed = -1.0f;            // --cloud-ms-enclosed
+  float ground_albedo = -1.0f;          // --cloud-ground-albedo
+  float ms_anisotropy = -1.0f;          // --cloud-ms-anisotropy
+  float light_sample_m = -1.0f;         // --cloud-light-sample-m
+  float edge_depth = -1.0f;             // --cloud-edge-depth
+  std::optional<bool> instance_shadows;  // --cloud-instance-shadows
+  float ms_lateral = -1.0f;             // --cloud-ms-lateral
+  std::optional<bool> sky_mean;         // --cloud-sky-mean
+  // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
+  // light shafts, rain or bolt channels.
+  bool reference_comparable = false;
+  int noise_size = 128;
+};
+
+// The march's settings of these options: the lighting preset with its overridden constants, and the rest.
+CloudSettings cloud_settings(const CloudRenderOptions& o);
+
+}  // namespace cumulo::clouds::render
