@@ -7,27 +7,18 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/png.h"
+#include "modules/clouds/weather/weather_fields.h"
 
 namespace cumulo::editor {
 namespace fs = std::filesystem;
 
 namespace {
 
-// The key order of the shipped files, per object path; keys not listed follow in their own order.
+// The key order of the shipped files, per object path (the field table's); keys not listed follow in
+// their own order.
 const std::vector<std::string>* canonical_keys(const std::string& path) {
-  static const std::map<std::string, std::vector<std::string>> order = {
-      {"",
-       {"$schema", "coverage", "cloud_type", "precipitation", "wind", "height_skew", "anvil_bias", "cloud_map",
-        "voxel_density", "lighting", "lightning", "rain", "haze", "description"}},
-      {"wind", {"direction", "speed"}},
-      {"cloud_map", {"procedural", "png"}},
-      {"cloud_map.procedural", {"seed", "scale_km", "octaves"}},
-      {"lighting", {"absorption", "phase", "silver", "ambient"}},
-      {"lighting.phase", {"forward", "backward"}},
-      {"lighting.silver", {"intensity", "spread"}},
-  };
-  auto it = order.find(path);
-  return it == order.end() ? nullptr : &it->second;
+  const clouds::weather::WeatherObject* o = clouds::weather::find_weather_object(path);
+  return o ? &o->keys : nullptr;
 }
 
 nlohmann::ordered_json ordered(const Json& j, const std::string& path) {

@@ -1,5 +1,6 @@
 #include "editor/model/weather_params.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -37,64 +38,26 @@ std::string shown(const Json& v) {
 
 }  // namespace
 
-// Ranges are the loader's (weather_state.cpp) and the schema's; tooltips follow weather_state.h and the
-// README's "Weather states" section.
 const std::vector<ParamInfo>& weather_params() {
-  using K = ParamKind;
-  static const std::vector<ParamInfo> params = {
-      {"coverage", "Coverage", "How much of the sky the cloud map covers (0 clear, 1 overcast).", K::Float, 0, 1,
-       "Clouds"},
-      {"cloud_type", "Cloud type", "0 stratus, 0.5 stratocumulus, 1 cumulus: the height profile of the clouds.",
-       K::Float, 0, 1, "Clouds"},
-      {"precipitation", "Precipitation", "How much of the cloud mass rains: the cloud map's second channel.", K::Float,
-       0, 1, "Clouds"},
-      {"height_skew", "Height skew", "Cloud tops lean downwind by this fraction of their height.", K::Float, 0, 1,
-       "Clouds"},
-      {"anvil_bias", "Anvil bias", "Widens the tops of tall clouds into anvils.", K::Float, 0, 1, "Clouds"},
-      {"voxel_density", "Voxel density", "Density multiplier of the voxel cloudscape (the near, detailed clouds).",
-       K::Float, 0, 100, "Clouds"},
-      {"wind.direction", "Direction", "World direction the wind blows toward; normalized on load, must not be zero.",
-       K::Vec3, -1, 1, "Wind"},
-      {"wind.speed", "Speed (m/s)", "Scroll speed of the noise and drift of the cloud map, in m/s.", K::Float, 0, 200,
-       "Wind"},
-      {"cloud_map.procedural.seed", "Seed", "Seed of the procedural cloud map (ignored when a painted map is used).",
-       K::Int, 0, 4294967295.0, "Cloud map"},
-      {"cloud_map.procedural.scale_km", "Scale (km)", "Size of the procedural map's largest features, in km.", K::Float,
-       0.1, 1000, "Cloud map"},
-      {"cloud_map.procedural.octaves", "Octaves", "Noise octaves of the procedural map: more is finer detail.", K::Int,
-       1, 8, "Cloud map"},
-      {"lighting.absorption", "Absorption", "Extinction per unit density, 1/m: higher is darker, denser clouds.",
-       K::Float, 1e-5, 10, "Lighting"},
-      {"lighting.phase.forward", "Forward phase",
-       "Henyey-Greenstein eccentricity of the forward lobe (bright edges "
-       "toward the sun).",
-       K::Float, -0.99, 0.99, "Lighting"},
-      {"lighting.phase.backward", "Backward phase",
-       "Henyey-Greenstein eccentricity of the backward lobe (light "
-       "scattered back toward the sun).",
-       K::Float, -0.99, 0.99, "Lighting"},
-      {"lighting.silver.intensity", "Silver intensity",
-       "Weight of the forward lobe: the silver lining around clouds "
-       "in front of the sun.",
-       K::Float, 0, 1, "Lighting"},
-      {"lighting.silver.spread", "Silver spread", "Widens the forward lobe: g = forward x (1 - spread).", K::Float, 0,
-       1, "Lighting"},
-      {"lighting.ambient", "Ambient", "Multiplier of the sky's ambient light in the clouds.", K::Float, 0, 10,
-       "Lighting"},
-      {"lightning.frequency_per_minute", "Lightning / min",
-       "Strikes per minute the weather spawns in its lightning "
-       "volume.",
-       K::Float, 0, 600, "Weather"},
-      {"rain.intensity", "Rain", "Intensity of the rain drawn in the 2.5D sky (0..1).", K::Float, 0, 1, "Weather"},
-      {"haze", "Haze", "Scales the atmosphere's aerosol density and the height fog: x1 at 0.1, x4 at 0.4.", K::Float, 0,
-       1, "Weather"},
-      {"description", "Description", "A note for people; the engine ignores it.", K::Text, 0, 0, "Weather"},
-  };
+  static const std::vector<ParamInfo> params = [] {
+    std::vector<ParamInfo> out;
+    for (const std::string& group : weather_param_groups())
+      for (const clouds::weather::WeatherField& f : clouds::weather::weather_fields())
+        if (f.group == group)
+          out.push_back({std::string(f.key), std::string(f.label), std::string(f.help), f.type(), f.min, f.max,
+                         std::string(f.group)});
+    return out;
+  }();
   return params;
 }
 
 const std::vector<std::string>& weather_param_groups() {
-  static const std::vector<std::string> groups = {"Clouds", "Wind", "Cloud map", "Lighting", "Weather"};
+  static const std::vector<std::string> groups = [] {
+    std::vector<std::string> out;
+    for (const clouds::weather::WeatherField& f : clouds::weather::weather_fields())
+      if (!f.group.empty() && std::find(out.begin(), out.end(), f.group) == out.end()) out.emplace_back(f.group);
+    return out;
+  }();
   return groups;
 }
 

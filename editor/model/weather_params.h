@@ -1,7 +1,8 @@
 #pragma once
-// The editable parameters of a weather state, one row per JSON key the editor shows: the UI builds its
-// widgets from this table and scripts name parameters by its `path` (the stable dotted JSON keys of
-// weather_state.h), so a key added to the loader needs one row here and nothing else.
+// The editable parameters of a weather state, one per JSON key the editor shows: the UI builds its
+// widgets from this list and scripts name parameters by its `path` (the stable dotted JSON keys of
+// weather_state.h). The list is the rows of the weather's field table (weather_fields.h) that have a
+// group, so a key added there shows up here with nothing else to do.
 //
 //   const ParamInfo* p = find_param("lighting.absorption");   // nullptr for an unknown path
 //   Json v = get_param(doc.json("storm"), p->path);             // throws naming the path when missing
@@ -12,10 +13,11 @@
 #include <vector>
 
 #include "engine/core/json.h"
+#include "modules/clouds/weather/weather_fields.h"
 
 namespace cumulo::editor {
 
-enum class ParamKind { Float, Int, Vec3, Text };
+using ParamKind = clouds::weather::FieldType;  // Float, Int, Vec3, Text
 
 struct ParamInfo {
   std::string path;     // dotted JSON key: "coverage", "lighting.phase.forward"
@@ -29,7 +31,7 @@ struct ParamInfo {
 // In the order the UI shows them (grouped).
 const std::vector<ParamInfo>& weather_params();
 const ParamInfo* find_param(std::string_view path);
-// The groups in display order.
+// The groups in display order (that of their first rows in the table).
 const std::vector<std::string>& weather_param_groups();
 
 // Throws cumulo::Error "PATH: no such key in the state" when a part of the path is missing.

@@ -23,7 +23,8 @@
 //    "haze": 0.1,                               // 0..1
 //    "description": "..."}                      // optional, for people
 // Every key but `description` and `cloud_map.png` is required, so a state never depends on defaults
-// hidden in code; unknown keys are refused (a typo would otherwise be silently ignored).
+// hidden in code; unknown keys are refused (a typo would otherwise be silently ignored). The keys, their
+// ranges and how they blend are the rows of weather_fields.h; the defaults are the members' below.
 #include <filesystem>
 #include <memory>
 #include <string>
