@@ -19,137 +19,13 @@
 #include "engine/gpu/sampler.h"
 #include "engine/render/history.h"
 #include "engine/render/sky_model.h"
-#include "modules/clouds/render/pass_bindings.h"
-#include "modules/clouds/render/reconstruct_pass.h"
+#include "modules/clouds/render/cloud_passes.h"
 #include "modules/clouds/scene/density_query.h"
 #include "shaders/shared/cloud_params.h"
 
 namespace cumulo::clouds::render {
 
-using cumulo::render::PassBuilder;
-using cumulo::render::PassContext;
-using cumulo::render::Queue;
-using cumulo::render::ResourceState;
-using cumulo::render::TextureDesc;
-using cumulo::render::Usage;
-
 static_assert(kMaxInstances == CLOUD_MAX_INSTANCES && kMaxPointLights == CLOUD_MAX_POINT_LIGHTS && kMaxAssets == CLOUD_MAX_ASSETS);
-
-namespace {
-
-constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // rgb radiance, a transmittance
-constexpr VkFormat kDepthFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // opacity-0.5 distance, steps, segment end
-constexpr VkFormat kGridFormat = VK_FORMAT_R16G16B16A16_SFLOAT;   // summed density toward the sun, the sky, the sun in the own cloud, away from the sun in it
-
-// The state an imported image is in when the graph starts and the next user finds it: sampled by
-// compute or fragment shaders.
-ResourceState sampled_state() { return ResourceState::shader_read_only(); }
-}  // namespace
-
-struct CloudResources {
-  // One instance's slab of the light-grid image.
-  struct LightGrid {
-    bool valid = false;   // has been fully built
-    glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
-    uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
-    glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
-    uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
-  };
-  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow,
-  // coverage texture (the BC1 modeling NVDF)
-  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool, bool>;
-
-  gpu::Context& ctx;
-  gpu::PipelineLibrary& library;
-  std::shared_ptr<const CloudNoise> noise;
-  CloudResourcesDesc desc;
-  gpu::Buffer ubo[gpu::kFramesInFlight];
-  // The light grids of all instances stacked along z (instance i in layers [i * gz, (i + 1) * gz)),
-  // a persistent graph texture (the graph carries its state from frame to frame).
-  gpu::Image grid_image;
-  cumulo::render::PersistentTexture grid_texture;
-  uint32_t grid_instances = 0;
-  LightGrid grids[kMaxInstances];
-  // Temporal accumulation: the graph's history pair (engine/render/history.h).
-  cumulo::render::GpuHistory history{"clouds.history", kColorFormat, 1.0f,
-                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
-  bool history_on = false;  // the last frame accumulated (a frame without temporal breaks the history)
-  // Reprojection of the sub-sampled march: the last frame's reconstruction.
-  cumulo::render::GpuHistory recon_history{"clouds.reprojection", kColorFormat, 1.0f,
-                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
-  uint32_t recon_block = 0;  // block size of the last frame's reconstruction (0: none)
-  gpu::Pipeline* recon_pipe = nullptr;
-  glm::mat4 prev_view_proj{1.0f};
-  gpu::Pipeline* grid_pipe = nullptr;
-  gpu::Pipeline* temporal_pipe = nullptr;
-  gpu::Pipeline* merge_pipe = nullptr;
-  gpu::Pipeline* composite_pipes[2][2] = {};  // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)]
-  gpu::Pipeline* shadow_pipe = nullptr;
-  // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
-  gpu::Image shadow_image;
-  cumulo::render::PersistentTexture shadow_texture;
-  glm::vec4 shadow_key{0.0f};
-  glm::vec3 shadow_sun{0.0f};
-  bool shadow_valid = false;
-  uint32_t shadow_updates = 0;
-  std::map<MarchKey, gpu::Pipeline*> march_pipes;
-  uint32_t rebuilds = 0;
-  VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
-
-  CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
-
-  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise,
-                       int asset_slots = 1, bool terrain_shadow = false, bool coverage_texture = false) {
-    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow, coverage_texture};
-    auto it = march_pipes.find(key);
-    if (it != march_pipes.end()) return *it->second;
-    static const char* kSegments[] = {"all", "near", "far"};
-    gpu::ComputePipelineDesc d;
-    d.shader = "clouds/march_render.comp";
-    d.defines = {{"ABLATION", std::to_string(int(a))},
-                 {"SEGMENT", std::to_string(segment)},
-                 {"SDF_BC1", bc1 ? "1" : "0"},
-                 {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"},
-                 {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"},
-                 {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)},
-                 {"TERRAIN_SHADOW", terrain_shadow ? "1" : "0"},
-                 {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}};
-    d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
-             (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
-             (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") +
-             (coverage_texture ? ", coverage texture" : "") + ")";
-    gpu::Pipeline& p = library.compute(d);
-    march_pipes[key] = &p;
-    return p;
-  }
-  gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
-    MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture};
-    auto it = march_pipes.find(key);
-    if (it != march_pipes.end()) return *it->second;
-    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
-                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
-                                        .name = std::string("clouds.light_grid (sweep") + (bc1 ? ", bc1 sdf" : "") +
-                                                (coverage_texture ? ", coverage texture" : "") + ")"});
-    march_pipes[key] = &p;
-    return p;
-  }
-  gpu::Pipeline& grid(bool bc1, bool coverage_texture = false) {
-    // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true, true, 1, false, coverage_texture};
-    auto it = march_pipes.find(key);
-    if (it != march_pipes.end()) return *it->second;
-    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
-                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
-                                        .name = bc1 || coverage_texture
-                                                    ? std::string("clouds.light_grid (") +
-                                                          (bc1 && coverage_texture ? "bc1 sdf, coverage texture"
-                                                           : bc1                   ? "bc1 sdf"
-                                                                                   : "coverage texture") + ")"
-                                                    : std::string("clouds.light_grid")});
-    march_pipes[key] = &p;
-    return p;
-  }
-};
 
 void CloudResourcesDeleter::operator()(CloudResources* r) const {
   if (!r) return;
@@ -157,39 +33,9 @@ void CloudResourcesDeleter::operator()(CloudResources* r) const {
   delete r;
 }
 
-namespace {
-
-using Bindings = PassBindings;
-
-shared::CloudMarchPush target_push(VkExtent3D e) {
-  shared::CloudMarchPush pc{};
-  pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-  pc.sub = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
-  return pc;
-}
-
-glm::mat4 instance_matrix(const CloudInstance& inst) { return placement_matrix(inst); }
-
-uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
-  struct Key {
-    const void* asset;
-    float v[12];
-    uint32_t grid[3];
-  } k{};
-  k.asset = inst.asset.get();
-  const glm::quat q = glm::normalize(inst.rotation);
-  const float vals[12] = {inst.position.x, inst.position.y, inst.position.z, q.x, q.y, q.z, q.w,
-                          inst.scale, inst.density, inst.dissipation, inst.coverage, 0.0f};
-  std::memcpy(k.v, vals, sizeof vals);
-  k.grid[0] = d.light_grid_size.x, k.grid[1] = d.light_grid_size.y, k.grid[2] = d.light_grid_size.z;
-  return hash64(&k, sizeof k);
-}
-
-}  // namespace
-
 shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm::vec3 sun, double time) {
   shared::CloudInstanceParams ip{};
-  ip.world_to_asset = glm::inverse(instance_matrix(inst));
+  ip.world_to_asset = glm::inverse(placement_matrix(inst));
   const float scale = std::max(inst.scale, 1e-6f);
   ip.bounds_min = glm::vec4(inst.asset->bounds_min, scale);
   ip.bounds_max = glm::vec4(inst.asset->bounds_max, 1.0f / scale);
@@ -244,14 +90,14 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   return p;
 }
 
+}  // namespace
+
 shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
                                 bool history_valid, const std::vector<uint32_t>& slots) {
   shared::CloudParams p = make_params_impl(in, size, history_valid, slots);
   p.prev_view_proj = res.prev_view_proj;
   return p;
 }
-
-}  // namespace
 
 shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, const std::vector<uint32_t>& slots) {
   std::vector<uint32_t> all = slots;
@@ -261,22 +107,6 @@ shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, co
   return p;
 }
 
-namespace {
-
-// Temporal history: the graph's ping-pong pair (last frame's result as `prev`, this frame's target as
-// `next`). Invalid on the first frame, after a resize, a camera cut or a frame without accumulation.
-struct HistoryImports {
-  TextureHandle prev, next;
-  bool valid = false;
-};
-HistoryImports import_history(CloudResources& res, RenderGraph& graph, bool camera_cut) {
-  if (camera_cut || !res.history_on) res.history.invalidate();
-  const cumulo::render::HistoryHandles h = res.history.import(res.ctx, graph);
-  res.history_on = true;
-  return {h.previous, h.current, h.valid};
-}
-
-}  // namespace
 
 // The diffusion preset's multiple-scattering strength and ambient occlusion scale, calibrated with cumulo fidelity on
 // three views of our own (not the acceptance set: a tower from the sunlit side, a mediocris from below against the
@@ -517,254 +347,16 @@ std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInput
 }
 
 CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in) {
-  CloudLightOutputs out;
-  if (in.instances.empty()) return out;
-  if (in.instances.size() > kMaxInstances)
-    fail("clouds: %zu cloudscape instances, at most %u per frame", in.instances.size(), kMaxInstances);
-  if (in.lights.size() > kMaxPointLights)
-    fail("clouds: %zu point lights, at most %u per frame", in.lights.size(), kMaxPointLights);
-  // Distinct assets in order of first use: slot 0 and, for a second asset, slot 1 (the march binds both).
-  std::vector<const CloudAsset*> assets;
-  std::vector<uint32_t> slots;
-  for (const CloudInstance& inst : in.instances) {
-    if (!inst.asset) fail("clouds: a cloudscape instance has no asset");
-    auto it = std::find(assets.begin(), assets.end(), inst.asset.get());
-    if (it == assets.end()) {
-      if (assets.size() == kMaxAssets)
-        fail("clouds: more than %u cloudscape assets in one frame (%s, %s, %s): instances may share an asset", kMaxAssets,
-             assets[0]->folder.string().c_str(), assets[1]->folder.string().c_str(), inst.asset->folder.string().c_str());
-      assets.push_back(inst.asset.get());
-      it = assets.end() - 1;
-    }
-    slots.push_back(uint32_t(it - assets.begin()));
-  }
-  for (const CloudAsset* a : assets)
-    if (a->formats != assets[0]->formats)
-      fail("clouds: the cloudscape assets %s and %s use different formats in one frame", assets[0]->folder.string().c_str(),
-           a->folder.string().c_str());
-  const int asset_slots = int(assets.size());
-  const CloudSettings& s = in.settings;
-  const VkExtent2D size = graph.output_size();
-  const bool bc1 = assets[0]->formats.bc1_field;
-  // The BC1 modeling NVDF has no alpha: its coverage thresholds come from the asset's coverage texture.
-  const bool coverage_texture = assets[0]->formats.bc1_modeling;
-  gpu::Context& ctx = res.ctx;
-  CloudResources* r = &res;
-
-  // ---- Persistent resources: assets, noise, light grids, history ----
-  auto import_3d = [&](const std::string& name, const gpu::Image& img) {
-    const VkExtent3D e = img.extent();
-    TextureDesc d = TextureDesc::absolute(img.format(), e.width, e.height, e.depth);
-    d.type = cumulo::render::ImageType::Image3D;
-    d.mips = img.mips();
-    return graph.import_texture(name, d, img.handle(), img.view(), sampled_state());
-  };
-  std::vector<TextureHandle> modelings, fields, coverages, fairs;
-  for (size_t a = 0; a < assets.size(); ++a) {
-    const std::string suffix = a ? "." + std::to_string(a) : "";
-    modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling));
-    fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field));
-    fairs.push_back(import_3d("clouds.field_fair" + suffix, assets[a]->field_fair));
-    if (coverage_texture) coverages.push_back(import_3d("clouds.coverage" + suffix, assets[a]->coverage));
-  }
-  const TextureHandle noise = import_3d("clouds.noise", res.noise->image);
-
-  const uint32_t n = uint32_t(in.instances.size());
-  const glm::uvec3 gs = res.desc.light_grid_size;
-  struct GridWork {
-    uint32_t first = 0, layers = 0;  // rays: z layers of the instance's slab updated this frame
-    uint32_t level_first = 0, level_count = 0;  // sweep: levels updated this frame, in sweep order (0: nearest the light)
-  };
-  std::vector<GridWork> grids(n);
-  if (!res.grid_image || res.grid_instances != n || res.grid_image.extent().width != gs.x ||
-      res.grid_image.extent().height != gs.y || res.grid_image.extent().depth != gs.z * n) {
-    if (res.grid_image) ctx.wait_idle();  // frames in flight may still sample the old grid (rare: instance count changes)
-    res.grid_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(gs.x, gs.y, gs.z * n, kGridFormat,
-                                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
-                                                           "clouds.light_grid"));
-    res.grid_texture = {"clouds.light_grid", TextureDesc::absolute(kGridFormat, gs.x, gs.y, gs.z * n),
-                        res.grid_image.handle(), res.grid_image.view(), ResourceState::undefined()};
-    res.grid_instances = n;
-    for (auto& g : res.grids) g = {};
-  }
-  const float cos_threshold = std::cos(glm::radians(s.sun_rebuild_degrees));
-  const glm::vec3 sun_world = glm::normalize(in.sun_direction);
-  for (uint32_t i = 0; i < n; ++i) {
-    CloudResources::LightGrid& g = res.grids[i];
-    const CloudInstance& inst = in.instances[i];
-    const glm::vec3 sun_asset = glm::normalize(glm::inverse(glm::normalize(inst.rotation)) * sun_world);
-    const uint64_t key = instance_key(inst, res.desc);
-    const bool rebuild = !g.valid || in.rebuild_light_grid || key != g.key || glm::dot(sun_asset, g.sun) < cos_threshold;
-    const uint32_t slab = gs.z / res.desc.light_grid_divisions;
-    // The sweep amortizes by levels over the whole grid (light_grid_sweep.comp says why).
-    const uint32_t levels_per_frame = (gs.y + res.desc.light_grid_divisions - 1) / res.desc.light_grid_divisions;
-    // The sweep reads the noise by its mean, so the wind does not move it: with the sun still for a
-    // whole cycle of levels the grid is current and the frame's update would rewrite the same values.
-    // (The rays method samples the scrolling noise and keeps updating.)
-    g.frames_same_sun = sun_asset == g.last_sun ? g.frames_same_sun + 1 : 0;
-    g.last_sun = sun_asset;
-    const bool current = s.light_grid_method == CloudLightGridMethod::Sweep && !s.light_grid_always_update &&
-                         g.frames_same_sun >= res.desc.light_grid_divisions;
-    if (rebuild) {
-      grids[i].first = 0, grids[i].layers = gs.z;
-      grids[i].level_first = 0, grids[i].level_count = gs.y;
-      g.sun = sun_asset, g.key = key, g.valid = true;
-      g.frames_same_sun = res.desc.light_grid_divisions;  // every level computed with this sun
-      ++res.rebuilds;
-    } else if (current) {
-      grids[i].first = 0, grids[i].layers = 0;
-      grids[i].level_first = 0, grids[i].level_count = 0;
-    } else if (s.light_grid_method == CloudLightGridMethod::Sweep) {
-      grids[i].first = 0, grids[i].layers = gs.z;
-      grids[i].level_first = std::min(gs.y, uint32_t(in.frame_index % res.desc.light_grid_divisions) * levels_per_frame);
-      grids[i].level_count = std::min(levels_per_frame, gs.y - grids[i].level_first);
-    } else {
-      grids[i].first = uint32_t(in.frame_index % res.desc.light_grid_divisions) * slab;
-      grids[i].layers = slab;
-    }
-  }
+  if (in.instances.empty()) return {};
+  CloudLightOutputs out = import_cloud_assets(res, graph, in);  // 0. the assets and the noise
+  const LightGridWork work = plan_light_grids(res, in);
   // Partial updates keep the other slabs / levels: the graph carries the grid's content and state across frames.
-  TextureHandle grid = graph.import_persistent(res.grid_texture);
+  out.grid = graph.import_persistent(res.grid_texture);
   // The light passes read the instances of this frame's parameters; add_cloud_passes writes the block
   // again (history, reprojection) before the frame is submitted, with the same instances.
-  const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
-  const shared::CloudParams params = make_params(res, in, size, false, slots);
-  std::memcpy(ubo.mapped(), &params, sizeof params);
-  const VkBuffer ubo_handle = ubo.handle();
-  constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
-
-  // ---- 1. Light grid ----
-  const bool sweep = s.light_grid_method == CloudLightGridMethod::Sweep;
-  gpu::Pipeline* grid_pipe = sweep ? &res.sweep(bc1, coverage_texture) : &res.grid(bc1, coverage_texture);
-  const CloudResourcesDesc rdesc = res.desc;
-  // Sweep order per instance: levels from the light's side; the sun and the sky share one sweep when
-  // both point up (or both down), else each channel gets its own; the own cloud's sum away from the sun
-  // (channel 4) sweeps from the other side.
-  struct SweepPlan {
-    uint32_t channels[3] = {3, 4, 0};
-    bool down[3] = {true, false, true};  // true: from the top level down
-  };
-  std::vector<SweepPlan> plans(n);
-  for (uint32_t i = 0; i < n; ++i) {
-    const glm::mat3 to_asset = glm::mat3(glm::inverse(glm::normalize(in.instances[i].rotation)));
-    const bool sun_up = (to_asset * sun_world).y >= 0.0f, sky_up = (to_asset * glm::vec3(0, 1, 0)).y >= 0.0f;
-    if (sun_up == sky_up) plans[i] = {{3, 4, 0}, {sun_up, !sun_up, sun_up}};
-    else plans[i] = {{1, 2, 4}, {sun_up, sky_up, !sun_up}};
-  }
-  bool grid_work = false;
-  for (const GridWork& w : grids) grid_work |= w.layers > 0 && (!sweep || w.level_count > 0);
-  if (grid_work) graph.add_pass("clouds.light_grid", Queue::Compute,
-      [&](PassBuilder& b) {
-        for (size_t a = 0; a < modelings.size(); ++a) {
-          b.read(modelings[a], Usage::Sampled);
-          b.read(fields[a], Usage::Sampled);
-        }
-        for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
-        b.read(noise, Usage::Sampled);
-        grid = b.read_write(grid, Usage::StorageWrite);
-      },
-      [r, grid_pipe, grids, plans, sweep, grid, modelings, fields, coverages, slots, noise, ubo_handle, rdesc](PassContext& c) {
-        const VkExtent3D e = c.extent(grid);
-        // Each instance's dispatches read its own asset (push descriptors: rebound when the asset changes).
-        uint32_t bound = UINT32_MAX;
-        auto bind = [&](uint32_t a) {
-          if (a == bound) return;
-          bound = a;
-          Bindings bindings(*grid_pipe);
-          bindings.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_MODELING, c.view(modelings[a]), r->linear_clamp, c.layout(modelings[a]))
-              .sampled(CLOUD_BINDING_FIELD, c.view(fields[a]), r->linear_clamp, c.layout(fields[a]))
-              .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
-              .storage(CLOUD_BINDING_GRID_OUT, c.view(grid));
-          if (!coverages.empty())
-            bindings.sampled(CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp, c.layout(coverages[a]));
-          bindings.push(r->ctx, c.cmd());
-        };
-        for (uint32_t i = 0; i < grids.size(); ++i) {
-          if (grids[i].layers == 0 || (sweep && grids[i].level_count == 0)) continue;
-          bind(slots[i]);
-          shared::CloudLightGridPush pc{};
-          if (!sweep) {
-            pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, 0);
-            pc.grid = glm::vec4(float(rdesc.light_grid_sun_steps), float(rdesc.light_grid_sky_steps),
-                                float(rdesc.light_grid_size.z), 0.0f);
-            grid_pipe->push_constants(c.cmd(), pc);
-            grid_pipe->dispatch_threads(c.cmd(), e.width, e.height, grids[i].layers);
-            continue;
-          }
-          // One dispatch per level; each level reads the one before it (written by the previous
-          // dispatch of this pass): the only barriers recorded inside a cloud pass.
-          for (uint32_t sweep_index = 0; sweep_index < 3 && plans[i].channels[sweep_index]; ++sweep_index)
-            for (uint32_t k = grids[i].level_first; k < grids[i].level_first + grids[i].level_count; ++k) {
-              const uint32_t level = plans[i].down[sweep_index] ? e.height - 1 - k : k;
-              if (k > grids[i].level_first || sweep_index > 0 || i > 0)
-                gpu::cmd_memory_barrier(c.cmd(), VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-              pc.region = glm::uvec4(i, grids[i].first, grids[i].layers, level);
-              pc.grid = glm::vec4(float(rdesc.light_grid_sweep_samples), float(plans[i].channels[sweep_index]),
-                                  float(rdesc.light_grid_size.z), 0.0f);
-              grid_pipe->push_constants(c.cmd(), pc);
-              grid_pipe->dispatch_threads(c.cmd(), e.width, 1, grids[i].layers);
-            }
-        }
-      });
-
-
-  // ---- 1b. The clouds' shadow on the scene (shadow_map.comp) ----
-  // A persistent texture, recomputed only when the light grid changed this frame or the plane moved
-  // (the map is the grid's sums at the boxes' entries: nothing else changes it).
-  if (const std::optional<cumulo::render::LightShadowMap> plane = shadow_plane(in, res.desc.shadow_map_size)) {
-    const uint32_t sm = res.desc.shadow_map_size;
-    if (!res.shadow_image) {
-      res.shadow_image = gpu::Image(ctx, gpu::ImageDesc::tex2d(sm, sm, VK_FORMAT_R16_SFLOAT,
-                                                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
-                                                               "clouds.shadow_map"));
-      res.shadow_texture = {"clouds.shadow_map", TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, sm, sm),
-                            res.shadow_image.handle(), res.shadow_image.view(), ResourceState::undefined()};
-    }
-    TextureHandle shadow = graph.import_persistent(res.shadow_texture);
-    const glm::vec4 key(plane->origin, plane->size.x, plane->height);
-    const bool stale = grid_work || !res.shadow_valid || key != res.shadow_key || sun_world != res.shadow_sun;
-    if (stale) {
-      gpu::Pipeline* pipe = res.shadow_pipe;
-      shared::CloudShadowPush pc{};
-      pc.plane = glm::vec4(plane->origin, plane->size);
-      pc.light = glm::vec4(sun_world, plane->height);
-      graph.add_pass("clouds.shadow_map", Queue::Compute,
-          [&](PassBuilder& b) {
-            b.read(grid, Usage::Sampled);
-            shadow = b.write(shadow, Usage::StorageWrite);
-            b.side_effect();  // kept for the frames that reuse it
-          },
-          [r, pipe, grid, shadow, ubo_handle, pc](PassContext& c) {
-            Bindings(*pipe)
-                .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-                .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
-                .storage(CLOUD_BINDING_SHADOW_OUT, c.view(shadow))
-                .push(r->ctx, c.cmd());
-            pipe->push_constants(c.cmd(), pc);
-            const VkExtent3D e = c.extent(shadow);
-            pipe->dispatch_threads(c.cmd(), e.width, e.height);
-          });
-      res.shadow_key = key;
-      res.shadow_sun = sun_world;
-      res.shadow_valid = true;
-      ++res.shadow_updates;
-    }
-    out.shadow = *plane;
-    out.shadow.texture = shadow;
-  }
-  out.grid = grid;
-  out.modelings = std::move(modelings);
-  out.fields = std::move(fields);
-  out.fairs = std::move(fairs);
-  out.coverages = std::move(coverages);
-  out.noise = noise;
-  out.slots = std::move(slots);
-  out.asset_slots = asset_slots;
-  out.bc1 = bc1;
-  out.coverage_texture = coverage_texture;
+  const VkBuffer ubo = write_params(res, in, graph.output_size(), false, out.slots);
+  out.grid = add_light_grid_pass(res, graph, in, work, out, out.grid, ubo);  // 1. the light grid
+  add_shadow_map_pass(res, graph, in, work.any, ubo, out);                   // 1b. the clouds' shadow on the scene
   return out;
 }
 
@@ -776,227 +368,18 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
     own = add_cloud_light_passes(res, graph, in);
     light = &own;
   }
-  const std::vector<TextureHandle>& modelings = light->modelings;
-  const std::vector<TextureHandle>& fields = light->fields;
-  const std::vector<TextureHandle>& coverages = light->coverages;
-  const std::vector<TextureHandle>& fairs = light->fairs;
-  const bool coverage_texture = light->coverage_texture;
-  const TextureHandle modeling = modelings[0], field = fields[0], noise = light->noise, grid = light->grid;
-  const std::vector<uint32_t>& slots = light->slots;
-  const int asset_slots = light->asset_slots;
-  const bool bc1 = light->bc1;
   const CloudSettings& s = in.settings;
-  const VkExtent2D size = graph.output_size();
-  CloudResources* r = &res;
-  const bool terrain = s.terrain_shadow && in.terrain_depth.valid();
-  const TextureHandle terrain_depth = in.terrain_depth;
-
   HistoryImports history;
   if (s.temporal) history = import_history(res, graph, in.camera_cut);
   else res.history_on = false;
-
-  // Reprojection: the marched pixel of each BxB block this frame, in the order of a Bayer matrix (each
-  // pixel once every B*B frames, neighbours far apart in time).
-  const uint32_t block = reprojection_block(s);
-  HistoryImports recon;
-  glm::uvec2 sub_offset{0, 0};
-  if (block > 1) {
-    if (in.camera_cut || res.recon_block != block) res.recon_history.invalidate();
-    const cumulo::render::HistoryHandles h = res.recon_history.import(res.ctx, graph);
-    recon = {h.previous, h.current, h.valid};
-    sub_offset = reprojection_offset(block, in.frame_index);
-  }
-  res.recon_block = block > 1 ? block : 0;
-
-  const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
-  const shared::CloudParams params = make_params(res, in, size, history.valid, slots);
-  std::memcpy(ubo.mapped(), &params, sizeof params);
+  const Reprojection rp = import_reprojection(res, graph, in);
+  const VkBuffer ubo = write_params(res, in, graph.output_size(), history.valid, light->slots);
   res.prev_view_proj = in.camera.view_proj;
-  const VkBuffer ubo_handle = ubo.handle();
-  constexpr VkDeviceSize kUboSize = sizeof(shared::CloudParams);
-  // ---- 2. March (one pass, or near/far + merge) ----
-  // `front` (far segment only): the near layer, read for its transmittance (early exit).
-  auto add_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
-                       TextureHandle front = {}, uint32_t sub_block = 1) {
-    gpu::Pipeline* pipe =
-        &res.march(s.ablation, segment, bc1, s.distance_noise_mip, s.light_sample_noise_mean, asset_slots, terrain,
-                   coverage_texture);
-    graph.add_pass(name, Queue::Compute,
-        [&](PassBuilder& b) {
-          for (size_t a = 0; a < modelings.size(); ++a) {
-            b.read(modelings[a], Usage::Sampled);
-            b.read(fields[a], Usage::Sampled);
-          }
-          for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
-          for (TextureHandle t : fairs) b.read(t, Usage::Sampled);
-          b.read(noise, Usage::Sampled);
-          b.read(grid, Usage::Sampled);
-          b.read(depth, Usage::Sampled);
-          if (front.valid()) b.read(front, Usage::Sampled);
-          if (terrain) b.read(terrain_depth, Usage::Sampled);
-          color = b.write(color, Usage::StorageWrite);
-          cdepth = b.write(cdepth, Usage::StorageWrite);
-        },
-        [r, pipe, grid, modeling, field, modelings, fields, coverages, fairs, noise, depth, color, cdepth, front, ubo_handle, sub_block,
-         sub_offset, size, terrain, terrain_depth](PassContext& c) {
-          Bindings bind(*pipe);
-          bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
-              .sampled(CLOUD_BINDING_FIELD, c.view(field), r->linear_clamp, c.layout(field))
-              .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
-              .sampled(CLOUD_BINDING_SCENE_DEPTH, c.view(depth), r->nearest_clamp, c.layout(depth))
-              .storage(CLOUD_BINDING_OUT_COLOR, c.view(color))
-              .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
-              .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
-          if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
-          if (terrain)
-            bind.sampled(CLOUD_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), r->nearest_clamp, c.layout(terrain_depth));
-          if (modelings.size() > 1)
-            bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), r->linear_clamp, c.layout(modelings[1]))
-                .sampled(CLOUD_BINDING_FIELD_1, c.view(fields[1]), r->linear_clamp, c.layout(fields[1]));
-          for (size_t a = 0; a < coverages.size(); ++a)
-            bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp,
-                         c.layout(coverages[a]));
-          for (size_t a = 0; a < fairs.size(); ++a)
-            bind.sampled(a ? CLOUD_BINDING_FIELD_FAIR_1 : CLOUD_BINDING_FIELD_FAIR, c.view(fairs[a]), r->linear_clamp,
-                         c.layout(fairs[a]));
-          bind.push(r->ctx, c.cmd());
-          const VkExtent3D e = c.extent(color);
-          if (sub_block > 1) {
-            // Full-resolution rays, one per block: the image written is the sub-sampled one.
-            shared::CloudMarchPush pc = target_push({size.width, size.height, 1});
-            pc.sub = glm::vec4(float(sub_block), float(sub_offset.x), float(sub_offset.y), 0.0f);
-            pipe->push_constants(c.cmd(), pc);
-          } else {
-            pipe->push_constants(c.cmd(), target_push(e));
-          }
-          pipe->dispatch_threads(c.cmd(), e.width, e.height);
-        });
-  };
-  // The full-resolution march, sub-sampled and reconstructed when reprojection is on.
-  auto add_full_res_march = [&](const char* name, int segment, TextureHandle& color, TextureHandle& cdepth,
-                                TextureHandle front = {}) {
-    if (block <= 1) return add_march(name, segment, color, cdepth, front);
-    const uint32_t sw = (size.width + block - 1) / block, sh = (size.height + block - 1) / block;
-    TextureHandle sub_c = graph.create_texture("clouds.sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
-    TextureHandle sub_d = graph.create_texture("clouds.sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
-    add_march(name, segment, sub_c, sub_d, front, block);
-    TextureHandle next = recon.next;
-    add_reconstruct_pass(graph, res.ctx, "clouds.reconstruct",
-                         {r->recon_pipe, ubo_handle, sub_c, sub_d, recon.prev, depth, block, sub_offset, recon.valid}, next,
-                         cdepth);
-    color = next;
-  };
-
-  TextureHandle color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat));
-  TextureHandle cdepth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat));
-  // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
-  // the near segment is empty, so its half-resolution march and the merge are skipped and the far
-  // march runs over the whole ray (the same samples: none lie nearer than the split). The split
-  // debug view keeps both, to show them.
-  const bool near_empty = s.split && s.skip_empty_near && s.debug != CloudDebugView::Split &&
-                          nearest_instance_distance(in) >= s.split_distance_m;
-  if (!s.split) {
-    add_full_res_march("clouds.march", CLOUD_SEGMENT_ALL, color, cdepth);
-  } else if (near_empty) {
-    add_full_res_march("clouds.march_far", CLOUD_SEGMENT_ALL, color, cdepth);
-  } else {
-    TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f));
-    TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f));
-    TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat));
-    TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat));
-    add_march("clouds.march_near", CLOUD_SEGMENT_NEAR, near_c, near_d);
-    add_full_res_march("clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
-    gpu::Pipeline* merge = res.merge_pipe;
-    graph.add_pass("clouds.split_merge", Queue::Compute,
-        [&](PassBuilder& b) {
-          b.read(near_c, Usage::Sampled);
-          b.read(near_d, Usage::Sampled);
-          b.read(far_c, Usage::Sampled);
-          b.read(far_d, Usage::Sampled);
-          color = b.write(color, Usage::StorageWrite);
-          cdepth = b.write(cdepth, Usage::StorageWrite);
-        },
-        [r, merge, near_c, near_d, far_c, far_d, color, cdepth, ubo_handle](PassContext& c) {
-          Bindings(*merge)
-              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_NEAR, c.view(near_c), r->nearest_clamp, c.layout(near_c))
-              .sampled(CLOUD_BINDING_NEAR_DEPTH, c.view(near_d), r->nearest_clamp, c.layout(near_d))
-              .sampled(CLOUD_BINDING_FAR, c.view(far_c), r->nearest_clamp, c.layout(far_c))
-              .sampled(CLOUD_BINDING_FAR_DEPTH, c.view(far_d), r->nearest_clamp, c.layout(far_d))
-              .storage(CLOUD_BINDING_MERGED, c.view(color))
-              .storage(CLOUD_BINDING_MERGED_DEPTH, c.view(cdepth))
-              .push(r->ctx, c.cmd());
-          const VkExtent3D e = c.extent(color);
-          merge->push_constants(c.cmd(), target_push(e));
-          merge->dispatch_threads(c.cmd(), e.width, e.height);
-        });
-  }
-
-  // ---- 3. Temporal accumulation ----
-  TextureHandle final_color = color;
-  if (s.temporal) {
-    gpu::Pipeline* pipe = res.temporal_pipe;
-    TextureHandle prev = history.prev, next = history.next;
-    graph.add_pass("clouds.temporal", Queue::Compute,
-        [&](PassBuilder& b) {
-          b.read(color, Usage::Sampled);
-          b.read(cdepth, Usage::Sampled);
-          b.read(prev, Usage::Sampled);
-          next = b.write(next, Usage::StorageWrite);
-        },
-        [r, pipe, color, cdepth, prev, next, ubo_handle](PassContext& c) {
-          Bindings(*pipe)
-              .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_CURRENT, c.view(color), r->nearest_clamp, c.layout(color))
-              .sampled(CLOUD_BINDING_CURRENT_DEPTH, c.view(cdepth), r->nearest_clamp, c.layout(cdepth))
-              .sampled(CLOUD_BINDING_HISTORY, c.view(prev), r->linear_clamp, c.layout(prev))
-              .storage(CLOUD_BINDING_ACCUM_OUT, c.view(next))
-              .push(r->ctx, c.cmd());
-          const VkExtent3D e = c.extent(next);
-          pipe->push_constants(c.cmd(), target_push(e));
-          pipe->dispatch_threads(c.cmd(), e.width, e.height);
-        });
-    final_color = next;
-  }
-
-  // ---- 4. Composite over the scene colour ----
-  const bool sky = in.sky_color.valid() && in.sky_depth.valid();
-  const bool aerial = in.aerial.valid();
-  gpu::Pipeline* comp = res.composite_pipes[sky ? 1 : 0][aerial ? 1 : 0];
-  const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth, aerial_tex = in.aerial;
-  graph.add_pass("clouds.composite", Queue::Compute,
-      [&](PassBuilder& b) {
-        b.read(final_color, Usage::Sampled);
-        b.read(cdepth, Usage::Sampled);
-        b.read(grid, Usage::Sampled);
-        if (sky) {
-          b.read(sky_color, Usage::Sampled);
-          b.read(sky_depth, Usage::Sampled);
-          b.read(depth, Usage::Sampled);
-        }
-        if (aerial) b.read(aerial_tex, Usage::Sampled);
-        hdr = b.read_write(hdr, Usage::StorageWrite);
-      },
-      [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth, aerial,
-       aerial_tex](PassContext& c) {
-        Bindings bind(*comp);
-        bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-            .sampled(CLOUD_BINDING_CLOUDS, c.view(final_color), r->nearest_clamp, c.layout(final_color))
-            .sampled(CLOUD_BINDING_CLOUD_DEPTH, c.view(cdepth), r->nearest_clamp, c.layout(cdepth))
-            .sampled(CLOUD_BINDING_DEBUG_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
-            .storage(CLOUD_BINDING_HDR, c.view(hdr));
-        if (sky)
-          bind.sampled(CLOUD_BINDING_SKY_COLOR, c.view(sky_color), r->linear_clamp, c.layout(sky_color))
-              .sampled(CLOUD_BINDING_SKY_DEPTH, c.view(sky_depth), r->nearest_clamp, c.layout(sky_depth))
-              .sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
-        if (aerial) bind.sampled(CLOUD_BINDING_AERIAL, c.view(aerial_tex), r->linear_clamp, c.layout(aerial_tex));
-        bind.push(r->ctx, c.cmd());
-        const VkExtent3D e = c.extent(hdr);
-        comp->push_constants(c.cmd(), target_push(e));
-        comp->dispatch_threads(c.cmd(), e.width, e.height);
-      });
-  if (outputs) *outputs = {final_color, cdepth};
+  const MarchOutputs march = add_march_passes(res, graph, in, *light, rp, depth, ubo);          // 2. the march
+  const TextureHandle color = s.temporal ? add_temporal_pass(res, graph, march, history, ubo)  // 3. temporal
+                                         : march.color;
+  hdr = add_composite_pass(res, graph, in, *light, color, march.depth, depth, hdr, ubo);       // 4. the composite
+  if (outputs) *outputs = {color, march.depth};
   return hdr;
 }
 

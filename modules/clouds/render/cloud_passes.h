@@ -1,0 +1,239 @@
+#pragma once
+// Inside the voxel-cloud renderer (cloud_renderer.h): the persistent resources and the frame's passes as
+// named steps, each in the file that owns it, called in order by add_cloud_light_passes and
+// add_cloud_passes (cloud_renderer.cpp), the way the render graph's compiler runs its steps:
+//   cloud_light_passes.cpp    0. the assets and the noise imported   1. the light grid   1b. the shadow map
+//   cloud_march_passes.cpp    2. the march (one pass, or near/far and their merge; sub-sampled + reconstructed)
+//   cloud_resolve_passes.cpp  3. temporal accumulation   4. the composite over the scene colour
+// Not for use outside render/.
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <tuple>
+#include <vector>
+
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/image.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/gpu/pipeline_library.h"
+#include "engine/render/history.h"
+#include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/render/pass_bindings.h"
+#include "shaders/shared/cloud_params.h"
+
+namespace cumulo::clouds::render {
+
+using cumulo::render::PassBuilder;
+using cumulo::render::PassContext;
+using cumulo::render::Queue;
+using cumulo::render::ResourceState;
+using cumulo::render::TextureDesc;
+using cumulo::render::Usage;
+using Bindings = PassBindings;
+
+inline constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // rgb radiance, a transmittance
+inline constexpr VkFormat kDepthFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // opacity-0.5 distance, steps, segment end
+inline constexpr VkFormat kGridFormat = VK_FORMAT_R16G16B16A16_SFLOAT;   // summed density toward the sun, the sky, the sun in the own cloud, away from the sun in it
+
+// The state an imported image is in when the graph starts and the next user finds it: sampled by
+// compute or fragment shaders.
+inline ResourceState sampled_state() { return ResourceState::shader_read_only(); }
+
+struct CloudResources {
+  // One instance's slab of the light-grid image.
+  struct LightGrid {
+    bool valid = false;   // has been fully built
+    glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
+    uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
+    glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
+    uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
+  };
+  // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow,
+  // coverage texture (the BC1 modeling NVDF)
+  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool, bool>;
+
+  gpu::Context& ctx;
+  gpu::PipelineLibrary& library;
+  std::shared_ptr<const CloudNoise> noise;
+  CloudResourcesDesc desc;
+  gpu::Buffer ubo[gpu::kFramesInFlight];
+  // The light grids of all instances stacked along z (instance i in layers [i * gz, (i + 1) * gz)),
+  // a persistent graph texture (the graph carries its state from frame to frame).
+  gpu::Image grid_image;
+  cumulo::render::PersistentTexture grid_texture;
+  uint32_t grid_instances = 0;
+  LightGrid grids[kMaxInstances];
+  // Temporal accumulation: the graph's history pair (engine/render/history.h).
+  cumulo::render::GpuHistory history{"clouds.history", kColorFormat, 1.0f,
+                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  bool history_on = false;  // the last frame accumulated (a frame without temporal breaks the history)
+  // Reprojection of the sub-sampled march: the last frame's reconstruction.
+  cumulo::render::GpuHistory recon_history{"clouds.reprojection", kColorFormat, 1.0f,
+                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  uint32_t recon_block = 0;  // block size of the last frame's reconstruction (0: none)
+  gpu::Pipeline* recon_pipe = nullptr;
+  glm::mat4 prev_view_proj{1.0f};
+  gpu::Pipeline* grid_pipe = nullptr;
+  gpu::Pipeline* temporal_pipe = nullptr;
+  gpu::Pipeline* merge_pipe = nullptr;
+  gpu::Pipeline* composite_pipes[2][2] = {};  // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)]
+  gpu::Pipeline* shadow_pipe = nullptr;
+  // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
+  gpu::Image shadow_image;
+  cumulo::render::PersistentTexture shadow_texture;
+  glm::vec4 shadow_key{0.0f};
+  glm::vec3 shadow_sun{0.0f};
+  bool shadow_valid = false;
+  uint32_t shadow_updates = 0;
+  std::map<MarchKey, gpu::Pipeline*> march_pipes;
+  uint32_t rebuilds = 0;
+  VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
+
+  CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
+
+  gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise,
+                       int asset_slots = 1, bool terrain_shadow = false, bool coverage_texture = false) {
+    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow, coverage_texture};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    static const char* kSegments[] = {"all", "near", "far"};
+    gpu::ComputePipelineDesc d;
+    d.shader = "clouds/march_render.comp";
+    d.defines = {{"ABLATION", std::to_string(int(a))},
+                 {"SEGMENT", std::to_string(segment)},
+                 {"SDF_BC1", bc1 ? "1" : "0"},
+                 {"NOISE_MIP_DISTANCE", distance_mip ? "1" : "0"},
+                 {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"},
+                 {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)},
+                 {"TERRAIN_SHADOW", terrain_shadow ? "1" : "0"},
+                 {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}};
+    d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
+             (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
+             (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") +
+             (coverage_texture ? ", coverage texture" : "") + ")";
+    gpu::Pipeline& p = library.compute(d);
+    march_pipes[key] = &p;
+    return p;
+  }
+  gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
+    MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
+                                        .name = std::string("clouds.light_grid (sweep") + (bc1 ? ", bc1 sdf" : "") +
+                                                (coverage_texture ? ", coverage texture" : "") + ")"});
+    march_pipes[key] = &p;
+    return p;
+  }
+  gpu::Pipeline& grid(bool bc1, bool coverage_texture = false) {
+    // The grid shader samples the SDF too: built per SDF form.
+    MarchKey key{-1, 0, bc1, true, true, 1, false, coverage_texture};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
+                                        .name = bc1 || coverage_texture
+                                                    ? std::string("clouds.light_grid (") +
+                                                          (bc1 && coverage_texture ? "bc1 sdf, coverage texture"
+                                                           : bc1                   ? "bc1 sdf"
+                                                                                   : "coverage texture") + ")"
+                                                    : std::string("clouds.light_grid")});
+    march_pipes[key] = &p;
+    return p;
+  }
+};
+
+
+inline shared::CloudMarchPush target_push(VkExtent3D e) {
+  shared::CloudMarchPush pc{};
+  pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+  pc.sub = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+  return pc;
+}
+
+// The frame's parameter block written to this slot's uniform buffer; its handle.
+shared::CloudParams make_params(const CloudResources& res, const CloudFrameInputs& in, VkExtent2D size,
+                                bool history_valid, const std::vector<uint32_t>& slots);
+inline VkBuffer write_params(CloudResources& res, const CloudFrameInputs& in, VkExtent2D size, bool history_valid,
+                             const std::vector<uint32_t>& slots) {
+  const gpu::Buffer& ubo = res.ubo[in.slot % gpu::kFramesInFlight];
+  const shared::CloudParams params = make_params(res, in, size, history_valid, slots);
+  std::memcpy(ubo.mapped(), &params, sizeof params);
+  return ubo.handle();
+}
+inline constexpr VkDeviceSize kParamsSize = sizeof(shared::CloudParams);
+
+// Temporal history: the graph's ping-pong pair (last frame's result as `prev`, this frame's target as
+// `next`). Invalid on the first frame, after a resize, a camera cut or a frame without accumulation.
+struct HistoryImports {
+  TextureHandle prev, next;
+  bool valid = false;
+};
+inline HistoryImports import_history(CloudResources& res, RenderGraph& graph, bool camera_cut) {
+  if (camera_cut || !res.history_on) res.history.invalidate();
+  const cumulo::render::HistoryHandles h = res.history.import(res.ctx, graph);
+  res.history_on = true;
+  return {h.previous, h.current, h.valid};
+}
+
+
+// ---- cloud_light_passes.cpp ----
+// 0. The frame's distinct assets (slot 0 and, for a second one, slot 1) and the noise, imported; throws
+// for too many instances, lights or assets, or assets of different formats.
+CloudLightOutputs import_cloud_assets(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
+// Which slabs (rays) or levels (sweep) of each instance's grid this frame updates, and the sweeps' order.
+struct LightGridWork {
+  struct Grid {
+    uint32_t first = 0, layers = 0;  // rays: z layers of the instance's slab updated this frame
+    uint32_t level_first = 0, level_count = 0;  // sweep: levels updated this frame, in sweep order (0: nearest the light)
+  };
+  // Sweep order per instance: levels from the light's side; the sun and the sky share one sweep when
+  // both point up (or both down), else each channel gets its own; the own cloud's sum away from the sun
+  // (channel 4) sweeps from the other side.
+  struct SweepPlan {
+    uint32_t channels[3] = {3, 4, 0};
+    bool down[3] = {true, false, true};  // true: from the top level down
+  };
+  std::vector<Grid> grids;
+  std::vector<SweepPlan> plans;
+  bool any = false;  // some grid changes this frame
+};
+// Also (re)creates the grids' image when the instance count or size changed.
+LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in);
+// 1. The light grid pass (none when nothing changes); returns the grid's new version.
+TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                                  const LightGridWork& work, const CloudLightOutputs& assets, TextureHandle grid,
+                                  VkBuffer ubo);
+// 1b. The clouds' shadow on the scene (out.shadow; recomputed when the grid changed or the plane moved).
+void add_shadow_map_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, bool grid_changed,
+                         VkBuffer ubo, CloudLightOutputs& out);
+
+// ---- cloud_march_passes.cpp ----
+// The reprojection of the sub-sampled march: the block (1: none), this frame's pixel of each block, the
+// last frame's reconstruction.
+struct Reprojection {
+  uint32_t block = 1;
+  glm::uvec2 sub_offset{0, 0};
+  HistoryImports history;
+};
+Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
+// 2. The march: its colour (rgb radiance, a transmittance) and depth at full resolution.
+struct MarchOutputs {
+  TextureHandle color, depth;
+};
+MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                              const CloudLightOutputs& light, const Reprojection& rp, TextureHandle scene_depth,
+                              VkBuffer ubo);
+
+// ---- cloud_resolve_passes.cpp ----
+// 3. Temporal accumulation into the history; returns the accumulated colour.
+TextureHandle add_temporal_pass(CloudResources& res, RenderGraph& graph, const MarchOutputs& march,
+                                const HistoryImports& history, VkBuffer ubo);
+// 4. The composite over the scene colour (with the 2.5D sky and the aerial froxels when given); returns `hdr`.
+TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                                 const CloudLightOutputs& light, TextureHandle color, TextureHandle cloud_depth,
+                                 TextureHandle scene_depth, TextureHandle hdr, VkBuffer ubo);
+
+}  // namespace cumulo::clouds::render
