@@ -33,18 +33,19 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
   CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
-  effects_ = std::make_unique<CloudEffects>(g.ctx, g.library);
   if (sky_enabled_) sky_ = std::make_unique<SkyLayer>(g.ctx, g.library, prepare_sky_noise());
-  if (options_.light_shafts) shafts_ = std::make_unique<LightShafts>(g.ctx, g.library);
+  drawn_passes_.clear();
+  for (const auto& p : frame_passes_)
+    if (p->create_gpu(g, options_)) drawn_passes_.push_back(p.get());
 }
 
 void CloudFeature::destroy_gpu() {
   steps_buffer_.reset();
   steps_pixels_ = 0;
   sky_.reset();
-  shafts_.reset();
+  for (CloudFramePass* p : drawn_passes_) p->destroy_gpu();
+  drawn_passes_.clear();
   resources_.reset();
-  effects_.reset();
   cache_.reset();
   ctx_ = nullptr;
   library_ = nullptr;
@@ -120,41 +121,12 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     in.sky_color = o.color;
     in.sky_depth = o.depth;
   }
-  const cumulo::render::FrameSnapshot& s = f.snapshot;
-  // Rain columns under precipitating clouds: below the centre of the box, 0.3 of its smaller side wide,
-  // from the cloud base to sea level (the scene depth stops them at the terrain), fading with dissipation.
-  CloudEffectsInputs fx;
-  fx.camera = s.camera;
-  fx.time = s.sim_time;
-  fx.slot = f.slot;
-  fx.bolts = frame->bolts;
-  fx.rain_light = in.ambient_color * 0.3f + in.sun_color * 0.01f;  // under the cloud: mostly shadowed
-  for (size_t k = 0; k < frame->instances.size(); ++k) {
-    const CloudInstanceFrame& i = frame->instances[k];
-    const float intensity = i.rain * (1.0f - std::clamp(i.dissipation, 0.0f, 1.0f));
-    if (!(intensity > 0.0f) || !options_.rain) continue;
-    const CloudAsset& a = *in.instances[k].asset;
-    const glm::vec3 base(0.5f * (a.bounds_min.x + a.bounds_max.x), a.bounds_min.y, 0.5f * (a.bounds_min.z + a.bounds_max.z));
-    const glm::vec3 extent = a.bounds_max - a.bounds_min;
-    fx.rain.push_back({i.position + glm::normalize(i.rotation) * (i.scale * base),
-                       0.3f * i.scale * std::min(extent.x, extent.z), 0.0f, intensity});
-  }
-  const bool effects = (!fx.bolts.empty() || !fx.rain.empty()) && !options_.reference_comparable;
   CloudPassOutputs outputs;
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_);
   light_ = {};
   if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
-  if (effects) f.hdr = effects_->add_passes(f.graph, fx, f.hdr, f.depth, outputs);
-  if (shafts_ && !options_.reference_comparable) {
-    LightShaftInputs li;
-    li.camera = s.camera;
-    li.slot = f.slot;
-    li.sun_direction = in.sun_direction;
-    li.sun_color = in.sun_color;
-    li.haze_density = in.haze_density;
-    li.haze_falloff = in.haze_falloff;
-    f.hdr = shafts_->add_passes(f.graph, li, f.hdr, f.depth, outputs, in.sky_color);
-  }
+  const CloudFramePassContext context{f, *frame, in, outputs};
+  for (CloudFramePass* p : drawn_passes_) f.hdr = p->add_passes(context);
   if (hdr_capture_) hdr_capture_->add_pass(f.graph, f.hdr);
 }
 

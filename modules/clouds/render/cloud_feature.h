@@ -17,11 +17,10 @@
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/render_feature.h"
 #include "modules/clouds/frame/cloud_frame.h"
-#include "modules/clouds/render/cloud_effects.h"
+#include "modules/clouds/render/cloud_frame_pass.h"
 #include "modules/clouds/render/cloud_render_options.h"
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/render/hdr_capture.h"
-#include "modules/clouds/render/light_shafts.h"
 #include "modules/clouds/render/sky_layer.h"
 
 namespace cumulo::clouds::render {
@@ -63,6 +62,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   // `cumulo reference` / `cumulo fidelity`: the path tracer replaces the cloud passes (and draws the terrain
   // and the sky too) while set; null: the real-time passes. Not owned.
   void set_reference(CloudFrameOverride* tracer) { reference_ = tracer; }
+  // A pass drawn after the registered frame passes (cloud_frame_pass.h); before create_gpu.
+  void add_frame_pass(std::unique_ptr<CloudFramePass> pass) { frame_passes_.push_back(std::move(pass)); }
   // A copy of the scene colour after the module's last pass of each frame (null: none). Not owned.
   void set_hdr_capture(HdrCapture* capture) { hdr_capture_ = capture; }
   // The next frame starts afresh: no temporal history, the light grid rebuilt whole (a new view or scene).
@@ -83,9 +84,9 @@ class CloudFeature : public cumulo::render::RenderFeature {
   gpu::PipelineLibrary* library_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
   CloudResourcesPtr resources_;
-  std::unique_ptr<CloudEffects> effects_;
   std::unique_ptr<SkyLayer> sky_;
-  std::unique_ptr<LightShafts> shafts_;
+  std::vector<std::unique_ptr<CloudFramePass>> frame_passes_ = make_cloud_frame_passes();
+  std::vector<CloudFramePass*> drawn_passes_;  // those created for this run, in order
   bool sky_enabled_ = false;  // resolved at on_level_loaded
   glm::vec3 last_camera_{0.0f};
   std::string last_camera_name_;

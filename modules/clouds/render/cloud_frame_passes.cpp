@@ -1,0 +1,16 @@
+#include "modules/clouds/render/cloud_frame_pass.h"
+
+namespace cumulo::clouds::render {
+
+// A pass's maker (in its own file) and its line in the list: all a new frame pass adds here.
+std::unique_ptr<CloudFramePass> make_weather_effects_pass();  // weather_effects_pass.cpp
+std::unique_ptr<CloudFramePass> make_light_shafts_pass();     // light_shafts_pass.cpp
+
+std::vector<std::unique_ptr<CloudFramePass>> make_cloud_frame_passes() {
+  std::vector<std::unique_ptr<CloudFramePass>> passes;
+  passes.push_back(make_weather_effects_pass());  // lightning bolts and rain (cloud_effects.h)
+  passes.push_back(make_light_shafts_pass());     // light shafts through gaps in the clouds (light_shafts.h)
+  return passes;
+}
+
+}  // namespace cumulo::clouds::render
