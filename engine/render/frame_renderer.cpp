@@ -213,7 +213,8 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   run_stage(Stage::BeforeScene);
   // A feature's light-shadow map (cloud shadows) reaches the scene passes through the frame parameters:
   // pushed again with the map's plane, for the geometry and every later stage.
-  const LightShadowMap shadow = frame.light_shadow;
+  const LightShadowMap* published = frame.resources.find<LightShadowMap>();
+  const LightShadowMap shadow = published ? *published : LightShadowMap{};
   if (shadow.texture.valid()) {
     shared::FrameParams with_shadow = params;
     with_shadow.shadow_plane = glm::vec4(shadow.origin, 1.0f / glm::max(shadow.size, glm::vec2(1e-3f)));
@@ -223,7 +224,7 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
 
   // The atmosphere's LUTs (the sky view for the sky pass, the aerial perspective for the geometry).
   const AtmosphereLuts luts = m.atmosphere->add_passes(graph, s, slot);
-  if (aerial_lut_) frame.aerial_perspective = luts.aerial;
+  if (aerial_lut_) frame.resources.publish(AerialPerspective{luts.aerial});
   graph.add_pass("geometry", Queue::Graphics,
       [&](PassBuilder& b) {
         frame.hdr = b.write(frame.hdr, Usage::ColorAttachment);

@@ -26,6 +26,7 @@
 #include "engine/render/frame_snapshot.h"
 #include "engine/render/graph/render_graph.h"
 #include "engine/render/light_depth.h"
+#include "engine/render/stage_resources.h"
 #include "engine/render/uniform_allocator.h"
 
 namespace cumulo::gpu {
@@ -60,6 +61,13 @@ struct LightShadowMap {
   float height = 0.0f;          // world y of the plane
 };
 
+// The atmosphere's aerial-perspective froxels (3D RGBA16F, atmosphere_params.h ATMOSPHERE_AERIAL_*; sample
+// with atmosphere_common.glsl's atm_aerial_lookup), published from Stage::AfterOpaque; absent with
+// --aerial-perspective fog (use the SceneLighting height fog then).
+struct AerialPerspective {
+  TextureHandle froxels;
+};
+
 struct StageContext {
   RenderGraph& graph;
   const FrameSnapshot& snapshot;
@@ -71,12 +79,10 @@ struct StageContext {
   TextureHandle hdr, depth;    // scene colour (R16G16B16A16F) and depth (D32F, reversed-Z)
   TextureHandle output;        // AfterTonemap only: the frame's target
   VkFormat output_format = VK_FORMAT_UNDEFINED;  // the target's format (swapchain or offscreen)
-  LightShadowMap light_shadow;  // set at Stage::BeforeScene by the feature that casts shadows (one)
   LightDepth light_depth;       // the geometry's depth from the key light (every stage; invalid: none)
-  // The atmosphere's aerial-perspective froxels (3D RGBA16F, atmosphere_params.h ATMOSPHERE_AERIAL_*;
-  // sample with atmosphere_common.glsl's atm_aerial_lookup) from Stage::AfterOpaque; invalid with
-  // --aerial-perspective fog (use the SceneLighting height fog then).
-  TextureHandle aerial_perspective;
+  // What features publish for what comes after them (stage_resources.h): a shadow caster's LightShadowMap
+  // at Stage::BeforeScene (the geometry reads it), the engine's AerialPerspective from Stage::AfterOpaque.
+  StageResources resources;
 };
 
 class RenderFeature {

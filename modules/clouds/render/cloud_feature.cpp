@@ -102,13 +102,13 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   if (stage == Stage::BeforeScene) {
     inputs_ = frame_inputs(f, *frame);
     light_ = add_cloud_light_passes(*resources_, f.graph, *inputs_);
-    if (light_.shadow.texture.valid()) f.light_shadow = light_.shadow;
+    if (light_.shadow.texture.valid()) f.resources.publish(light_.shadow);
     return;
   }
   if (!inputs_) return;  // (a renderer always runs BeforeScene first)
   CloudFrameInputs in = std::move(*inputs_);
   inputs_.reset();
-  in.aerial = f.aerial_perspective;
+  if (const auto* aerial = f.resources.find<cumulo::render::AerialPerspective>()) in.aerial = aerial->froxels;
   if (reference_) {
     // The path tracer draws the whole picture (clouds, terrain, sky) in place of the real-time passes.
     f.hdr = reference_->add_passes(f.graph, f.snapshot, in, light_, f.hdr, f.depth);

@@ -270,7 +270,7 @@ struct CloudFrameInputs {
   // The 2.5D sky's half-resolution result (SkyLayer::add_passes), composited with the voxel clouds in
   // the order of their depths; invalid: no 2.5D sky.
   TextureHandle sky_color, sky_depth;
-  // The atmosphere's aerial-perspective froxels (render::StageContext::aerial_perspective): the composite
+  // The atmosphere's aerial-perspective froxels (render::AerialPerspective, a stage resource): the composite
   // hazes each layer with them at its depth; invalid: the height fog (haze_*).
   TextureHandle aerial;
   // The geometry's depth from the key light (render::LightDepth): where the terrain hides the sun from
