@@ -330,6 +330,27 @@ TEST_F(EditorRun, AShaderThatFailsToHotReloadIsShownAndTheOldPipelineKeepsRunnin
 }
 
 // These fail before any window opens.
+// A new user's game: content/ copied, the copied level edited and saved. The save lands in the copy's
+// weather folder (the level's "folders": {"weather": "../../weather"}); the repository's states stay as shipped.
+TEST_F(EditorRun, ACopiedLevelSavesIntoItsOwnWeatherFolder) {
+  const fs::path game = dir_ / "game";
+  fs::create_directories(game);
+  fs::copy("content", game / "content", fs::copy_options::recursive);
+  const std::string shipped = cumulo::read_file_text("content/weather/clear.json");
+  const fs::path script = write_script(dir_, "copy.json", R"([
+    {"do": "select_state", "name": "clear"},
+    {"do": "set", "param": "coverage", "value": 0.2},
+    {"do": "save"},
+    {"do": "quit"}])");
+  const CliResult r = run_edit_in_xvfb((game / "content/levels/sample/level.json").string() + " --size 320x180 --script " +
+                                       script.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(cumulo::read_file_text("content/weather/clear.json"), shipped);
+  const cumulo::clouds::weather::WeatherState saved =
+      cumulo::clouds::weather::load_weather_state(game / "content/weather/clear.json");
+  EXPECT_FLOAT_EQ(saved.coverage, 0.2f);
+}
+
 TEST(EditorCli, AnUnknownScriptActionIsRefusedBeforeTheEditorStarts) {
   const fs::path dir = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_edit_cli"));
   const fs::path script = write_script(dir, "unknown.json", R"([{"do": "wait", "frames": 1}, {"do": "fly"}])");
