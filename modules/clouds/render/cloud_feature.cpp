@@ -21,7 +21,7 @@ constexpr float kCameraCutMetres = 200.0f;
 
 void CloudFeature::on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler) {
   if (has_cloudscapes && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
-  sky_enabled_ = has_cloudscapes && options_.sky.value_or(has_weather_scheduler);
+  level_.has_weather_scheduler = has_weather_scheduler;
 }
 
 void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
@@ -33,16 +33,14 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
   CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
-  if (sky_enabled_) sky_ = std::make_unique<SkyLayer>(g.ctx, g.library, prepare_sky_noise());
   drawn_passes_.clear();
   for (const auto& p : frame_passes_)
-    if (p->create_gpu(g, options_)) drawn_passes_.push_back(p.get());
+    if (p->create_gpu(g, options_, level_)) drawn_passes_.push_back(p.get());
 }
 
 void CloudFeature::destroy_gpu() {
   steps_buffer_.reset();
   steps_pixels_ = 0;
-  sky_.reset();
   for (CloudFramePass* p : drawn_passes_) p->destroy_gpu();
   drawn_passes_.clear();
   resources_.reset();
@@ -116,11 +114,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     if (hdr_capture_) hdr_capture_->add_pass(f.graph, f.hdr);
     return;
   }
-  if (sky_ && !options_.reference_comparable) {
-    const SkyLayer::Outputs o = sky_->add_passes(f.graph, frame->sky, in, f.depth);
-    in.sky_color = o.color;
-    in.sky_depth = o.depth;
-  }
+  for (CloudFramePass* p : drawn_passes_) p->add_before_clouds(f, *frame, in);
   CloudPassOutputs outputs;
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_);
   light_ = {};

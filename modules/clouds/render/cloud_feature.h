@@ -21,7 +21,6 @@
 #include "modules/clouds/render/cloud_render_options.h"
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/render/hdr_capture.h"
-#include "modules/clouds/render/sky_layer.h"
 
 namespace cumulo::clouds::render {
 
@@ -40,10 +39,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
  public:
   CloudRenderOptions& options() { return options_; }
   const CloudRenderOptions& options() const { return options_; }
-  const SkyLayer* sky_layer() const { return sky_.get(); }
-
-  // The level has loaded (its Cloudscapes' assets resolved): the noise it needs, and whether the 2.5D sky
-  // is drawn (--cloud-sky, auto: when the level has a WeatherScheduler). Before create_gpu.
+  // The level has loaded (its Cloudscapes' assets resolved): the noise it needs, and what the frame passes
+  // need to know of it (the 2.5D sky: --cloud-sky auto draws it with a WeatherScheduler). Before create_gpu.
   void on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler);
 
   void create_gpu(cumulo::render::GpuServices& g) override;
@@ -84,10 +81,9 @@ class CloudFeature : public cumulo::render::RenderFeature {
   gpu::PipelineLibrary* library_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
   CloudResourcesPtr resources_;
-  std::unique_ptr<SkyLayer> sky_;
   std::vector<std::unique_ptr<CloudFramePass>> frame_passes_ = make_cloud_frame_passes();
   std::vector<CloudFramePass*> drawn_passes_;  // those created for this run, in order
-  bool sky_enabled_ = false;  // resolved at on_level_loaded
+  CloudLevelFacts level_;  // set at on_level_loaded
   glm::vec3 last_camera_{0.0f};
   std::string last_camera_name_;
   bool have_last_camera_ = false;

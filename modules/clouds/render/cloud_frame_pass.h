@@ -1,8 +1,9 @@
 #pragma once
-// The passes drawn over the frame after the clouds' own (the lightning bolts and the rain, the light
-// shafts, ...): each is a CloudFramePass in files of its own, registered by one line in
-// cloud_frame_passes.cpp (or, from outside, CloudFeature::add_frame_pass), and called in that order with
-// the frame, its cloud inputs and the march's outputs.
+// The passes of the clouds' frame besides the voxel clouds' own (the 2.5D sky, the lightning bolts and the
+// rain, the light shafts, ...): each is a CloudFramePass in files of its own, registered by one line in
+// cloud_frame_passes.cpp (or, from outside, CloudFeature::add_frame_pass), and called in that order: before
+// the clouds' march with the inputs it may add to (the 2.5D sky's colour and depth, which the composite
+// orders against the voxel clouds), and after it with the march's outputs.
 #include <memory>
 #include <vector>
 
@@ -12,6 +13,11 @@
 #include "modules/clouds/render/cloud_renderer.h"
 
 namespace cumulo::clouds::render {
+
+// What the loaded level says about the passes it needs.
+struct CloudLevelFacts {
+  bool has_weather_scheduler = false;  // --cloud-sky auto draws the 2.5D sky then
+};
 
 struct CloudFramePassContext {
   cumulo::render::StageContext& stage;  // the graph, the snapshot, the slot, the scene's hdr and depth
@@ -25,8 +31,12 @@ class CloudFramePass {
   virtual ~CloudFramePass() = default;
   // Creates the GPU objects when the options draw it (false: it is left out of the run). `options` outlives
   // the pass and may change between frames (cumulo fidelity sets reference_comparable).
-  virtual bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options) = 0;
+  virtual bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options,
+                          const CloudLevelFacts& level) = 0;
   virtual void destroy_gpu() = 0;
+  // Before the clouds' march: what the march and the composite take from this pass, into `in`.
+  virtual void add_before_clouds(cumulo::render::StageContext& /*stage*/, const CloudFrame& /*frame*/,
+                                 CloudFrameInputs& /*in*/) {}
   // Adds the passes of this frame and returns the new hdr (`c.stage.hdr` when it draws nothing).
   virtual cumulo::render::TextureHandle add_passes(const CloudFramePassContext& c) = 0;
 };

@@ -9,7 +9,7 @@ namespace {
 
 class LightShaftsPass final : public CloudFramePass {
  public:
-  bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options) override {
+  bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options, const CloudLevelFacts&) override {
     if (!options.light_shafts) return false;
     shafts_ = std::make_unique<LightShafts>(g.ctx, g.library);
     options_ = &options;

@@ -11,7 +11,7 @@ namespace {
 
 class WeatherEffectsPass final : public CloudFramePass {
  public:
-  bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options) override {
+  bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options, const CloudLevelFacts&) override {
     effects_ = std::make_unique<CloudEffects>(g.ctx, g.library);
     options_ = &options;
     return true;

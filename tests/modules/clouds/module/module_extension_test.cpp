@@ -78,7 +78,10 @@ class MarkerPass final : public clouds::render::CloudFramePass {
  public:
   int* frames;
   explicit MarkerPass(int* f) : frames(f) {}
-  bool create_gpu(cumulo::render::GpuServices&, const clouds::render::CloudRenderOptions&) override { return true; }
+  bool create_gpu(cumulo::render::GpuServices&, const clouds::render::CloudRenderOptions&,
+                  const clouds::render::CloudLevelFacts&) override {
+    return true;
+  }
   void destroy_gpu() override {}
   cumulo::render::TextureHandle add_passes(const clouds::render::CloudFramePassContext& c) override {
     EXPECT_TRUE(c.clouds.color.valid());
