@@ -1,9 +1,10 @@
 #pragma once
 // The clouds' real-time frame in the engine (the wiring of cloud_renderer.h into the render graph): the
-// cloud passes at the AfterOpaque stage (between sky and tonemap) from the frame's CloudFrame extension
-// (frame/cloud_frame.h, extracted by frame/cloud_extraction.h) and the snapshot's SceneLighting; then the
-// lightning bolts and the rain (cloud_effects.h), the 2.5D sky (sky_layer.h) and the light shafts
-// (light_shafts.h). Reads nothing of the world: what it draws is in the frame, how in CloudRenderOptions
+// light grid and the shadow map at Stage::BeforeScene, the voxel clouds at Stage::AfterOpaque (between sky
+// and tonemap), from the frame's CloudFrame extension (frame/cloud_frame.h, extracted by
+// frame/cloud_extraction.h) and the snapshot's SceneLighting; around them the frame passes
+// (cloud_frame_pass.h: the 2.5D sky before the march; the bolts and the rain, the light shafts after it).
+// Reads nothing of the world: what it draws is in the frame, how in CloudRenderOptions
 // (cloud_render_options.h; the flags are parsed in options/cloud_options.h).
 #include <filesystem>
 #include <memory>
