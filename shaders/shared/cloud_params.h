@@ -128,7 +128,7 @@ struct CloudParams {
   vec4 march;           // x: extinction per unit density (1/m), y: scattering albedo, z: transmittance limit, w: max steps
   vec4 steps;           // x: near/far split distance (200 m), y: animated-jitter distance (250 m), z: base uniform step (m), w: noise mip distance scale
   vec4 phase;           // x: forward HG g, y: backward HG g, z: forward lobe weight, w: multiple-scattering strength
-  vec4 light;           // x: length of each of the two marched light samples (m), y: sky (ambient) optical-depth scale, z: base light march length (256 m), w: base light samples (10)
+  vec4 light;           // x: length of the first marched light sample (m), y: sky (ambient) optical-depth scale, z: base light march length (256 m), w: base light samples (10)
   vec4 misc;            // x: jitter scale, y: temporal blend (weight of the new frame), z: light-grid debug slice 0..1, w: 1 = history valid
   uvec4 frame;          // x: frame index, y: instance count, z: point-light count, w: debug view
   vec4 haze;            // aerial perspective of the composite: x fog density at sea level (1/m), y height falloff (1/m);
@@ -139,7 +139,8 @@ struct CloudParams {
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
   uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y: bit 0 = other instances
-                        // shadow an instance (light_grid_lookup.glsl); z, w: unused
+                        // shadow an instance (light_grid_lookup.glsl); z: marched light samples before the grid (0: the
+                        // talk's 2); w: the float bits of each next sample's length over the one before (the talk: 1)
   vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
                         // y at the surface and away from the sun (talk 0.25); z: 1 = diffusion's falloff
                         // 1 / (1 + 0.75 (1 - g) od_own) instead (CloudSettings::ms_diffusion); w: with z, the

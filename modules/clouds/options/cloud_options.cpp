@@ -33,6 +33,11 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
       .choice("--cloud-light-grid", kLightGridNames,
               "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",
               &o.talk_light_grid)
+      .option("--cloud-light-grid-samples", "N",
+              "the sweep's most density samples along one voxel's stretch to the next level of the light grid (a low "
+              "sun's stretch crosses many voxels; default: the device's)",
+              &o.light_grid_samples)
+      .range(1.0, 256.0)
       .choice("--cloud-light-grid-method", render::kCloudLightGridMethodNames,
               "light grid computation: the talk's ray from every voxel, or a sweep level by level from the light "
               "(default; the same sums at a fraction of the cost)",
@@ -102,9 +107,17 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               &o.ground_albedo)
       .range(0.0, 1.0)
       .option("--cloud-light-sample-m", "M",
-              "the length of each of the two marched light samples before the light grid (default 24 m)",
+              "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)
       .range(1.0, 200.0)
+      .option("--cloud-light-samples", "N",
+              "the number of marched light samples before the light grid, overriding the preset's (talk: 2)",
+              &o.light_samples)
+      .range(1.0, double(render::kMaxLightSamples))
+      .option("--cloud-light-sample-growth", "R",
+              "each marched light sample R times longer than the one before, overriding the preset's (talk: 1)",
+              &o.light_sample_growth)
+      .range(1.0, 4.0)
       .option("--cloud-edge-depth", "X",
               "with the slab lighting, the dark edges from the optical depth to the nearest surface, 1 - exp(-X depth), "
               "overriding the preset's (0: the talks' profile)",

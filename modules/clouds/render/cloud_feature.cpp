@@ -32,6 +32,7 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   // The talk's 256x256x32 grid, or on CPU devices a smaller one (its eighth per frame would cost about
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
   CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
+  if (options_.light_grid_samples > 0) desc.light_grid_sweep_samples = options_.light_grid_samples;
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
   drawn_passes_.clear();
   for (const auto& p : frame_passes_)

@@ -23,6 +23,8 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   if (o.ground_albedo >= 0.0f) s.ground_albedo = o.ground_albedo;
   if (o.ms_anisotropy >= 0.0f) s.ms_anisotropy = o.ms_anisotropy;
   if (o.light_sample_m > 0.0f) s.light_sample_m = o.light_sample_m;
+  if (o.light_samples > 0) s.light_samples = uint32_t(o.light_samples);
+  if (o.light_sample_growth > 0.0f) s.light_sample_growth = o.light_sample_growth;
   if (o.edge_depth >= 0.0f) s.edge_depth_scale = o.edge_depth;
   if (o.ms_lateral >= 0.0f) s.ms_lateral = o.ms_lateral;
   if (o.sky_mean) s.sky_mean_ambient = *o.sky_mean;

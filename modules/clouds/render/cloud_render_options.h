@@ -18,6 +18,7 @@ struct CloudRenderOptions {
   bool temporal = true;
   uint32_t reprojection_block = 0;  // CloudSettings::reprojection_block (0: by budget mode)
   bool talk_light_grid = false;  // true: 256x256x32 on every device
+  uint32_t light_grid_samples = 0;  // CloudResourcesDesc::light_grid_sweep_samples (0: the device's)
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
@@ -37,6 +38,8 @@ struct CloudRenderOptions {
   float ground_albedo = -1.0f;          // --cloud-ground-albedo
   float ms_anisotropy = -1.0f;          // --cloud-ms-anisotropy
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
+  int light_samples = -1;               // --cloud-light-samples
+  float light_sample_growth = -1.0f;    // --cloud-light-sample-growth
   float edge_depth = -1.0f;             // --cloud-edge-depth
   std::optional<bool> instance_shadows;  // --cloud-instance-shadows
   float ms_lateral = -1.0f;             // --cloud-ms-lateral
