@@ -15,7 +15,7 @@
 //   Density and light only where the SDF is negative; stop when transmittance < P.march.z.
 // Light per sample: direct = sun * (Beer-Lambert(optical depth) * dual-lobe HG + multiple-scattering
 // probability * ms strength / 4 pi), the optical depth from 2 marched samples (P.light.x m each; the count and
-// their growth are settings, P.effects.z and w) and
+// their growth are settings, P.light_march) and
 // then the light grid ("The first two samples are taken as we did before but the remaining samples
 // are pre-computed ... stored in a 256x256x32 voxel grid that we sample after the first two samples");
 //   ms_volume = profile * exp(-od_sun * Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128, 0, 0.05, 0.25)))
@@ -137,18 +137,14 @@ vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, v
     own += in_own ? s.full * seg : 0.0;
   }
 #else
-  // The marched samples before the grid: P.effects.z of them, the first P.light.x world metres long and each next
-  // one uintBitsToFloat(P.effects.w) times longer (the talk: two of 24 m). Short first samples resolve the
-  // self-shadowing of the detail near the surface, which a point's direct light mostly depends on (issue 21).
-  // (P.effects.z 0: the talk's.)
-  uint n_marched = P.effects.z > 0u ? P.effects.z : 2u;
-  float growth = P.effects.z > 0u ? max(uintBitsToFloat(P.effects.w), 1.0) : 1.0;
+  // The marched samples before the grid: P.light_march.x of them, the first P.light.x world metres long and each
+  // next one P.light_march.y times longer, P.light_march.z metres in all (the talk: two of 24 m).
   float seg = P.light.x;
-  float reach = abs(growth - 1.0) < 1e-4 ? seg * float(n_marched) : seg * (pow(growth, float(n_marched)) - 1.0) / (growth - 1.0);
   // The grid beyond the marched samples (its sky sum also says whether air on their way is enclosed).
   bool grid_on = (P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u;
-  vec4 g = grid_on ? light_grid(i, p + sun * (reach * inv_scale)) : vec4(0.0);
+  vec4 g = grid_on ? light_grid(i, p + sun * (P.light_march.z * inv_scale)) : vec4(0.0);
   float along = 0.0;
+  uint n_marched = uint(P.light_march.x);
   for (uint k = 0u; k < n_marched; ++k) {
     vec3 q = p + sun * ((along + 0.5 * seg) * inv_scale);
 #if LIGHT_SAMPLE_NOISE_MEAN
@@ -160,7 +156,7 @@ vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, v
     sum += s.full * seg;
     own += in_own ? s.full * seg : 0.0;
     along += seg;
-    seg *= growth;
+    seg *= P.light_march.y;
   }
   if (grid_on) {
     sum += g.x;

@@ -139,15 +139,17 @@ struct CloudParams {
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
   uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y: bit 0 = other instances
-                        // shadow an instance (light_grid_lookup.glsl); z: marched light samples before the grid (0: the
-                        // talk's 2); w: the float bits of each next sample's length over the one before (the talk: 1)
+                        // shadow an instance (light_grid_lookup.glsl); z, w: unused
   vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
                         // y at the surface and away from the sun (talk 0.25); z: 1 = diffusion's falloff
                         // 1 / (1 + 0.75 (1 - g) od_own) instead (CloudSettings::ms_diffusion); w: with z, the
                         // Beer-Lambert coefficient of other clouds' optical depth on it (ms_other_cloud_attenuation)
+  vec4 light_march;     // the marched light samples before the grid (voxel-lighting / full): x their count (the talk: 2),
+                        // y each next one's length over the one before (the talk: 1), z their total length (m), where the
+                        // grid takes over; the first one's length is light.x
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1280)
+CUMULO_SHARED_SIZE(CloudParams, 1296)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

@@ -75,8 +75,12 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   const bool terrain = in.settings.terrain_shadow && in.terrain_depth.valid();
   p.haze = glm::vec4(in.haze_density, in.haze_falloff, terrain ? 1.0f : 0.0f, in.terrain_depth_range_m);
   p.light_depth = in.terrain_depth_matrix;
-  p.effects = glm::uvec4(s.effects, s.instance_shadows ? 1u : 0u, std::clamp(s.light_samples, 1u, kMaxLightSamples),
-                         glm::floatBitsToUint(std::max(s.light_sample_growth, 1.0f)));
+  p.effects = glm::uvec4(s.effects, s.instance_shadows ? 1u : 0u, 0u, 0u);
+  const uint32_t light_samples = std::clamp(s.light_samples, 1u, kMaxLightSamples);
+  const float growth = std::max(s.light_sample_growth, 1.0f);
+  float reach = 0.0f;
+  for (uint32_t k = 0; k < light_samples; ++k) reach += s.light_sample_m * std::pow(growth, float(k));
+  p.light_march = glm::vec4(float(light_samples), growth, reach, 0.0f);
   p.ms = glm::vec4(s.ms_attenuation_inside, s.ms_attenuation, s.ms_diffusion ? (s.ms_slab ? 2.0f : 1.0f) : 0.0f, s.ms_other_cloud_attenuation);
   p.sky_zenith = glm::vec4(in.sky_zenith, s.ms_slab ? s.ms_anisotropy : 0.0f);
   p.sky_horizon = glm::vec4(in.sky_horizon, s.ms_slab ? s.edge_depth_scale : 0.0f);
