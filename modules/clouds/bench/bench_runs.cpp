@@ -46,6 +46,8 @@ void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving) {
       run.sky_ms = median(run.sky);
       run.geometry_ms = median(run.geometry);
       run.frame_ms = median(run.whole);
+      run.wall_ms = median(run.wall);
+      run.cpu_ms = median(run.cpu);
       run.steps_per_pixel = median(run.steps);
       for (auto& [name, v] : run.pass_samples) run.passes[name] = median(v);
     }
@@ -79,6 +81,12 @@ std::vector<Summary> summarize(const std::vector<Run>& runs, const std::vector<R
     s.light_grid_moving_30 = grid_share(find_run(moving, v, CloudAblation::Full, 30));
     s.light_grid_moving_60 = grid_share(find_run(moving, v, CloudAblation::Full, 60));
     if (f60 && f60->frame_ms > 0) s.fps_60 = 1000.0 / f60->frame_ms;
+    if (f60 && f60->wall_ms > 0) s.fps_wall_60 = 1000.0 / f60->wall_ms;
+    if (f60) s.cpu_ms_60 = f60->cpu_ms;
+    for (size_t r = 0; f30 && b30 && r < std::min(f30->rounds.size(), b30->rounds.size()); ++r)
+      if (f30->rounds[r].cloud_ms > 0) s.full_vs_base_30_rounds.push_back(b30->rounds[r].cloud_ms / f30->rounds[r].cloud_ms);
+    for (size_t r = 0; f30 && f60 && r < std::min(f30->rounds.size(), f60->rounds.size()); ++r)
+      if (f30->rounds[r].cloud_ms > 0) s.split_saving_rounds.push_back(1.0 - f60->rounds[r].cloud_ms / f30->rounds[r].cloud_ms);
     out.push_back(s);
   }
   return out;

@@ -37,6 +37,15 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
                             "passes"})
       EXPECT_TRUE(run.contains(key)) << key;
     EXPECT_GT(run["cloud_ms"].get<double>(), 0.0);
+    // The headless loop's wall clock holds the CPU part and the wait for the GPU.
+    EXPECT_GT(run["cpu_ms"].get<double>(), 0.0) << run.dump();
+    EXPECT_GT(run["wall_ms"].get<double>(), run["cpu_ms"].get<double>()) << run.dump();
+    // Every round's figures, not only the pooled median.
+    ASSERT_EQ(run["rounds"].size(), 2u) << run.dump();
+    for (auto& round : run["rounds"]) {
+      EXPECT_GT(round["cloud_ms"].get<double>(), 0.0) << run.dump();
+      EXPECT_GE(round["wall_ms"].get<double>(), round["cpu_ms"].get<double>()) << run.dump();
+    }
     // The sample level's 2.5D sky (it has a WeatherScheduler), timed as its own pass, outside cloud_ms.
     EXPECT_TRUE(run["passes"].contains("clouds.sky_layer")) << run.dump();
     EXPECT_GT(run["sky_layer_and_shafts_ms"].get<double>(), 0.0);
@@ -55,6 +64,11 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
   EXPECT_GT(sum["light_grid_share_updating_60"].get<double>(), 0.0);
   EXPECT_LT(sum["light_grid_share_updating_60"].get<double>(), 1.0);
   EXPECT_EQ(sum["split_psnr_db"], j["runs"][3]["psnr_vs_30hz_db"]);
+  ASSERT_EQ(sum["full_vs_base_30_rounds"].size(), 2u);
+  ASSERT_EQ(sum["split_saving_rounds"].size(), 2u);
+  for (auto& ratio : sum["full_vs_base_30_rounds"]) EXPECT_GT(ratio.get<double>(), 0.0);
+  EXPECT_GT(sum["fps_wall_60"].get<double>(), 0.0);
+  EXPECT_LE(sum["fps_wall_60"].get<double>(), sum["fps_60"].get<double>() * 1.001);  // the wall holds the GPU's time
   // The full method takes fewer steps than the uniform base march (the SDF skips empty space).
   EXPECT_LT(j["runs"][1]["steps_per_pixel"].get<double>(), j["runs"][0]["steps_per_pixel"].get<double>());
   fs::remove(out);
