@@ -10,6 +10,7 @@
 #   DIR/content/            the sample level (terrain, cloudscape recipe; baked on first use into the cache),
 #                           the weather states, the atmosphere preset and the schemas
 #   DIR/README.txt          how to run it, and how to point the loader at a driver
+#   DIR/device-bench.sh     the bench at 960x540 and 1920x1080 in one command (JSON + tables)
 #
 # Usage: scripts/bundle.sh [DIR]   (default out/bundle; the build goes to build-bundle/)
 set -euo pipefail
@@ -47,6 +48,7 @@ cp -r content/schemas "$DIR/content/schemas"
 cp -r content/weather "$DIR/content/weather"
 cp -r content/atmosphere "$DIR/content/atmosphere"
 cp content/README.md "$DIR/content/README.md"
+cp scripts/device-bench.sh "$DIR/device-bench.sh"
 
 cat > "$DIR/cumulo" <<'LAUNCH'
 #!/bin/sh
@@ -76,6 +78,9 @@ is installed elsewhere, name its manifest:
   VK_DRIVER_FILES=/path/to/nvidia_icd.json ./cumulo bench ...     (loader >= 1.3.234)
   VK_ICD_FILENAMES=/path/to/nvidia_icd.json ./cumulo bench ...    (older loaders; both may be set)
 CUMULO_DEVICE=<index or name part> picks the device when there are several.
+
+The GPU bench in one command (960x540 and 1920x1080, every camera, JSON + tables into OUT):
+  ./device-bench.sh OUT          (it offers the usual ICD folders and NVIDIA's container folder to the loader)
 TXT
 
 size=$(du -sm "$DIR" | cut -f1)
