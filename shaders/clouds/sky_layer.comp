@@ -101,9 +101,9 @@ void main() {
       if (t >= seg.y || transmittance < 0.01) break;
       steps += 1.0;
       vec3 p = ro + rd * t;
-      float cheap = density(p, true);
-      if (cheap > 0.0) {
-        float dens = density(p, false);
+      SkyCoarse coarse = density_coarse(p);
+      if (coarse.d * coarse.yield_m > 0.0) {
+        float dens = density_detail(coarse);
         if (dens > 0.0) {
           float hf = saturate((altitude(p) - S.shell.x) / (S.shell.y - S.shell.x));
           float od = light_optical_depth(p, l);

@@ -82,28 +82,49 @@ Weather weather_at(vec3 p) {
   return w;
 }
 
-// Density at a world point; `cheap` leaves out the detail erosion (light samples, empty space).
-float density(vec3 p, bool cheap) {
-  float h = saturate((altitude(p) - S.shell.x) / (S.shell.y - S.shell.x));
-  float yield_m = yield_mask(p);
-  if (yield_m <= 0.0) return 0.0;
+// The cheap density at a world point (no detail erosion: light samples, empty space), before the yield;
+// `c` keeps what the detail erosion needs so the full density does not compute it again.
+struct SkyCoarse {
+  float d;        // coarse density, before the yield
+  float yield_m;  // yield_mask(p)
+  float h;        // height fraction in the shell
+  vec3 q;         // the noise position (wind-shifted)
+};
+
+SkyCoarse density_coarse(vec3 p) {
+  SkyCoarse c;
+  c.d = 0.0;
+  c.h = saturate((altitude(p) - S.shell.x) / (S.shell.y - S.shell.x));
+  c.q = p;
+  c.yield_m = yield_mask(p);
+  if (c.yield_m <= 0.0) return c;
   Weather w = weather_at(p);
-  if (w.coverage <= 0.0) return 0.0;
+  if (w.coverage <= 0.0) return c;
   float thickness = S.shell.y - S.shell.x;
-  vec3 q = p - S.wind_dir.xyz * (S.wind.w + h * S.wind.z * thickness);
-  vec4 b = textureLod(base_noise, q / S.shape.x, 0.0);
+  c.q = p - S.wind_dir.xyz * (S.wind.w + c.h * S.wind.z * thickness);
+  vec4 b = textureLod(base_noise, c.q / S.shape.x, 0.0);
   float wfbm = b.g * 0.625 + b.b * 0.25 + b.a * 0.125;
   float base = remap(b.r, -(1.0 - wfbm), 1.0, 0.0, 1.0);
-  base = saturate(base * height_gradient(h, w.type, w.precip));
-  float cov = pow(w.coverage, value_remap(h, 0.7, 0.8, 1.0, mix(1.0, 0.5, S.weather.w)));
-  float d = saturate(remap(base, 1.0 - cov, 1.0, 0.0, 1.0)) * cov;
-  if (d <= 0.0 || cheap) return d * yield_m;
-  vec3 curl = (textureLod(curl_noise, vec3(q.xz / S.shape.x * 4.0, 0.5), 0.0).rgb * 2.0 - 1.0) * S.shape.z;
-  vec3 dn = textureLod(detail_noise, (q + curl * (1.0 - h)) / S.shape.y, 0.0).rgb;
+  base = saturate(base * height_gradient(c.h, w.type, w.precip));
+  float cov = pow(w.coverage, value_remap(c.h, 0.7, 0.8, 1.0, mix(1.0, 0.5, S.weather.w)));
+  c.d = saturate(remap(base, 1.0 - cov, 1.0, 0.0, 1.0)) * cov;
+  return c;
+}
+
+// The full density from the coarse one: the detail erosion, then the yield.
+float density_detail(SkyCoarse c) {
+  if (c.d <= 0.0) return 0.0;
+  vec3 curl = (textureLod(curl_noise, vec3(c.q.xz / S.shape.x * 4.0, 0.5), 0.0).rgb * 2.0 - 1.0) * S.shape.z;
+  vec3 dn = textureLod(detail_noise, (c.q + curl * (1.0 - c.h)) / S.shape.y, 0.0).rgb;
   float dfbm = dn.r * 0.625 + dn.g * 0.25 + dn.b * 0.125;
-  float modifier = mix(1.0 - dfbm, dfbm, saturate(h * 10.0));
-  d = saturate(remap(d, modifier * S.shape.w, 1.0, 0.0, 1.0));
-  return d * yield_m;
+  float modifier = mix(1.0 - dfbm, dfbm, saturate(c.h * 10.0));
+  return saturate(remap(c.d, modifier * S.shape.w, 1.0, 0.0, 1.0)) * c.yield_m;
+}
+
+// Density at a world point; `cheap` leaves out the detail erosion (light samples, empty space).
+float density(vec3 p, bool cheap) {
+  SkyCoarse c = density_coarse(p);
+  return cheap ? c.d * c.yield_m : density_detail(c);
 }
 
 #endif
