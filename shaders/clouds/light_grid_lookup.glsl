@@ -1,5 +1,6 @@
 // Light grid lookup shared by the march and the shadow map; the includer declares the grid as
 // `light_grid_tex` (CLOUD_BINDING_LIGHT_GRID) and includes cloud_common.glsl first.
+#include "engine/runtime_uniform.glsl"
 #ifndef CUMULO_LIGHT_GRID_LOOKUP_GLSL
 #define CUMULO_LIGHT_GRID_LOOKUP_GLSL
 
@@ -25,7 +26,7 @@ vec4 light_grid(int i, vec3 asset_pos) {
 vec2 other_instances_depth(int i, vec3 world_pos) {
   vec2 sum = vec2(0.0);
   if ((P.effects.y & 1u) == 0u) return sum;
-  for (int j = 0; j < int(P.frame.y); ++j) {
+  for (int j = 0; j < runtime_int(P.frame.y); ++j) {  // engine/runtime_uniform.glsl
     if (j == i) continue;
     CloudInstanceParams o = P.instances[j];
     vec3 a = (o.world_to_asset * vec4(world_pos, 1.0)).xyz;

@@ -9,6 +9,7 @@
 // shadow it). Quarter resolution (the blurred mask is smooth). light_shafts_apply.comp uses it as the mask of the atmosphere's Mie in-scattering.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "engine/runtime_uniform.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = SHAFT_BINDING_PARAMS, std140) uniform ShaftBlock { CloudShaftParams S; };
@@ -36,7 +37,7 @@ void main() {
   ivec2 size = imageSize(shafts_out);
   if (any(greaterThanEqual(pixel, size))) return;
   vec2 uv = (vec2(pixel) + 0.5) / vec2(size);
-  int n = int(S.sun_screen.w);
+  int n = runtime_int(S.sun_screen.w);
   // From this pixel a fraction of the way toward the sun (the offset away from the sun: each sample
   // reads the highlight where it lies nearer the sun than the pixel).
   vec2 delta = (S.sun_screen.xy - uv) * S.misc.z / float(n);

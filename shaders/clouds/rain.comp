@@ -9,6 +9,7 @@
 // the columns' screen rectangle (CloudEffectsPush::rect).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "engine/runtime_uniform.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_FX_PARAMS, std140) uniform EffectsBlock { CloudEffectsParams F; };
@@ -63,7 +64,7 @@ void main() {
   vec2 uv = (vec2(pixel) + 0.5) * F.viewport.zw;
   vec2 ndc = uv * 2.0 - 1.0;
   vec4 h = F.inv_view_proj * vec4(ndc, 0.5, 1.0);
-  vec3 ro = F.camera_pos.xyz;
+  vec3 ro = F.camera_pos.xyz + runtime_zero();  // engine/runtime_uniform.glsl: much-used uniforms
   vec3 rd = normalize(h.xyz / h.w - ro);
   float d = textureLod(scene_depth, uv, 0.0).r;
   float t_scene = 1e30;
@@ -72,14 +73,14 @@ void main() {
     t_scene = distance(w.xyz / w.w, ro);
   }
   float cloud_t = 1.0, cloud_d = 1e30;
-  if (F.misc.y > 0.5) {
+  if (F.misc.y + runtime_zero() > 0.5) {
     cloud_t = textureLod(cloud_color, uv, 0.0).a;
     cloud_d = textureLod(cloud_depth, uv, 0.0).x;
   }
-  float time = F.camera_pos.w;
+  float time = F.camera_pos.w + runtime_zero();
   float jitter = hash12(vec2(pixel) + fract(time) * 17.0);
   float transmittance = 1.0;
-  for (uint k = 0u; k < F.counts.y; ++k) {
+  for (uint k = 0u; k < runtime_uint(F.counts.y); ++k) {
     vec4 col = F.rain_column[k];
     vec2 seg = ray_column(ro, rd, col.xyz, col.w, F.rain_params[k].y, col.y);
     float t0 = max(seg.x, 0.0), t1 = min(seg.y, t_scene);

@@ -13,6 +13,7 @@
 // pixel from the scene depth (the split merge's depth-aware upsample needs it per pixel).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "engine/runtime_uniform.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
@@ -28,8 +29,8 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(pc.target.xy);
   if (any(greaterThanEqual(pixel, size))) return;
-  int B = int(pc.sub.x);
-  ivec2 offset = ivec2(pc.sub.yz);
+  int B = runtime_int(pc.sub.x);
+  ivec2 offset = runtime_ivec2(pc.sub.yz);
   ivec2 ss = textureSize(sub_color, 0);
   ivec2 block = pixel / B;
   vec4 own = texelFetch(sub_color, block, 0);

@@ -4,6 +4,7 @@
 #define CUMULO_SKY_LAYER_DENSITY_GLSL
 #include "shared/sky_layer_params.h"
 #include "clouds/cloud_math.glsl"
+#include "engine/runtime_uniform.glsl"
 
 layout(set = 0, binding = SKY_BINDING_PARAMS, std140) uniform SkyBlock { SkyLayerParams S; };
 layout(set = 0, binding = SKY_BINDING_CLOUD_MAP) uniform sampler2D cloud_map;
@@ -46,7 +47,7 @@ vec2 shell_segment(vec3 ro, vec3 rd, float t_max) {
 // clouds stays (two layers, no double counting), and where they share heights the layer hands over.
 float yield_mask(vec3 p) {
   float m = 1.0;
-  for (int i = 0; i < int(S.misc.y); ++i) {
+  for (int i = 0; i < runtime_int(S.misc.y); ++i) {
     vec2 outside = max(max(S.yield_min[i].xz - p.xz, p.xz - S.yield_max[i].xz), vec2(0.0));
     float above = max(max(p.y - S.yield_max[i].y, S.yield_min[i].y - p.y), 0.0);
     m *= max(smoothstep(0.0, S.misc.x, length(outside)), smoothstep(0.0, S.misc.w, above));

@@ -6,6 +6,7 @@
 // apply it at their distance: colour x transmittance + in-scattering.
 #extension GL_GOOGLE_include_directive : require
 #include "engine/atmosphere_common.glsl"
+#include "engine/runtime_uniform.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = ATMOSPHERE_PARAMS_BINDING, std140) uniform AtmosphereBlock { AtmosphereGpuParams A; };
@@ -32,10 +33,12 @@ void main() {
   vec2 uv = (vec2(cell) + 0.5) / float(N);
   vec4 h = pc.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
   vec3 dir = normalize(h.xyz / h.w - pc.camera.xyz);
-  float Rb = A.radii.x;
+  // Values from the parameters alone, kept in variables: runtime_uniform.glsl says why they take a zero.
+  float z = runtime_zero();
+  float Rb = A.radii.x + z;
   vec3 pos = vec3(0.0, clamp(Rb + max(pc.camera.y * 0.001, 0.001), Rb, A.radii.y - 0.001), 0.0);
-  vec3 sun = normalize(A.sun.xyz), moon = normalize(A.moon.xyz);
-  float sun_e = A.albedo.w * A.sun.w, moon_e = A.albedo.w * A.moon.w;
+  vec3 sun = normalize(A.sun.xyz + z), moon = normalize(A.moon.xyz + z);
+  float sun_e = A.albedo.w * A.sun.w + z, moon_e = A.albedo.w * A.moon.w + z;
   vec3 L = vec3(0.0), T = vec3(1.0);
   float t0 = 0.0;
   for (int k = 0; k < N; ++k) {
