@@ -5,7 +5,7 @@ PKGS=(
   build-essential cmake ninja-build pkg-config git
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools spirv-tools
   glslang-dev glslang-tools libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
-  libimgui-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libimgui-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev libmeshoptimizer-dev
   libopenvdb-dev libtbb-dev libzstd-dev libboost-dev libopenexr-dev
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
   xvfb xauth xdotool

@@ -29,6 +29,7 @@ using detail::RunContext;
 int run_headless(RunContext& rc) {
   const RunOptions& o = rc.opt;
   HeadlessSession session(rc.sim, rc.modules, o.width, o.height, o.aerial_lut);
+  session.renderer().set_lod_error_px(o.lod_error_px);
   const uint32_t frames = std::max(1u, o.frames);
   for (uint32_t f = 1; f <= frames; ++f) {
     Stopwatch cpu;

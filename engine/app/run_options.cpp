@@ -57,7 +57,12 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
               &o.replay)
       .choice("--aerial-perspective", kAerialNames,
               "aerial perspective of terrain and clouds: the atmosphere's froxels (default) or the exponential height fog",
-              &o.aerial_lut);
+              &o.aerial_lut)
+      .option("--lod-error", "PX",
+              "large meshes (the terrain) are drawn per chunk at the coarsest level of detail whose error projects "
+              "within PX pixels (default 0.25; 0: full detail everywhere)",
+              &o.lod_error_px)
+      .range(0, 100);
   for (const auto& m : modules) m->add_run_options(p);
   if (!p.parse(argc, argv)) return std::nullopt;
   for (const auto& m : modules) m->check_run_options();

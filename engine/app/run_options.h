@@ -31,6 +31,7 @@ struct RunOptions {
   std::string record;                // --record FILE: write the run's inputs (engine/app/recording.h)
   std::string replay;                // --replay FILE: drive the run from a recording
   bool aerial_lut = true;            // --aerial-perspective lut|fog: the atmosphere's froxels or the height fog
+  float lod_error_px = 0.25f;        // --lod-error PX: large meshes' level of detail (render/mesh_lod.h)
   bool require_window = false;       // `cumulo edit`: no headless fallback (fail when no window opens)
 };
 

@@ -59,6 +59,7 @@ int run_windowed(RunContext& rc) {
   gpu::Swapchain swapchain(ctx, window_extent(*window), gpu::SwapchainDesc{});
   render::FrameRenderer renderer(ctx);
   renderer.set_aerial_perspective_lut(rc.opt.aerial_lut);
+  renderer.set_lod_error_px(rc.opt.lod_error_px);
   add_module_features(rc, renderer);
   gpu::FrameRing frames(ctx);
   // Modules' UIs live from here until the guard goes (first of all, device idle, before the renderer).

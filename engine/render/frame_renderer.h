@@ -73,6 +73,9 @@ class FrameRenderer {
   void set_exposure(float exposure) { exposure_ = exposure; }
   // Aerial perspective from the atmosphere's froxels (default), or the SceneLighting height fog.
   void set_aerial_perspective_lut(bool lut) { aerial_lut_ = lut; }
+  // Large meshes are drawn per chunk at the coarsest level whose error projects within `px` pixels
+  // (mesh_lod.h; default 0.25); 0 draws every chunk at full detail.
+  void set_lod_error_px(float px);
   gpu::PipelineLibrary& pipeline_library();
 
  private:

@@ -110,9 +110,12 @@ const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& mo
     gm.vertices = gpu::Buffer(ctx_, {m.vertices.size() * sizeof(scene::Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                      gpu::MemoryUsage::GpuOnly, vname.c_str()});
     gm.vertices.upload(m.vertices.data(), m.vertices.size() * sizeof(scene::Vertex));
-    gm.indices = gpu::Buffer(ctx_, {m.indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+    ChunkedMesh lods = build_mesh_lods(m);
+    gm.index_count = static_cast<uint32_t>(lods.indices.size());
+    gm.chunks = std::move(lods.chunks);
+    gm.indices = gpu::Buffer(ctx_, {lods.indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
                                     gpu::MemoryUsage::GpuOnly, iname.c_str()});
-    gm.indices.upload(m.indices.data(), m.indices.size() * sizeof(uint32_t));
+    gm.indices.upload(lods.indices.data(), lods.indices.size() * sizeof(uint32_t));
     g->meshes.push_back(std::move(gm));
   }
   auto& ref = *g;

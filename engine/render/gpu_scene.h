@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/render/mesh_lod.h"
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/image.h"
 #include "engine/scene/model.h"
@@ -21,6 +22,7 @@ namespace cumulo::render {
 struct GpuMesh {
   gpu::Buffer vertices, indices;
   uint32_t index_count = 0;
+  std::vector<MeshChunk> chunks;  // index ranges per chunk and level (mesh_lod.h); one chunk for small meshes
   int material = -1;
 };
 

@@ -111,7 +111,8 @@ LightDepth LightDepthMap::add_pass(RenderGraph& graph, const FrameSnapshot& s) {
             VkBuffer vb = mesh.vertices.handle();
             vkCmdBindVertexBuffers(c.cmd(), 0, 1, &vb, &offset);
             vkCmdBindIndexBuffer(c.cmd(), mesh.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
-            vkCmdDrawIndexed(c.cmd(), mesh.index_count, 1, 0, 0, 0);
+            for (const MeshChunk& chunk : mesh.chunks)  // level 0: the shadow map is re-made rarely, keep it exact
+              vkCmdDrawIndexed(c.cmd(), chunk.levels[0].index_count, 1, chunk.levels[0].first_index, 0, 0);
           }
         }
         vkCmdEndRendering(c.cmd());

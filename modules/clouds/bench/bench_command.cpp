@@ -13,6 +13,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/gpu/context.h"
+#include "engine/render/frame_renderer.h"
 #include "modules/clouds/bench/bench_runs.h"
 #include "modules/clouds/bench/bench_tables.h"
 
@@ -113,6 +114,7 @@ int run_bench(const BenchOptions& o, const CloudsRun& clouds) {
   d.width = o.width;
   d.height = o.height;
   app::HeadlessSession session(d);
+  session.renderer().set_lod_error_px(o.lod_error_px);
   if (!feature.resources()) fail("%s: the level has no Cloudscape entity to measure", o.level.c_str());
   feature.set_measure_steps(true);
   // The matrix; moving: full runs with the light grid updating every frame. The sample level's sun is
@@ -165,7 +167,10 @@ void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds) 
                       .option("--out", "FILE.json", "write the results as JSON", &o.out)
                       .option("--views", "A,B", "cameras (default ground,mixed,immersed)", &views)
                       .option("--ablations", "A,B", "ablation steps (default base,voxel-lighting,full)", &ablations)
-                      .option("--modes", "30,60", "budget modes (default 30,60)", &modes);
+                      .option("--modes", "30,60", "budget modes (default 30,60)", &modes)
+                      .option("--lod-error", "PX", "the terrain's level of detail: a chunk's error within PX pixels (default 0.25; 0: full detail)",
+                              &o.lod_error_px)
+                      .range(0, 100);
                   clouds.add_run_options(p);  // --cloud-formats, --cloud-temporal, ...
                   if (!p.parse(argc, argv)) return 0;
                   if (!size.empty()) app::parse_size(size, o.width, o.height);

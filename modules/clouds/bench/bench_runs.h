@@ -27,6 +27,7 @@ struct BenchOptions {
   std::vector<std::string> views{"ground", "mixed", "immersed"};
   std::vector<CloudAblation> ablations{CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full};
   std::vector<int> modes{30, 60};
+  float lod_error_px = 0.25f;  // --lod-error: the terrain's level of detail (engine/render/mesh_lod.h)
 };
 
 // One round's medians of a run (the JSON keeps them so "in every round" can be checked, not only the
