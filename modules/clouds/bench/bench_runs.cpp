@@ -50,6 +50,10 @@ void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving) {
       run.cpu_ms = median(run.cpu);
       run.steps_per_pixel = median(run.steps);
       for (auto& [name, v] : run.pass_samples) run.passes[name] = median(v);
+      for (auto& [name, ms] : run.passes) {
+        if (name.rfind("clouds.sky_layer", 0) == 0) run.sky_layer_ms += ms;
+        if (name.rfind("clouds.light_shafts", 0) == 0) run.shafts_ms += ms;
+      }
     }
   for (Run& run : runs)
     if (run.mode != 30)

@@ -42,6 +42,7 @@ struct Run {
   int mode = 30;
   double cloud_ms = 0, geometry_ms = 0, frame_ms = 0, steps_per_pixel = 0;
   double sky_ms = 0;  // the 2.5D sky and the light shafts (is_sky_pass)
+  double sky_layer_ms = 0, shafts_ms = 0;  // apart: the sum of their passes' medians
   // The headless loop's wall-clock ms per frame (CPU and GPU together: on lavapipe they share the cores),
   // and its CPU part before the submit (extraction, the render graph, command recording).
   double wall_ms = 0, cpu_ms = 0;

@@ -49,6 +49,11 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
     // The sample level's 2.5D sky (it has a WeatherScheduler), timed as its own pass, outside cloud_ms.
     EXPECT_TRUE(run["passes"].contains("clouds.sky_layer")) << run.dump();
     EXPECT_GT(run["sky_layer_and_shafts_ms"].get<double>(), 0.0);
+    // Apart as well: the sky layer's passes and the shafts' (the ground camera looks toward no sun: shafts may be 0).
+    EXPECT_GT(run["sky_layer_ms"].get<double>(), 0.0);
+    EXPECT_GE(run["light_shafts_ms"].get<double>(), 0.0);
+    EXPECT_NEAR(run["sky_layer_ms"].get<double>() + run["light_shafts_ms"].get<double>(),
+                run["sky_layer_and_shafts_ms"].get<double>(), 0.5 * run["sky_layer_and_shafts_ms"].get<double>() + 1.0);
     EXPECT_TRUE(run["passes"].contains(run["mode"] == 30 ? "clouds.march" : "clouds.march_far")) << run.dump();
     // 60 Hz runs carry the PSNR of their final image against the 30 Hz run's: close, not identical.
     if (run["mode"] == 60) {
