@@ -139,6 +139,43 @@ TEST(MeshLod, ALevelStaysWithinItsStatedErrorOfTheFullSurface) {
   }
 }
 
+TEST(MeshLod, MeshesThatAreNoHeightFieldOrHaveNoAreaStillPartitionAndKeepFullDetail) {
+  // A closed tube (no axis sees every triangle from one side): the levels use meshoptimizer's estimate.
+  scene::Mesh tube;
+  const int around = 64, along = 160;
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const float a = 6.2831853f * float(i) / float(around);
+      tube.vertices.push_back({{20.0f * std::cos(a), 20.0f * std::sin(a) + 0.3f * std::sin(0.2f * float(j)), 2.0f * float(j)},
+                               {std::cos(a), std::sin(a), 0.0f}, {0.0f, 0.0f}});
+      tube.bounds.add(tube.vertices.back().position);
+    }
+  for (int j = 0; j + 1 < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const uint32_t a = uint32_t(j * around + i), b = uint32_t(j * around + (i + 1) % around), c = a + uint32_t(around),
+                     d = b + uint32_t(around);
+      tube.indices.insert(tube.indices.end(), {a, c, b, b, c, d});
+    }
+  const ChunkedMesh t = build_mesh_lods(tube);
+  ASSERT_GT(t.chunks.size(), 1u);
+  std::multiset<Tri> all;
+  for (const MeshChunk& ch : t.chunks) {
+    const auto tris = triangles(t.indices, ch.levels[0].first_index, ch.levels[0].index_count);
+    all.insert(tris.begin(), tris.end());
+    for (size_t l = 1; l < ch.levels.size(); ++l) EXPECT_GT(ch.levels[l].error, 0.0f);
+  }
+  EXPECT_EQ(all, triangles(tube.indices, 0, uint32_t(tube.indices.size())));
+  // Every triangle on one point: no area, no box; one chunk at least, and its full detail as it was.
+  scene::Mesh dot;
+  dot.vertices.assign(3, scene::Vertex{{1.0f, 2.0f, 3.0f}, {0, 1, 0}, {0, 0}});
+  for (int i = 0; i < 9000; ++i) dot.indices.insert(dot.indices.end(), {0u, 1u, 2u});
+  const ChunkedMesh d = build_mesh_lods(dot);
+  ASSERT_FALSE(d.chunks.empty());
+  uint32_t drawn = 0;
+  for (const MeshChunk& ch : d.chunks) drawn += ch.levels[0].index_count;
+  EXPECT_EQ(drawn, dot.indices.size());
+}
+
 TEST(MeshLod, FarChunksTakeCoarserLevelsAndAZeroBudgetKeepsFullDetail) {
   const scene::Mesh m = grid_mesh(129, 8.0f, 60.0f);
   const ChunkedMesh c = build_mesh_lods(m);
