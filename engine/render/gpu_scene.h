@@ -21,7 +21,7 @@ namespace cumulo::render {
 
 struct GpuMesh {
   gpu::Buffer vertices, indices;
-  uint32_t index_count = 0;
+  uint32_t index_count = 0;  // in `indices`: every chunk's every level (0: nothing to draw)
   std::vector<MeshChunk> chunks;  // index ranges per chunk and level (mesh_lod.h); one chunk for small meshes
   int material = -1;
 };
