@@ -61,6 +61,9 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
       EXPECT_LT(run["psnr_vs_30hz_db"].get<double>(), 99.0) << run.dump();
     }
   }
+  // The simulation's CPU time per 60 Hz frame, timed apart from the still matrix.
+  EXPECT_GT(j["cpu"]["simulation_ms_per_frame_60hz"].get<double>(), 0.0);
+  EXPECT_NE(r.output.find("CPU per frame: the simulation"), std::string::npos) << r.output;
   ASSERT_EQ(j["summary"].size(), 1u);
   const auto& sum = j["summary"][0];
   EXPECT_EQ(sum["view"], "ground");
