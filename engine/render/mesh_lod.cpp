@@ -88,15 +88,15 @@ float measured_error(const scene::Mesh& mesh, const std::vector<uint32_t>& verti
   return worst;
 }
 
-// The chunk's levels: level 0 its own triangles, then each simplified from level 0 to about
-// a quarter of the one before, until the simplifier stops gaining. A level's error is measured where the chunk is
-// a height field (1.25 x the largest difference at the full surface's vertices and edge midpoints, for what
-// lies between), else meshoptimizer's estimate x 3 (a distance estimate, not a bound).
 struct BuiltChunk {
   MeshChunk chunk;                // first_index relative to `indices`
   std::vector<uint32_t> indices;  // its levels, one after another
 };
 
+// The chunk's levels: level 0 its own triangles, then each simplified from level 0 to about
+// a quarter of the one before, until the simplifier stops gaining. A level's error is measured where the chunk is
+// a height field (1.25 x the largest difference at the full surface's vertices and edge midpoints, for what
+// lies between), else meshoptimizer's estimate x 3 (a distance estimate, not a bound).
 BuiltChunk build_chunk(const scene::Mesh& mesh, std::vector<uint32_t> tris, float scale, const Axes& axes,
                        const MeshLodSettings& s) {
   BuiltChunk built;

@@ -1,7 +1,6 @@
 #include "modules/clouds/bench/bench_command.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -13,6 +12,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
+#include "engine/core/time.h"
 #include "engine/gpu/context.h"
 #include "engine/render/frame_renderer.h"
 #include "modules/clouds/bench/bench_runs.h"
@@ -36,19 +36,17 @@ std::vector<std::string> split_list(const std::string& text) {
 // and the whole frame up to the GPU's finish.
 void measure_run(app::HeadlessSession& session, render::CloudFeature& feature, const BenchOptions& o, Run& run,
                  bool sun_moving, bool keep_image) {
-  using Clock = std::chrono::steady_clock;
-  auto ms_between = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   feature.options().light_grid_always_update = sun_moving;
   feature.options().ablation = run.ablation;
   const ecs::Entity camera = session.sim().camera(run.view);
   std::vector<double> cloud, sky, geometry, whole, wall, cpu;
   for (uint32_t f = 0; f < o.warmup + o.frames; ++f) {
-    const Clock::time_point t0 = Clock::now();
+    const Stopwatch frame;
     cumulo::render::FrameSnapshot snapshot = session.extract(camera, cumulo::render::BudgetMode(run.mode));
     session.submit(snapshot);
-    const Clock::time_point t1 = Clock::now();
+    const double cpu_ms = frame.ms();
     session.wait_frame();
-    const Clock::time_point t2 = Clock::now();
+    const double wall_ms = frame.ms();
     if (f < o.warmup) continue;
     double c = 0, g = 0, w = 0, k = 0;
     for (auto& [name, ms] : session.pass_timings()) {
@@ -63,8 +61,8 @@ void measure_run(app::HeadlessSession& session, render::CloudFeature& feature, c
     sky.push_back(k);
     geometry.push_back(g);
     whole.push_back(w);
-    cpu.push_back(ms_between(t0, t1));
-    wall.push_back(ms_between(t0, t2));
+    cpu.push_back(cpu_ms);
+    wall.push_back(wall_ms);
     run.steps.push_back(feature.read_steps_per_pixel());
   }
   run.rounds.push_back({median(cloud), median(sky), median(geometry), median(whole), median(wall), median(cpu)});
@@ -98,9 +96,9 @@ double measure_simulation(app::HeadlessSession& session, uint32_t frames) {
   const uint64_t steps = std::max<uint64_t>(1, uint64_t(std::llround((1.0 / 60.0) / sim.step_seconds())));
   std::vector<double> ms;
   for (uint32_t f = 0; f < frames; ++f) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch step;
     sim.step(steps);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ms.push_back(step.ms());
   }
   return median(ms);
 }

@@ -32,9 +32,9 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-bool is_sky_pass(const std::string& name) {
-  return name.rfind("clouds.sky_layer", 0) == 0 || name.rfind("clouds.light_shafts", 0) == 0;
-}
+bool is_sky_layer_pass(const std::string& name) { return name.rfind("clouds.sky_layer", 0) == 0; }
+bool is_shafts_pass(const std::string& name) { return name.rfind("clouds.light_shafts", 0) == 0; }
+bool is_sky_pass(const std::string& name) { return is_sky_layer_pass(name) || is_shafts_pass(name); }
 bool is_cloud_pass(const std::string& name) {
   return name.rfind("clouds.", 0) == 0 && name != render::CloudFeature::kStepsReadbackPass && !is_sky_pass(name);
 }
@@ -51,8 +51,8 @@ void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving) {
       run.steps_per_pixel = median(run.steps);
       for (auto& [name, v] : run.pass_samples) run.passes[name] = median(v);
       for (auto& [name, ms] : run.passes) {
-        if (name.rfind("clouds.sky_layer", 0) == 0) run.sky_layer_ms += ms;
-        if (name.rfind("clouds.light_shafts", 0) == 0) run.shafts_ms += ms;
+        if (is_sky_layer_pass(name)) run.sky_layer_ms += ms;
+        if (is_shafts_pass(name)) run.shafts_ms += ms;
       }
     }
   for (Run& run : runs)

@@ -77,6 +77,8 @@ double median(std::vector<double> v);
 // The world-facing passes of issue 10 (the 2.5D sky, light shafts): the same in every ablation, so they
 // are timed on their own and kept out of the voxel clouds' time (whose ablation ratios they would dilute).
 bool is_sky_pass(const std::string& name);
+bool is_sky_layer_pass(const std::string& name);  // the 2.5D sky's passes of is_sky_pass
+bool is_shafts_pass(const std::string& name);     // the light shafts' passes of is_sky_pass
 bool is_cloud_pass(const std::string& name);
 // The medians of every run's samples, and the 60 Hz runs' PSNR against their 30 Hz run.
 void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving);

@@ -13,9 +13,9 @@ struct CliResult {
   std::string output;  // stdout and stderr together
 };
 
-// `env`: optional "NAME=value ..." assignments for this child only.
-inline CliResult run_cumulo(const std::string& args, const std::string& env = "") {
-  std::string cmd = (env.empty() ? "" : "env " + env + " ") + std::string(CUMULO_EXE) + " " + args + " 2>&1";
+// Any shell command line, stdout and stderr together.
+inline CliResult run_command(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -25,6 +25,11 @@ inline CliResult run_cumulo(const std::string& args, const std::string& env = ""
   int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
   return r;
+}
+
+// `env`: optional "NAME=value ..." assignments for this child only.
+inline CliResult run_cumulo(const std::string& args, const std::string& env = "") {
+  return run_command((env.empty() ? "" : "env " + env + " ") + std::string(CUMULO_EXE) + " " + args);
 }
 
 }  // namespace cumulo::test

@@ -3,36 +3,17 @@
 // the bench at each size and joins them into one JSON named after the device, as it does on a GPU machine.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "tests/engine/app/cli_test_util.h"
 #include "tests/support/temp_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-struct ShellResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-ShellResult run_shell(const std::string& cmd) {
-  ShellResult r;
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-  return r;
-}
 
 std::string read_text(const fs::path& p) {
   std::ifstream f(p);
@@ -53,7 +34,7 @@ TEST(DeviceBenchScript, BenchesEverySizeFromABundleIntoOneJson) {
   fs::permissions(bundle / "cumulo", fs::perms::owner_all, fs::perm_options::add);
   fs::copy_file(fs::path(CUMULO_SOURCE_DIR) / "scripts" / "device-bench.sh", bundle / "device-bench.sh");
   const fs::path out = tmp.path / "out";
-  const ShellResult r = run_shell(
+  const auto r = cumulo::test::run_command(
       "env CUMULO_DEVICE_BENCH_SIZES='64x36 96x54' CUMULO_DEVICE_BENCH_VIEWS=ground CUMULO_DEVICE_BENCH_FRAMES=1 "
       "CUMULO_DEVICE_BENCH_WARMUP=1 CUMULO_DEVICE_BENCH_ROUNDS=1 '" + (bundle / "device-bench.sh").string() + "' '" +
       out.string() + "'");
@@ -84,7 +65,7 @@ TEST(DeviceBenchScript, BenchesEverySizeFromABundleIntoOneJson) {
 }
 
 TEST(DeviceBenchScript, NamesAMissingBundle) {
-  const ShellResult r = run_shell("env CUMULO_BUNDLE=/nonexistent/bundle '" + std::string(CUMULO_SOURCE_DIR) +
+  const auto r = cumulo::test::run_command("env CUMULO_BUNDLE=/nonexistent/bundle '" + std::string(CUMULO_SOURCE_DIR) +
                                   "/scripts/device-bench.sh' /tmp/unused");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("/nonexistent/bundle"), std::string::npos) << r.output;
