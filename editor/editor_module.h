@@ -4,7 +4,7 @@
 // with the editor's panels over it. In `cumulo run` the module is dormant (no flag, no pass, no UI).
 //
 //   cumulo edit content/levels/sample/level.json                                  # a person edits
-//   xvfb-run -a cumulo edit content/levels/sample/level.json --weather-dir /tmp/w \
+//   xvfb-run -a cumulo edit content/levels/sample/level.json --weather-dir /tmp/w (continued:)
 //       --size 640x360 --script tests/editor/data/edit_paint_save.json             # CI drives it
 #include <filesystem>
 #include <memory>

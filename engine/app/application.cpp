@@ -30,17 +30,21 @@ int run_headless(RunContext& rc) {
   const RunOptions& o = rc.opt;
   HeadlessSession session(rc.sim, rc.modules, o.width, o.height, o.aerial_lut);
   session.renderer().set_lod_error_px(o.lod_error_px);
+  detail::configure_resolution(rc, session.ctx(), false);
   const uint32_t frames = std::max(1u, o.frames);
   for (uint32_t f = 1; f <= frames; ++f) {
-    Stopwatch cpu;
+    Stopwatch cpu, wall;
     const uint32_t steps = rc.clock.steps_for_fixed_frame(f, uint32_t(render::budget_hz(o.mode)));
     rc.sim.step(steps);
     rc.clock.on_steps_run(steps);
     render::FrameSnapshot snap = session.extract(rc.camera, o.mode);
+    snap.resolution_scale = detail::next_resolution_scale(rc);
     session.submit(snap);
     rc.stats.add_cpu_frame_ms(cpu.ms());
     session.wait_frame();
-    rc.stats.add_gpu_frame(session.pass_timings());
+    const auto timings = session.pass_timings();
+    rc.stats.add_gpu_frame(timings);
+    detail::after_frame(rc, timings, wall.ms(), snap.resolution_scale);
     if (f == 1 && !o.dump_graph.empty()) detail::write_graph_dump(o.dump_graph, session.renderer().last_compiled());
   }
   rc.stats.set_frames(frames);

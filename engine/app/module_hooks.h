@@ -19,6 +19,7 @@ class Window;
 }
 namespace cumulo::render {
 class FrameRenderer;
+class DynamicResolution;
 enum class BudgetMode : uint8_t;
 }  // namespace cumulo::render
 
@@ -44,6 +45,7 @@ struct WindowServices {
   gpu::Context& ctx;
   render::FrameRenderer& renderer;
   render::BudgetMode& mode;  // the run's budget mode: a UI may switch it between frames
+  render::DynamicResolution& resolution;  // the run's dynamic resolution: a UI may switch it or its budget
 };
 
 // Windowed runs only (an editor, a debug UI).

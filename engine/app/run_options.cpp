@@ -29,6 +29,9 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
   std::string mode = "30", size;
   static constexpr std::array kAerialNames{EnumName<bool>{true, "lut"}, EnumName<bool>{false, "fog"}};
   float tod = -1.0f;
+  bool dynres = false;
+  double budget_scale = 1.0;
+  float resolution_scale = 1.0f;
   ArgParser p(command,
               "Run a level: a fixed-step simulation (ECS systems in phases) and the renderer (render graph:\n"
               "geometry, sky, tonemap). Opens a window when a display exists, otherwise runs headless.");
@@ -62,7 +65,21 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
               "large meshes (the terrain) are drawn per chunk at the coarsest level of detail whose error projects "
               "within PX pixels (default 0.25; 0: full detail everywhere)",
               &o.lod_error_px)
-      .range(0, 100);
+      .range(0, 100)
+      .on_off("--dynamic-resolution",
+              "scale the cloud march and the 2.5D sky so the frame's GPU time stays inside the budget mode's budget "
+              "(default on in a window, off headless: a headless image must not depend on the machine's speed)",
+              &dynres)
+      .option("--budget-scale", "X",
+              "the budget modes' frame budgets times X (default: 3 on a CPU device, where 60 Hz plans for 50 ms; "
+              "1 on a GPU)",
+              &budget_scale)
+      .range(0.01, 1000)
+      .option("--resolution-scale", "S",
+              "render the cloud march and the 2.5D sky at S times the output's width and height, fixed "
+              "(0.25..1; no dynamic resolution)",
+              &resolution_scale)
+      .range(0.25, 1.0);
   for (const auto& m : modules) m->add_run_options(p);
   if (!p.parse(argc, argv)) return std::nullopt;
   for (const auto& m : modules) m->check_run_options();
@@ -77,6 +94,13 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
   o.seed_set = p.was_set("--seed");
   o.sim_hz_set = p.was_set("--sim-hz");
   o.camera_set = p.was_set("--camera");
+  if (p.was_set("--dynamic-resolution")) o.dynamic_resolution = dynres;
+  if (p.was_set("--budget-scale")) o.budget_scale = budget_scale;
+  if (p.was_set("--resolution-scale")) {
+    if (o.dynamic_resolution.value_or(false))
+      fail("--resolution-scale and --dynamic-resolution on: a fixed scale or a dynamic one, not both");
+    o.resolution_scale = resolution_scale;
+  }
   if (!o.replay.empty() && !o.events.empty())
     fail("--event and --replay: a replay fires the recording's events (record a new run to change them)");
   if (!o.replay.empty() && !o.record.empty() &&

@@ -33,6 +33,10 @@ struct RunOptions {
   bool aerial_lut = true;            // --aerial-perspective lut|fog: the atmosphere's froxels or the height fog
   float lod_error_px = 0.25f;        // --lod-error PX: large meshes' level of detail (render/mesh_lod.h)
   bool require_window = false;       // `cumulo edit`: no headless fallback (fail when no window opens)
+  // Budget modes that hold a budget (render/dynamic_resolution.h).
+  std::optional<bool> dynamic_resolution;  // --dynamic-resolution on|off; unset: on in a window, off headless
+  std::optional<double> budget_scale;      // --budget-scale X; unset: the device's default (CPU 3, GPU 1)
+  std::optional<float> resolution_scale;   // --resolution-scale S: a fixed scale (no dynamic resolution)
 };
 
 // Frames a headless run renders when --frames is not given.

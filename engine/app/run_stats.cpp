@@ -64,6 +64,11 @@ std::string RunStats::to_json(const Info& in) const {
   j["peak_gpu_memory_bytes"] = in.peak_gpu_memory_bytes;
   j["cpu_frame_ms"] = stat(cpu_);
   j["gpu_frame_ms"] = stat(gpu_total_);
+  j["budget"] = {{"frame_ms", in.frame_budget_ms}, {"scale", in.budget_scale}, {"dynamic_resolution", in.dynamic_resolution}};
+  J scale = stat(scale_);
+  scale["last"] = last_scale_;
+  scale["changes"] = in.resolution_changes;
+  j["resolution_scale"] = scale;
   J passes = J::object();
   for (auto& [name, s] : passes_)
     passes[name] = {{"mean_ms", s.mean()}, {"min_ms", s.min}, {"max_ms", s.max}, {"median_ms", s.median()}, {"frames", s.count}};

@@ -3,6 +3,8 @@
 //   { "frames", "size": [w, h], "mode", "sim_hz", "seed", "device": {name, driver, api},
 //     "validation_enabled", "validation_errors" (null when validation was off), "peak_gpu_memory_bytes",
 //     "cpu_frame_ms": {mean, min, max, median}, "gpu_frame_ms": {mean, min, max, median},
+//     "budget": {frame_ms, scale, dynamic_resolution},
+//     "resolution_scale": {mean, min, max, median, last, changes}   (the scaled passes' scale per frame),
 //     "passes": { "<pass>": {mean_ms, min_ms, max_ms, median_ms, frames}, ... } }   (passes in frame order)
 #include <cstdint>
 #include <map>
@@ -29,6 +31,7 @@ class RunStats {
   // One frame's GPU pass timings (name, ms) in execution order.
   void add_gpu_frame(const std::vector<std::pair<std::string, double>>& passes);
   void set_frames(uint64_t frames) { frames_ = frames; }
+  void add_resolution_scale(float s) { scale_.add(s), last_scale_ = s; }
 
   struct Info {
     uint32_t width = 0, height = 0;
@@ -41,6 +44,9 @@ class RunStats {
     bool validation_enabled = false;                          // validation layers on (CUMULO_VALIDATION=1)
     uint64_t validation_errors = 0, validation_warnings = 0;  // written as null when validation was off
     uint64_t peak_gpu_memory_bytes = 0;
+    bool dynamic_resolution = false;  // render/dynamic_resolution.h
+    double frame_budget_ms = 0, budget_scale = 1;
+    uint32_t resolution_changes = 0;
   };
   // The JSON text (pretty, keys in a stable order).
   std::string to_json(const Info& info) const;
@@ -51,7 +57,8 @@ class RunStats {
 
  private:
   uint64_t frames_ = 0;
-  MinMaxMean cpu_, gpu_total_;
+  MinMaxMean cpu_, gpu_total_, scale_;
+  float last_scale_ = 1.0f;
   std::vector<std::pair<std::string, MinMaxMean>> passes_;  // frame order of first appearance
 };
 

@@ -63,7 +63,8 @@ int run_windowed(RunContext& rc) {
   add_module_features(rc, renderer);
   gpu::FrameRing frames(ctx);
   // Modules' UIs live from here until the guard goes (first of all, device idle, before the renderer).
-  WindowServices services{*window, ctx, renderer, rc.opt.mode};
+  configure_resolution(rc, ctx, true);
+  WindowServices services{*window, ctx, renderer, rc.opt.mode, rc.resolution};
   struct UiGuard {
     gpu::Context& ctx;
     const Modules& modules;
@@ -121,7 +122,10 @@ int run_windowed(RunContext& rc) {
 
     gpu::Frame& f = frames.begin();
     auto timings = renderer.pass_timings();  // the previous frame's, when it has completed
-    if (rendered > 0) rc.stats.add_gpu_frame(timings);
+    if (rendered > 0) {
+      rc.stats.add_gpu_frame(timings);
+      after_frame(rc, timings, dt * 1000.0, last.resolution_scale);
+    }
     std::optional<uint32_t> image = swapchain.acquire(f.acquired);
     if (!image) {  // out of date: nothing was signalled; submit the empty frame to keep the ring in step
       frames.submit(f);
@@ -130,6 +134,7 @@ int run_windowed(RunContext& rc) {
     }
     VkExtent2D extent = swapchain.extent();
     last = extract(rc, extent.width, extent.height, rendered + 1);
+    last.resolution_scale = next_resolution_scale(rc);
     render::RenderTarget target;
     target.image = swapchain.image(*image);
     target.view = swapchain.view(*image);
@@ -153,8 +158,9 @@ int run_windowed(RunContext& rc) {
       // A failed hot reload keeps the old pipeline; say so where the user is looking (details in the log).
       std::string errors = renderer.shader_errors();
       // The frame number lets a tool driving the window (tests/editor/editor_person_xvfb.sh) wait for frames.
-      window->set_title(strf("cumulo - %s - %.1f ms (%s budget %.1f ms) - frame %llu%s", rc.sim.level().name.c_str(),
-                             dt * 1000.0, render::budget_mode_name(o.mode), target_s * 1000.0,
+      window->set_title(strf("cumulo - %s - %.1f ms (%s budget %.1f ms, clouds at %.0f %%) - frame %llu%s",
+                             rc.sim.level().name.c_str(), dt * 1000.0, render::budget_mode_name(o.mode),
+                             rc.resolution.budget_ms(o.mode), 100.0 * last.resolution_scale,
                              static_cast<unsigned long long>(rendered),
                              errors.empty() ? "" : " - SHADER ERROR, old pipeline kept (see log)"));
       title_clock.reset();

@@ -100,6 +100,9 @@ class SnapshotExtensions {
 struct FrameSnapshot {
   uint32_t width = 0, height = 0;
   BudgetMode mode = BudgetMode::Hz30;
+  // The passes that can scale (the cloud march, the 2.5D sky) render at this fraction of the output's
+  // width and height (dynamic_resolution.h; 1 unless the run's dynamic resolution or --resolution-scale set it).
+  float resolution_scale = 1.0f;
   uint64_t frame_index = 0;
   double sim_time = 0.0;
   uint64_t sim_step = 0;

@@ -10,12 +10,11 @@ GpuHistory::GpuHistory(std::string name, VkFormat format, float size_scale, VkIm
     : history_(std::move(name)), format_(format), scale_(size_scale), usage_(usage) {}
 
 HistoryHandles GpuHistory::import(gpu::Context& ctx, RenderGraph& graph) {
-  VkExtent2D out = graph.output_size();
-  auto scaled = [&](uint32_t v) { return std::max(1u, uint32_t(std::lround(double(v) * scale_))); };
-  TextureDesc desc = TextureDesc::absolute(format_, scaled(out.width), scaled(out.height));
+  const VkExtent2D size = relative_extent(graph.output_size(), scale_);
+  TextureDesc desc = TextureDesc::absolute(format_, size.width, size.height);
   const TextureDesc& have = history_.desc();
   if (!history_.has_images() || have.width != desc.width || have.height != desc.height || have.format != desc.format) {
-    if (history_.has_images()) ctx.wait_idle();  // a resize: frames in flight may still read the old pair
+    if (history_.has_images()) ctx.wait_idle();  // a resize or a new scale: frames in flight may still read the old pair
     for (int i = 0; i < 2; ++i) {
       std::string n = history_.name() + (i ? " [1]" : " [0]");
       images_[i] = gpu::Image(ctx, gpu::ImageDesc::tex2d(desc.width, desc.height, format_, usage_, 1, n.c_str()));

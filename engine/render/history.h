@@ -26,6 +26,9 @@ class GpuHistory {
   // replaced, i.e. on a resize), then flips and imports the pair.
   HistoryHandles import(gpu::Context& ctx, RenderGraph& graph);
   void invalidate() { history_.invalidate(); }
+  // A new size relative to the output (dynamic resolution): the next import replaces the images.
+  void set_scale(float size_scale) { scale_ = size_scale; }
+  float scale() const { return scale_; }
   void reset() { images_[0] = {}; images_[1] = {}; }  // frees the images (destroy_gpu)
   const HistoryTexture& texture() const { return history_; }
 

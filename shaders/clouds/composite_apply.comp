@@ -14,6 +14,8 @@
 // hazed at its own half-opacity depth, the nearer one over the farther (the voxel clouds stand in front
 // of the shell's clouds from the ground; from above, the shell's may be nearer). Where the scene's
 // geometry is nearer than the sky's depth, the upsampled sky is dropped (no halo around terrain).
+// UPSAMPLE 1: the voxel clouds were marched below the output's size (dynamic resolution): upsampled
+// depth-aware against the scene's depth (depth_aware_upsample.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 
@@ -34,10 +36,18 @@ layout(push_constant) uniform Push { CloudMarchPush pc; };
 #include "engine/atmosphere_common.glsl"
 layout(set = 0, binding = CLOUD_BINDING_AERIAL) uniform sampler3D aerial_tex;
 #endif
+#ifndef UPSAMPLE
+#define UPSAMPLE 0
+#endif
 #if SKY_LAYER
 layout(set = 0, binding = CLOUD_BINDING_SKY_COLOR) uniform sampler2D sky_tex;
 layout(set = 0, binding = CLOUD_BINDING_SKY_DEPTH) uniform sampler2D sky_depth_tex;
+#endif
+#if SKY_LAYER || UPSAMPLE
 layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH_COMPOSITE) uniform sampler2D scene_depth_tex;
+#endif
+#if UPSAMPLE
+#include "clouds/depth_aware_upsample.glsl"
 #endif
 
 vec3 heat(float x) {
@@ -75,24 +85,32 @@ void main() {
   ivec2 size = ivec2(pc.target.xy);
   if (any(greaterThanEqual(pixel, size))) return;
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
-  vec4 c = texelFetch(clouds_tex, pixel, 0);
   vec4 scene = imageLoad(hdr, pixel);
   vec4 h = P.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
   vec3 ro = P.camera_pos.xyz;
   vec3 dir = normalize(h.xyz / h.w - ro);
-  float depth50 = texelFetch(cloud_depth, pixel, 0).x;
-  // Each layer as (radiance after haze, transmittance), hazed at its own depth.
-  vec3 voxel_rgb = hazed(c, depth50, ro, dir, uv);
-  vec3 rgb = scene.rgb * c.a + voxel_rgb;
-#if SKY_LAYER
-  vec4 s = textureLod(sky_tex, uv, 0.0);
-  float sky50 = textureLod(sky_depth_tex, uv, 0.0).x;
+#if SKY_LAYER || UPSAMPLE
   float d = textureLod(scene_depth_tex, uv, 0.0).r;
   float t_scene = 1e30;
   if (d > 0.0) {
     vec4 w = P.inv_view_proj * vec4(uv * 2.0 - 1.0, d, 1.0);
     t_scene = distance(w.xyz / w.w, ro);
   }
+#endif
+#if UPSAMPLE
+  vec4 c, cd;
+  depth_aware_upsample(clouds_tex, cloud_depth, pixel, size, min(t_scene, 1e6), c, cd);
+#else
+  vec4 c = texelFetch(clouds_tex, pixel, 0);
+  vec4 cd = texelFetch(cloud_depth, pixel, 0);
+#endif
+  float depth50 = cd.x;
+  // Each layer as (radiance after haze, transmittance), hazed at its own depth.
+  vec3 voxel_rgb = hazed(c, depth50, ro, dir, uv);
+  vec3 rgb = scene.rgb * c.a + voxel_rgb;
+#if SKY_LAYER
+  vec4 s = textureLod(sky_tex, uv, 0.0);
+  float sky50 = textureLod(sky_depth_tex, uv, 0.0).x;
   if (s.a < 1.0 && sky50 < t_scene) {
     vec3 sky_rgb = hazed(s, min(sky50, 9e4), ro, dir, uv);
     if (sky50 >= depth50) rgb = (scene.rgb * s.a + sky_rgb) * c.a + voxel_rgb;  // the shell behind the voxel clouds
@@ -101,7 +119,7 @@ void main() {
 #endif
   uint view = P.frame.w;
   if (view == CLOUD_DEBUG_STEPS) {
-    rgb = heat(texelFetch(cloud_depth, pixel, 0).y / max(P.march.w, 1.0));
+    rgb = heat(cd.y / max(P.march.w, 1.0));
   } else if (view == CLOUD_DEBUG_LIGHT_GRID) {
     vec2 g = textureLod(debug_grid, vec3(uv.x, P.misc.z, uv.y / float(max(P.frame.y, 1u))), 0.0).xy;
     rgb = vec3(exp(-g.x * P.march.x), exp(-g.y * P.march.x), 0.0);

@@ -45,7 +45,8 @@ void main() {
     vec4 w = S.inv_view_proj * vec4(uv * 2.0 - 1.0, d, 1.0);
     dist = distance(w.xyz / w.w, ro);
   }
-  if (texelFetch(clouds_tex, pixel, 0).a < 0.5) dist = min(dist, texelFetch(cloud_depth, pixel, 0).x);
+  // By uv, nearest: the clouds may be below the output's size (dynamic resolution).
+  if (textureLod(clouds_tex, uv, 0.0).a < 0.5) dist = min(dist, textureLod(cloud_depth, uv, 0.0).x);
   float inscatter = 1.0 - exp(-haze_depth(ro, dir, dist));
   vec3 mie = S.sun_color.rgb * henyey_greenstein(mu, S.mie.x) * inscatter * S.mie.y;
   float shafts = textureLod(shafts_tex, uv, 0.0).r;

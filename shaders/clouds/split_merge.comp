@@ -3,11 +3,12 @@
 // Meters: 480px * 270px, > 200 Meters: 960px * 540px"). The near segment was marched at half
 // resolution, the far one at full; here the near layer is upsampled depth-aware and composited in
 // front of the far one: radiance = near.rgb + near.a * far.rgb, transmittance = near.a * far.a.
-// Depth-aware: of the 4 bilinear half-resolution taps, each is weighted by how closely its clipped
-// near-segment end (depth image z: min(split, scene distance)) matches this pixel's, so near cloud does
-// not bleed across a terrain silhouette into the pixels next to it.
+// Depth-aware (depth_aware_upsample.glsl): of the 4 bilinear half-resolution taps, each is weighted by how
+// closely its clipped near-segment end (depth image z: min(split, scene distance)) matches this pixel's,
+// so near cloud does not bleed across a terrain silhouette into the pixels next to it.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "clouds/depth_aware_upsample.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
@@ -28,26 +29,8 @@ void main() {
   // This pixel's near-segment end: min(split, scene distance along the ray) = min(split, far_d.z).
   float own_end = min(P.steps.x, far_d.z);
 
-  ivec2 near_size = textureSize(near_tex, 0);
-  vec2 p = (vec2(pixel) + 0.5) * vec2(near_size) / vec2(size) - 0.5;
-  ivec2 base = ivec2(floor(p));
-  vec2 f = p - vec2(base);
-  vec4 near_c = vec4(0.0);
-  vec4 near_dv = vec4(0.0);
-  float wsum = 0.0;
-  for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i) {
-      ivec2 q = clamp(base + ivec2(i, j), ivec2(0), near_size - 1);
-      float bil = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
-      vec4 d = texelFetch(near_depth, q, 0);
-      float rel = abs(d.z - own_end) / max(own_end, 1.0);
-      float w = bil * exp(-rel * 20.0) + 1e-5 * bil;
-      near_c += texelFetch(near_tex, q, 0) * w;
-      near_dv += d * w;
-      wsum += w;
-    }
-  near_c /= wsum;
-  near_dv /= wsum;
+  vec4 near_c, near_dv;
+  depth_aware_upsample(near_tex, near_depth, pixel, size, own_end, near_c, near_dv);
 
   vec4 color = vec4(near_c.rgb + near_c.a * far_c.rgb, near_c.a * far_c.a);
   float depth = near_c.a < 0.5 ? near_dv.x : far_d.x;

@@ -27,6 +27,23 @@ void add_module_features(RunContext& rc, render::FrameRenderer& renderer) {
   for (const auto& m : rc.modules) renderer.add_feature(*m);
 }
 
+void configure_resolution(RunContext& rc, const gpu::Context& ctx, bool windowed) {
+  rc.resolution.set_budget_scale(rc.opt.budget_scale.value_or(render::default_budget_scale(ctx.info().is_cpu())));
+  rc.resolution.set_enabled(!rc.opt.resolution_scale && rc.opt.dynamic_resolution.value_or(windowed));
+}
+
+float next_resolution_scale(const RunContext& rc) {
+  return rc.opt.resolution_scale ? *rc.opt.resolution_scale : rc.resolution.scale();
+}
+
+void after_frame(RunContext& rc, const std::vector<std::pair<std::string, double>>& timings, double wall_ms,
+                 float frame_scale) {
+  double gpu_ms = 0.0;
+  for (const auto& t : timings) gpu_ms += t.second;
+  rc.resolution.update(timings.empty() ? wall_ms : gpu_ms, rc.opt.mode);
+  rc.stats.add_resolution_scale(frame_scale);
+}
+
 void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {
   if (rc.opt.stats.empty()) return;
   RunStats::Info info;
@@ -48,6 +65,10 @@ void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {
   info.validation_errors = ctx.validation_errors();
   info.validation_warnings = ctx.validation_warnings();
   info.peak_gpu_memory_bytes = ctx.allocator().stats().peak_allocated_bytes;
+  info.dynamic_resolution = rc.resolution.enabled();
+  info.frame_budget_ms = rc.resolution.budget_ms(rc.opt.mode);
+  info.budget_scale = rc.resolution.budget_scale();
+  info.resolution_changes = rc.resolution.changes();
   write_file_atomic(rc.opt.stats, rc.stats.to_json(info));
   std::printf("cumulo: wrote stats %s\n", rc.opt.stats.c_str());
 }

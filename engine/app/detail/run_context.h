@@ -7,6 +7,7 @@
 #include "engine/app/run_options.h"
 #include "engine/app/run_stats.h"
 #include "engine/app/simulation.h"
+#include "engine/render/dynamic_resolution.h"
 #include "engine/render/frame_snapshot.h"
 
 namespace cumulo::gpu {
@@ -26,6 +27,7 @@ struct RunContext {
   ecs::Entity camera;
   FixedStepClock clock;
   RunStats stats;
+  render::DynamicResolution resolution;  // --dynamic-resolution (configure_resolution sets it up)
   RunContext(const RunOptions& o, const SimulationDesc& d) : opt(o), modules(d.modules), sim(d), clock(o.sim_hz) {}
 };
 
@@ -33,6 +35,15 @@ struct RunContext {
 void add_module_features(RunContext& rc, render::FrameRenderer& renderer);
 // Extract phase + snapshot of the camera entity at w x h, with every module's extension.
 render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t frame);
+// Dynamic resolution from the flags and the device: on by default in a window, off headless; the
+// budget scale the device's default unless --budget-scale.
+void configure_resolution(RunContext& rc, const gpu::Context& ctx, bool windowed);
+// The scale the next frame renders at: --resolution-scale, else the dynamic one (1 when off).
+float next_resolution_scale(const RunContext& rc);
+// After a frame completed: its GPU pass timings (the wall clock `wall_ms` when the device has none) feed
+// the controller, and the scale it ran at goes into the stats.
+void after_frame(RunContext& rc, const std::vector<std::pair<std::string, double>>& timings, double wall_ms,
+                 float frame_scale);
 // Writes --stats (if asked).
 void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h);
 // Writes --dump-graph: Graphviz when the path ends in .dot, text otherwise.

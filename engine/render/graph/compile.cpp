@@ -129,8 +129,8 @@ void Compiler::describe_resources() {
     if (t.width > 0) {
       r.extent = {t.width, t.height, t.depth};
     } else {
-      auto scaled = [&](uint32_t v) { return std::max(1u, uint32_t(std::lround(double(v) * t.size_scale))); };
-      r.extent = {scaled(output_size_.width), scaled(output_size_.height), t.depth};
+      const VkExtent2D e = relative_extent(output_size_, t.size_scale);
+      r.extent = {e.width, e.height, t.depth};
     }
   }
 }

@@ -51,6 +51,8 @@
 //   frame left them in and get no final barrier: the next frame's first use orders itself after it.
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -81,6 +83,13 @@ enum class Usage : uint8_t {
 const char* usage_name(Usage usage);
 
 enum class ImageType : uint8_t { Image2D, Image3D };
+
+// The size of a texture `scale` times the output's (at least 1x1): what TextureDesc::relative gets, for
+// code that must know it before compile (dispatch sizes, a history's images).
+inline VkExtent2D relative_extent(VkExtent2D output, float scale) {
+  auto scaled = [scale](uint32_t v) { return std::max(1u, uint32_t(std::lround(double(v) * scale))); };
+  return {scaled(output.width), scaled(output.height)};
+}
 
 // A transient texture: allocated (and possibly aliased) by the graph, contents live for one frame.
 struct TextureDesc {

@@ -119,15 +119,16 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   CloudPassOutputs outputs;
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_);
   light_ = {};
-  if (measure_steps_ && outputs.depth.valid()) add_steps_readback(f, outputs.depth);
+  if (measure_steps_ && outputs.depth.valid())
+    add_steps_readback(f, outputs.depth, cumulo::render::relative_extent(f.graph.output_size(), in.resolution_scale));
   const CloudFramePassContext context{f, *frame, in, outputs};
   for (CloudFramePass* p : drawn_passes_) f.hdr = p->add_passes(context);
   if (hdr_capture_) hdr_capture_->add_pass(f.graph, f.hdr);
 }
 
-void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth) {
+void CloudFeature::add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth,
+                                      VkExtent2D size) {
   using namespace cumulo::render;
-  const VkExtent2D size = f.graph.output_size();
   const uint64_t pixels = uint64_t(size.width) * size.height;
   if (!steps_buffer_ || steps_pixels_ != pixels) {
     if (steps_buffer_) ctx_->wait_idle();

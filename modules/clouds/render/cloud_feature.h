@@ -70,7 +70,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   static constexpr const char* kStepsReadbackPass = "clouds.steps_readback";
 
  private:
-  void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth);
+  // `size`: the march's (dynamic resolution), what `depth` holds.
+  void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth, VkExtent2D size);
   // This frame's inputs from the snapshot (once per frame, at Stage::BeforeScene: the camera-cut state).
   CloudFrameInputs frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame);
   // Between the stages of one frame: its inputs and light passes (handles of that frame's graph).

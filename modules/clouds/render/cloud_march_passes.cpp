@@ -24,7 +24,7 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
   const std::vector<TextureHandle>& coverages = light.coverages;
   const std::vector<TextureHandle>& fairs = light.fairs;
   const TextureHandle modeling = modelings[0], field = fields[0], noise = light.noise, grid = light.grid;
-  const VkExtent2D size = graph.output_size();
+  const VkExtent2D size = march_extent(graph, in);
   const glm::uvec2 sub_offset = rp.sub_offset;
   CloudResources* r = &res;
   constexpr VkDeviceSize kUboSize = kParamsSize;
@@ -87,7 +87,7 @@ void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFram
                         TextureHandle& color, TextureHandle& cdepth, TextureHandle front = {}) {
   const uint32_t block = rp.block;
   if (block <= 1) return add_march(res, graph, in, light, rp, depth, ubo, name, segment, color, cdepth, front);
-  const VkExtent2D size = graph.output_size();
+  const VkExtent2D size = march_extent(graph, in);
   const uint32_t sw = (size.width + block - 1) / block, sh = (size.height + block - 1) / block;
   TextureHandle sub_c = graph.create_texture("clouds.sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
   TextureHandle sub_d = graph.create_texture("clouds.sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
@@ -137,6 +137,7 @@ Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const 
   rp.block = reprojection_block(in.settings);
   if (rp.block > 1) {
     if (in.camera_cut || res.recon_block != rp.block) res.recon_history.invalidate();
+    res.recon_history.set_scale(in.resolution_scale);  // a new scale replaces the pair (history invalid)
     const cumulo::render::HistoryHandles h = res.recon_history.import(res.ctx, graph);
     rp.history = {h.previous, h.current, h.valid};
     rp.sub_offset = reprojection_offset(rp.block, in.frame_index);
@@ -149,8 +150,9 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
                               const CloudLightOutputs& light, const Reprojection& rp, TextureHandle depth, VkBuffer ubo) {
   const CloudSettings& s = in.settings;
   MarchOutputs m;
-  m.color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat));
-  m.depth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat));
+  const float rs = in.resolution_scale;
+  m.color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat, rs));
+  m.depth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat, rs));
   // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
   // the near segment is empty, so its half-resolution march and the merge are skipped and the far
   // march runs over the whole ray (the same samples: none lie nearer than the split). The split
@@ -162,10 +164,10 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
   } else if (near_empty) {
     add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_ALL, m.color, m.depth);
   } else {
-    TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f));
-    TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f));
-    TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat));
-    TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat));
+    TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f * rs));
+    TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f * rs));
+    TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat, rs));
+    TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat, rs));
     add_march(res, graph, in, light, rp, depth, ubo, "clouds.march_near", CLOUD_SEGMENT_NEAR, near_c, near_d);
     add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
     add_split_merge(res, graph, near_c, near_d, far_c, far_d, ubo, m.color, m.depth);

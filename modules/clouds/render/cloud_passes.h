@@ -77,7 +77,9 @@ struct CloudResources {
   gpu::Pipeline* grid_pipe = nullptr;
   gpu::Pipeline* temporal_pipe = nullptr;
   gpu::Pipeline* merge_pipe = nullptr;
-  gpu::Pipeline* composite_pipes[2][2] = {};  // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)]
+  // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)][clouds below the output's size (UPSAMPLE),
+  // made on first use]
+  gpu::Pipeline* composite_pipes[2][2][2] = {};
   gpu::Pipeline* shadow_pipe = nullptr;
   // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
   gpu::Image shadow_image;
@@ -116,6 +118,17 @@ struct CloudResources {
     march_pipes[key] = &p;
     return p;
   }
+  gpu::Pipeline& composite(bool sky, bool aerial, bool upsample) {
+    gpu::Pipeline*& p = composite_pipes[sky][aerial][upsample];
+    if (!p)
+      p = &library.compute({.shader = "clouds/composite_apply.comp",
+                            .defines = {{"SKY_LAYER", sky ? "1" : "0"},
+                                        {"AERIAL", aerial ? "1" : "0"},
+                                        {"UPSAMPLE", upsample ? "1" : "0"}},
+                            .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") +
+                                    (aerial ? " (aerial froxels)" : "") + (upsample ? " (upsampled)" : "")});
+    return *p;
+  }
   gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
     MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture};
     auto it = march_pipes.find(key);
@@ -146,6 +159,11 @@ struct CloudResources {
 };
 
 
+// The size the march and its reconstruction render at: the output's times the frame's resolution scale.
+inline VkExtent2D march_extent(const RenderGraph& graph, const CloudFrameInputs& in) {
+  return cumulo::render::relative_extent(graph.output_size(), in.resolution_scale);
+}
+
 inline shared::CloudMarchPush target_push(VkExtent3D e) {
   shared::CloudMarchPush pc{};
   pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
@@ -171,8 +189,9 @@ struct HistoryImports {
   TextureHandle prev, next;
   bool valid = false;
 };
-inline HistoryImports import_history(CloudResources& res, RenderGraph& graph, bool camera_cut) {
+inline HistoryImports import_history(CloudResources& res, RenderGraph& graph, bool camera_cut, float scale) {
   if (camera_cut || !res.history_on) res.history.invalidate();
+  res.history.set_scale(scale);  // a new scale replaces the pair (history invalid)
   const cumulo::render::HistoryHandles h = res.history.import(res.ctx, graph);
   res.history_on = true;
   return {h.previous, h.current, h.valid};

@@ -238,11 +238,7 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
   for (int sky = 0; sky < 2; ++sky)
-    for (int aerial = 0; aerial < 2; ++aerial)
-      res->composite_pipes[sky][aerial] = &library.compute(
-          {.shader = "clouds/composite_apply.comp",
-           .defines = {{"SKY_LAYER", sky ? "1" : "0"}, {"AERIAL", aerial ? "1" : "0"}},
-           .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") + (aerial ? " (aerial froxels)" : "")});
+    for (int aerial = 0; aerial < 2; ++aerial) res->composite(sky, aerial, false);
   res->shadow_pipe = &library.compute({.shader = "clouds/shadow_map.comp", .name = "clouds.shadow_map"});
   res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true, true);  // the common variant, built up front
   res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
@@ -259,6 +255,7 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
   in.time = snap.sim_time;
   in.slot = slot;
   in.settings = settings;
+  in.resolution_scale = std::isfinite(snap.resolution_scale) ? std::clamp(snap.resolution_scale, 0.25f, 1.0f) : 1.0f;
   apply_budget_mode(in.settings, cumulo::render::budget_hz(snap.mode));
   in.sun_direction = cumulo::render::key_light_direction(snap);  // the sun, or the moon at night
   // The key light's irradiance at the ground: pi x the Lambertian radiance the geometry is lit with (the
@@ -362,7 +359,7 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
   out.grid = graph.import_persistent(res.grid_texture);
   // The light passes read the instances of this frame's parameters; add_cloud_passes writes the block
   // again (history, reprojection) before the frame is submitted, with the same instances.
-  const VkBuffer ubo = write_params(res, in, graph.output_size(), false, out.slots);
+  const VkBuffer ubo = write_params(res, in, march_extent(graph, in), false, out.slots);
   out.grid = add_light_grid_pass(res, graph, in, work, out, out.grid, ubo);  // 1. the light grid
   add_shadow_map_pass(res, graph, in, work.any, ubo, out);                   // 1b. the clouds' shadow on the scene
   return out;
@@ -378,10 +375,10 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   }
   const CloudSettings& s = in.settings;
   HistoryImports history;
-  if (s.temporal) history = import_history(res, graph, in.camera_cut);
+  if (s.temporal) history = import_history(res, graph, in.camera_cut, in.resolution_scale);
   else res.history_on = false;
   const Reprojection rp = import_reprojection(res, graph, in);
-  const VkBuffer ubo = write_params(res, in, graph.output_size(), history.valid, light->slots);
+  const VkBuffer ubo = write_params(res, in, march_extent(graph, in), history.valid, light->slots);
   res.prev_view_proj = in.camera.view_proj;
   const MarchOutputs march = add_march_passes(res, graph, in, *light, rp, depth, ubo);          // 2. the march
   const TextureHandle color = s.temporal ? add_temporal_pass(res, graph, march, history, ubo)  // 3. temporal

@@ -286,6 +286,9 @@ struct CloudFrameInputs {
   glm::mat4 terrain_depth_matrix{1.0f};
   float terrain_depth_range_m = 1.0f;
   bool camera_cut = false;                    // history invalid this frame
+  // The march, its reconstruction and history and the 2.5D sky at this fraction of the output's width and
+  // height (dynamic resolution, FrameSnapshot::resolution_scale); the composite upsamples them depth-aware.
+  float resolution_scale = 1.0f;
   bool rebuild_light_grid = false;            // force a full light-grid rebuild
   CloudSettings settings;
 };

@@ -37,7 +37,11 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
                                  TextureHandle depth, TextureHandle hdr, VkBuffer ubo_handle) {
   const bool sky = in.sky_color.valid() && in.sky_depth.valid();
   const bool aerial = in.aerial.valid();
-  gpu::Pipeline* comp = res.composite_pipes[sky ? 1 : 0][aerial ? 1 : 0];
+  // Clouds below the output's size (dynamic resolution): upsampled depth-aware against the scene's depth.
+  const VkExtent2D out = graph.output_size(), clouds = march_extent(graph, in);
+  const bool upsample = clouds.width != out.width || clouds.height != out.height;
+  const bool scene_depth = sky || upsample;
+  gpu::Pipeline* comp = &res.composite(sky, aerial, upsample);
   CloudResources* r = &res;
   const TextureHandle grid = light.grid;
   const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth, aerial_tex = in.aerial;
@@ -49,12 +53,12 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
         if (sky) {
           b.read(sky_color, Usage::Sampled);
           b.read(sky_depth, Usage::Sampled);
-          b.read(depth, Usage::Sampled);
         }
+        if (scene_depth) b.read(depth, Usage::Sampled);
         if (aerial) b.read(aerial_tex, Usage::Sampled);
         hdr = b.read_write(hdr, Usage::StorageWrite);
       },
-      [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth, aerial,
+      [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth, scene_depth, aerial,
        aerial_tex](PassContext& c) {
         Bindings bind(*comp);
         bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kParamsSize)
@@ -64,8 +68,9 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
             .storage(CLOUD_BINDING_HDR, c.view(hdr));
         if (sky)
           bind.sampled(CLOUD_BINDING_SKY_COLOR, c.view(sky_color), r->linear_clamp, c.layout(sky_color))
-              .sampled(CLOUD_BINDING_SKY_DEPTH, c.view(sky_depth), r->nearest_clamp, c.layout(sky_depth))
-              .sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
+              .sampled(CLOUD_BINDING_SKY_DEPTH, c.view(sky_depth), r->nearest_clamp, c.layout(sky_depth));
+        if (scene_depth)
+          bind.sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
         if (aerial) bind.sampled(CLOUD_BINDING_AERIAL, c.view(aerial_tex), r->linear_clamp, c.layout(aerial_tex));
         bind.push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(hdr);

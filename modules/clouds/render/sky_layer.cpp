@@ -276,21 +276,24 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
   std::memcpy(recon_ubo.mapped(), &cp, sizeof cp);
   m.prev_view_proj = in.camera.view_proj;
 
+  // Half resolution, times the frame's resolution scale (dynamic resolution; a new scale replaces the history).
+  const float scale = 0.5f * in.resolution_scale;
   if (in.camera_cut || !s.temporal) m.history.invalidate();
+  m.history.set_scale(scale);
   const cumulo::render::HistoryHandles h = m.history.import(m.ctx, graph);
 
   // One pixel of each 4x4 block of the half-resolution target per frame, in Bayer order.
   constexpr uint32_t kBlock = 4;
   const glm::uvec2 offset = s.temporal ? reprojection_offset(kBlock, in.frame_index) : glm::uvec2(0, 0);
-  const VkExtent2D full = graph.output_size();
-  const uint32_t hw = std::max(1u, (full.width + 1) / 2), hh = std::max(1u, (full.height + 1) / 2);
+  const VkExtent2D half = cumulo::render::relative_extent(graph.output_size(), scale);
+  const uint32_t hw = half.width, hh = half.height;
   const uint32_t sw = (hw + kBlock - 1) / kBlock, sh = (hh + kBlock - 1) / kBlock;
   TextureHandle sub_c =
       graph.create_texture("clouds.sky_layer.sub_color", TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, sw, sh));
   TextureHandle sub_d =
       graph.create_texture("clouds.sky_layer.sub_depth", TextureDesc::absolute(VK_FORMAT_R32G32B32A32_SFLOAT, sw, sh));
   TextureHandle out_d =
-      graph.create_texture("clouds.sky_layer.depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, 0.5f));
+      graph.create_texture("clouds.sky_layer.depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, scale));
   TextureHandle base = graph.import_texture("clouds.sky_layer.base_noise", texture_desc_3d(m.base), m.base.handle(),
                                             m.base.view(), cumulo::render::ResourceState::shader_read_only());
   TextureHandle detail =

@@ -72,6 +72,34 @@ TEST(RunOptions, BadValuesAreClearErrors) {
   EXPECT_NE(message({"l.json", "--sim-hz", "0"}).find("--sim-hz: 0 is out of range (expected 1..1000)"), std::string::npos);
 }
 
+TEST(RunOptions, BudgetAndResolutionFlags) {
+  auto o = parse({"l.json"});
+  ASSERT_TRUE(o);
+  EXPECT_FALSE(o->dynamic_resolution) << "unset: the loop decides (on in a window, off headless)";
+  EXPECT_FALSE(o->budget_scale);
+  EXPECT_FALSE(o->resolution_scale);
+  o = parse({"l.json", "--dynamic-resolution", "on", "--budget-scale", "2.5"});
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->dynamic_resolution, true);
+  EXPECT_DOUBLE_EQ(o->budget_scale.value_or(0), 2.5);
+  o = parse({"l.json", "--resolution-scale", "0.75"});
+  ASSERT_TRUE(o);
+  EXPECT_FLOAT_EQ(o->resolution_scale.value_or(0), 0.75f);
+  auto message = [](std::vector<std::string> a) {
+    try {
+      parse(a);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_NE(message({"l.json", "--resolution-scale", "0.5", "--dynamic-resolution", "on"}).find("not both"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--resolution-scale", "2"}).find("--resolution-scale: 2 is out of range"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--resolution-scale", "nan"}).find("finite"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--budget-scale", "0"}).find("--budget-scale: 0 is out of range"), std::string::npos);
+  EXPECT_NE(message({"l.json", "--dynamic-resolution", "maybe"}).find("--dynamic-resolution"), std::string::npos);
+}
+
 TEST(RunOptions, SizeParser) {
   uint32_t w = 0, h = 0;
   parse_size("160x90", w, h);
