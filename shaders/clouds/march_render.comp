@@ -7,6 +7,7 @@
 // where it intersects geometry, whichever is closer"), then marched:
 //   adaptive_step = max(1.0, max(sqrt(distance), EPSILON) * 0.08)        (talk)
 //   step          = max(sdf_cloud_distance, adaptive_step)                (talk)
+//   (CloudSettings::step_growth > 1: the in-cloud step grows behind an optical depth and in thin cloud, below)
 //   sample at distance + jitter, jitter = hash * step * P.misc.x, hash animated per frame within
 //   P.steps.y (250 m, talk: "distance_from_camera < 250.0 ? animated_hash : static_hash"), static beyond.
 //   The talk's two listings disagree on where the jitter goes (the slide adds it to the step, the HLSL
@@ -81,6 +82,9 @@ float march_distance(sampler3D field, sampler3D fair, CloudInstanceParams inst, 
 #if SEGMENT == CLOUD_SEGMENT_FAR
 layout(set = 0, binding = CLOUD_BINDING_NEAR_IN) uniform sampler2D near_color;
 #endif
+
+// The optical depth a grown in-cloud step may span at the last sample's extinction (CloudSettings::step_growth).
+const float kStepOpticalDepth = 0.1;
 
 struct PixelData {
   vec3 radiance;
@@ -194,6 +198,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
   // absent sheets cost a fair-weather view ~2x its steps without this.
   float absent_step = 2.0 * (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field, 0).x) * scale;
 #endif
+  float sigma_prev = 1e30;  // the last sample's extinction (1/m): none yet
   for (uint s = 0u; s < max_steps; ++s) {
     if (t >= t1 || px.transmittance * t_front < P.march.z) break;
     px.steps += 1.0;
@@ -213,7 +218,12 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
       adaptive = max(1.0, max(sqrt(t), kEpsilon) * 0.08);
     }
     if (t >= t1) break;
-    float step_len = max(sdf, adaptive);
+    // The in-cloud step grows (up to P.light_march.w times the talk's; 1: the talk's step) where a sample
+    // weighs little or changes little: behind an optical depth, as 1 / sqrt(T) (T counts the near layer in
+    // front of a far segment too), and in thin cloud, until a step's optical depth at the last sample's
+    // extinction reaches kStepOpticalDepth (0 density inside the SDF's cloud: the air of a chamber).
+    float growth = max(inversesqrt(max(px.transmittance * t_front, 1e-6)), kStepOpticalDepth / (sigma_prev * adaptive));
+    float step_len = max(sdf, adaptive * clamp(growth, 1.0, P.light_march.w));
     bool inside = sdf < 0.0;
 #else
     float step_len = P.steps.z;
@@ -227,6 +237,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
       vec3 q = ao + ad * ts;
       float mip = noise_mip(ts);
       DensitySample ds = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, ts, mip, true);
+      if (!(ds.full > 0.0)) sigma_prev = 1e-7;
       CLOUD_WHERE(ds.full > 0.0) {
 #if ABLATION != CLOUD_ABLATION_FULL
         sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
@@ -299,6 +310,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
           light_in += P.light_color[l].rgb * (potential * (1.0 - saturate(ds.full * 5.0)));
         }
         float sigma_t = max(ds.full * ext, 1e-7);
+        sigma_prev = sigma_t;
         float tr = exp(-sigma_t * dt);
         vec3 s_in = light_in * (sigma_t * albedo);
         px.radiance += px.transmittance * (s_in - s_in * tr) / sigma_t;

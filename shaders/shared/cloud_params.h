@@ -146,7 +146,8 @@ struct CloudParams {
                         // Beer-Lambert coefficient of other clouds' optical depth on it (ms_other_cloud_attenuation)
   vec4 light_march;     // the marched light samples before the grid (voxel-lighting / full): x their count (the talk: 2),
                         // y each next one's length over the one before (the talk: 1), z their total length (m), where the
-                        // grid takes over; the first one's length is light.x
+                        // grid takes over; the first one's length is light.x; w: the in-cloud step's growth
+                        // cap (CloudSettings::step_growth; 1: the talk's step)
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
 CUMULO_SHARED_SIZE(CloudParams, 1296)

@@ -118,6 +118,11 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "each marched light sample R times longer than the one before, overriding the preset's (talk: 1)",
               &o.light_sample_growth)
       .range(1.0, 4.0)
+      .option("--cloud-step-growth", "X",
+              "the in-cloud step may grow up to X times the talk's adaptive step: as 1 / sqrt(T) behind the view ray's "
+              "transmittance T, and in thin cloud until a step spans an optical depth of 0.1 (default 4; 1: the talk's step)",
+              &o.step_growth)
+      .range(1.0, 16.0)
       .option("--cloud-edge-depth", "X",
               "with the slab lighting, the dark edges from the optical depth to the nearest surface, 1 - exp(-X depth), "
               "overriding the preset's (0: the talks' profile)",

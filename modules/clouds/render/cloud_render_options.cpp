@@ -27,6 +27,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   if (o.light_sample_growth > 0.0f) s.light_sample_growth = o.light_sample_growth;
   if (o.edge_depth >= 0.0f) s.edge_depth_scale = o.edge_depth;
   if (o.ms_lateral >= 0.0f) s.ms_lateral = o.ms_lateral;
+  if (o.step_growth >= 1.0f) s.step_growth = o.step_growth;
   if (o.sky_mean) s.sky_mean_ambient = *o.sky_mean;
   if (o.instance_shadows) s.instance_shadows = *o.instance_shadows;
   return s;

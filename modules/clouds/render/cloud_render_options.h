@@ -43,6 +43,7 @@ struct CloudRenderOptions {
   float edge_depth = -1.0f;             // --cloud-edge-depth
   std::optional<bool> instance_shadows;  // --cloud-instance-shadows
   float ms_lateral = -1.0f;             // --cloud-ms-lateral
+  float step_growth = -1.0f;     // --cloud-step-growth (< 0: the setting's default)
   std::optional<bool> sky_mean;         // --cloud-sky-mean
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.

@@ -80,7 +80,7 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   const float growth = std::max(s.light_sample_growth, 1.0f);
   float reach = 0.0f;
   for (uint32_t k = 0; k < light_samples; ++k) reach += s.light_sample_m * std::pow(growth, float(k));
-  p.light_march = glm::vec4(float(light_samples), growth, reach, 0.0f);
+  p.light_march = glm::vec4(float(light_samples), growth, reach, std::max(s.step_growth, 1.0f));
   p.ms = glm::vec4(s.ms_attenuation_inside, s.ms_attenuation, s.ms_diffusion ? (s.ms_slab ? 2.0f : 1.0f) : 0.0f, s.ms_other_cloud_attenuation);
   p.sky_zenith = glm::vec4(in.sky_zenith, s.ms_slab ? s.ms_anisotropy : 0.0f);
   p.sky_horizon = glm::vec4(in.sky_horizon, s.ms_slab ? s.edge_depth_scale : 0.0f);

@@ -145,6 +145,12 @@ struct CloudSettings {
   float extinction = 0.05f;    // 1/m per unit density (not in the talk: a thick cumulus reaches ~exp(-10) in 200 m)
   float albedo = 0.99f;        // single-scattering albedo of cloud droplets
   float transmittance_limit = 0.01f;  // early exit (talk: view_ray_transmittance_limit)
+  // The in-cloud step (the talk's adaptive step) may grow up to this many times where a sample weighs little or
+  // changes little: behind an optical depth, as 1 / sqrt(T) with T the view ray's transmittance so far (light
+  // from behind an optical depth of 1 reaches the eye at a third of its strength or less), and in thin cloud,
+  // until a step spans an optical depth of 0.1 at the last sample's extinction (march_render.comp). 1: the
+  // talk's step everywhere (`--cloud-step-growth 1`).
+  float step_growth = 4.0f;
   float hg_forward = 0.8f, hg_backward = -0.3f, hg_forward_weight = 0.7f;  // dual-lobe HG (silver lining)
   float ms_strength = 1.0f;           // weight of the multiple-scattering probability field
   // Its Beer-Lambert attenuation (talk: Remap(sun_dot, 0.0, 0.9, 0.25, ValueRemap(cloud_distance, -128.0, 0.0, 0.05,
