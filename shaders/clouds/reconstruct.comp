@@ -13,6 +13,9 @@
 // pixel from the scene depth (the split merge's depth-aware upsample needs it per pixel).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#ifndef CLIP_TO_SPLIT
+#define CLIP_TO_SPLIT 0  // 1: the 40/60 Hz near segment (half resolution), whose rays end at the split distance
+#endif
 #include "engine/runtime_uniform.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
@@ -47,6 +50,9 @@ void main() {
     vec4 w = P.inv_view_proj * vec4(ndc, d, 1.0);
     t_end = distance(w.xyz / w.w, ro);
   }
+#if CLIP_TO_SPLIT
+  t_end = min(t_end, P.steps.x);  // the near segment's rays end at the split (the merge compares these ends)
+#endif
 
   vec4 result = own;
   if (pixel - block * B != offset) {

@@ -14,6 +14,8 @@ using render::CloudRenderOptions;
 // --cloud-reprojection: 1 of N pixels, stored as the block's side (CloudSettings::reprojection_block).
 constexpr std::array kReprojectionNames{EnumName<uint32_t>{0, "auto"}, EnumName<uint32_t>{1, "1"},
                                         EnumName<uint32_t>{2, "4"}, EnumName<uint32_t>{4, "16"}};
+constexpr std::array kNearReprojectionNames{EnumName<uint32_t>{1, "1"}, EnumName<uint32_t>{2, "4"},
+                                            EnumName<uint32_t>{4, "16"}};
 constexpr std::array kLightGridNames{EnumName<bool>{true, "talk"}, EnumName<bool>{false, "device"}};
 constexpr std::array kLightSampleNoiseNames{EnumName<bool>{true, "mean"}, EnumName<bool>{false, "sampled"}};
 
@@ -30,6 +32,10 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "march 1 of N pixels per frame and reproject the rest (with temporal on): 1 every pixel, 4, 16 as in "
               "the 2015 talk, auto (default: 4 at 30 Hz, 16 for the 40/60 Hz far segment)",
               &o.reprojection_block)
+      .choice("--cloud-near-reprojection", kNearReprojectionNames,
+              "the 40/60 Hz near segment (half resolution) marches 1 of N of its pixels per frame and reprojects the "
+              "rest (with temporal on): 1 every pixel, 4 (default), 16",
+              &o.near_reprojection_block)
       .choice("--cloud-light-grid", kLightGridNames,
               "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",
               &o.talk_light_grid)

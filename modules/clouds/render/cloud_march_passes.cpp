@@ -10,10 +10,12 @@ namespace cumulo::clouds::render {
 namespace {
 
 // One march pass into `color` / `cdepth` (their new versions). `front` (far segment only): the near
-// layer, read for its transmittance (early exit). `sub_block` > 1: full-resolution rays, one per block.
+// layer, read for its transmittance (early exit). `sub_block` > 1: rays of the `target`-sized image, one per
+// block (at `sub_offset` in it).
 void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, const CloudLightOutputs& light,
-               const Reprojection& rp, TextureHandle depth, VkBuffer ubo_handle, const char* name, int segment,
-               TextureHandle& color, TextureHandle& cdepth, TextureHandle front = {}, uint32_t sub_block = 1) {
+               TextureHandle depth, VkBuffer ubo_handle, const char* name, int segment, TextureHandle& color,
+               TextureHandle& cdepth, TextureHandle front = {}, uint32_t sub_block = 1, VkExtent2D target = {},
+               glm::uvec2 sub_offset = {0, 0}) {
   const CloudSettings& s = in.settings;
   const bool terrain = s.terrain_shadow && in.terrain_depth.valid();
   const TextureHandle terrain_depth = in.terrain_depth;
@@ -24,8 +26,7 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
   const std::vector<TextureHandle>& coverages = light.coverages;
   const std::vector<TextureHandle>& fairs = light.fairs;
   const TextureHandle modeling = modelings[0], field = fields[0], noise = light.noise, grid = light.grid;
-  const VkExtent2D size = march_extent(graph, in);
-  const glm::uvec2 sub_offset = rp.sub_offset;
+  const VkExtent2D size = target;
   CloudResources* r = &res;
   constexpr VkDeviceSize kUboSize = kParamsSize;
   graph.add_pass(name, Queue::Compute,
@@ -70,7 +71,7 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
         bind.push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(color);
         if (sub_block > 1) {
-          // Full-resolution rays, one per block: the image written is the sub-sampled one.
+          // The target's rays, one per block: the image written is the sub-sampled one.
           shared::CloudMarchPush pc = target_push({size.width, size.height, 1});
           pc.sub = glm::vec4(float(sub_block), float(sub_offset.x), float(sub_offset.y), 0.0f);
           pipe->push_constants(c.cmd(), pc);
@@ -86,15 +87,35 @@ void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFram
                         const Reprojection& rp, TextureHandle depth, VkBuffer ubo, const char* name, int segment,
                         TextureHandle& color, TextureHandle& cdepth, TextureHandle front = {}) {
   const uint32_t block = rp.block;
-  if (block <= 1) return add_march(res, graph, in, light, rp, depth, ubo, name, segment, color, cdepth, front);
+  if (block <= 1) return add_march(res, graph, in, light, depth, ubo, name, segment, color, cdepth, front);
   const VkExtent2D size = march_extent(graph, in);
   const uint32_t sw = (size.width + block - 1) / block, sh = (size.height + block - 1) / block;
   TextureHandle sub_c = graph.create_texture("clouds.sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
   TextureHandle sub_d = graph.create_texture("clouds.sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
-  add_march(res, graph, in, light, rp, depth, ubo, name, segment, sub_c, sub_d, front, block);
+  add_march(res, graph, in, light, depth, ubo, name, segment, sub_c, sub_d, front, block, size, rp.sub_offset);
   TextureHandle next = rp.history.next;
   add_reconstruct_pass(graph, res.ctx, "clouds.reconstruct",
                        {res.recon_pipe, ubo, sub_c, sub_d, rp.history.prev, depth, block, rp.sub_offset, rp.history.valid},
+                       next, cdepth);
+  color = next;
+}
+
+// The near segment at half resolution, sub-sampled and reconstructed (its rays end at the split) when its
+// reprojection is on.
+void add_near_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, const CloudLightOutputs& light,
+                    const Reprojection& rp, TextureHandle depth, VkBuffer ubo, TextureHandle& color, TextureHandle& cdepth) {
+  const uint32_t block = rp.near_block;
+  if (block <= 1) return add_march(res, graph, in, light, depth, ubo, "clouds.march_near", CLOUD_SEGMENT_NEAR, color, cdepth);
+  const VkExtent2D size = cumulo::render::relative_extent(graph.output_size(), 0.5f * in.resolution_scale);
+  const uint32_t sw = (size.width + block - 1) / block, sh = (size.height + block - 1) / block;
+  TextureHandle sub_c = graph.create_texture("clouds.near_sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
+  TextureHandle sub_d = graph.create_texture("clouds.near_sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
+  add_march(res, graph, in, light, depth, ubo, "clouds.march_near", CLOUD_SEGMENT_NEAR, sub_c, sub_d, {}, block, size,
+            rp.near_offset);
+  TextureHandle next = rp.near_history.next;
+  add_reconstruct_pass(graph, res.ctx, "clouds.reconstruct_near",
+                       {res.recon_near_pipe, ubo, sub_c, sub_d, rp.near_history.prev, depth, block, rp.near_offset,
+                        rp.near_history.valid},
                        next, cdepth);
   color = next;
 }
@@ -143,7 +164,28 @@ Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const 
     rp.sub_offset = reprojection_offset(rp.block, in.frame_index);
   }
   res.recon_block = rp.block > 1 ? rp.block : 0;
+  // The near segment's, when it runs (a skipped near segment leaves its history to restart).
+  rp.near_block = near_segment_runs(in) ? near_reprojection_block(in.settings) : 1;
+  if (rp.near_block > 1) {
+    if (in.camera_cut || res.near_block != rp.near_block) res.near_history.invalidate();
+    res.near_history.set_scale(0.5f * in.resolution_scale);
+    const cumulo::render::HistoryHandles h = res.near_history.import(res.ctx, graph);
+    rp.near_history = {h.previous, h.current, h.valid};
+    // The half-resolution pixel each block marches this frame, in the Bayer order.
+    rp.near_offset = reprojection_offset(rp.near_block, in.frame_index);
+  }
+  res.near_block = rp.near_block > 1 ? rp.near_block : 0;
   return rp;
+}
+
+bool near_segment_runs(const CloudFrameInputs& in) {
+  // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
+  // the near segment is empty, so its half-resolution march and the merge are skipped and the far
+  // march runs over the whole ray (the same samples: none lie nearer than the split). The split
+  // debug view keeps both, to show them.
+  const CloudSettings& s = in.settings;
+  if (!s.split) return false;
+  return !(s.skip_empty_near && s.debug != CloudDebugView::Split && nearest_instance_distance(in) >= s.split_distance_m);
 }
 
 MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
@@ -153,12 +195,7 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
   const float rs = in.resolution_scale;
   m.color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat, rs));
   m.depth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat, rs));
-  // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
-  // the near segment is empty, so its half-resolution march and the merge are skipped and the far
-  // march runs over the whole ray (the same samples: none lie nearer than the split). The split
-  // debug view keeps both, to show them.
-  const bool near_empty = s.split && s.skip_empty_near && s.debug != CloudDebugView::Split &&
-                          nearest_instance_distance(in) >= s.split_distance_m;
+  const bool near_empty = s.split && !near_segment_runs(in);
   if (!s.split) {
     add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march", CLOUD_SEGMENT_ALL, m.color, m.depth);
   } else if (near_empty) {
@@ -168,7 +205,7 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
     TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f * rs));
     TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat, rs));
     TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat, rs));
-    add_march(res, graph, in, light, rp, depth, ubo, "clouds.march_near", CLOUD_SEGMENT_NEAR, near_c, near_d);
+    add_near_march(res, graph, in, light, rp, depth, ubo, near_c, near_d);
     add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
     add_split_merge(res, graph, near_c, near_d, far_c, far_d, ubo, m.color, m.depth);
   }

@@ -73,6 +73,11 @@ struct CloudResources {
                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
   uint32_t recon_block = 0;  // block size of the last frame's reconstruction (0: none)
   gpu::Pipeline* recon_pipe = nullptr;
+  // The same for the near segment of the 40/60 Hz split (half resolution; its ray ends at the split).
+  cumulo::render::GpuHistory near_history{"clouds.reprojection_near", kColorFormat, 0.5f,
+                                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  uint32_t near_block = 0;
+  gpu::Pipeline* recon_near_pipe = nullptr;
   glm::mat4 prev_view_proj{1.0f};
   gpu::Pipeline* grid_pipe = nullptr;
   gpu::Pipeline* temporal_pipe = nullptr;
@@ -236,7 +241,13 @@ struct Reprojection {
   uint32_t block = 1;
   glm::uvec2 sub_offset{0, 0};
   HistoryImports history;
+  // The 40/60 Hz near segment's (half resolution; CloudSettings::near_reprojection_block): 1, every pixel.
+  uint32_t near_block = 1;
+  glm::uvec2 near_offset{0, 0};
+  HistoryImports near_history;
 };
+// Whether the 40/60 Hz near segment is marched this frame (no cloudscape box within the split distance: skipped).
+bool near_segment_runs(const CloudFrameInputs& in);
 Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
 // 2. The march: its colour (rgb radiance, a transmittance) and depth at full resolution.
 struct MarchOutputs {

@@ -11,6 +11,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   s.light_sample_noise_mean = o.light_sample_noise_mean;
   s.light_grid_always_update = o.light_grid_always_update;
   s.reprojection_block = o.reprojection_block;
+  s.near_reprojection_block = o.near_reprojection_block;
   s.shadows = o.shadows;
   s.terrain_shadow = o.terrain_shadow;
   s.effects = o.effects;

@@ -236,6 +236,8 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->grid_pipe = &res->grid(false);
   res->temporal_pipe = &library.compute({.shader = "clouds/temporal_accumulate.comp", .name = "clouds.temporal"});
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
+  res->recon_near_pipe = &library.compute(
+      {.shader = "clouds/reconstruct.comp", .defines = {{"CLIP_TO_SPLIT", "1"}}, .name = "clouds.reconstruct (near)"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
   for (int sky = 0; sky < 2; ++sky)
     for (int aerial = 0; aerial < 2; ++aerial) res->composite(sky, aerial, false);

@@ -184,6 +184,35 @@ TEST(RunCli, ResolutionScaleUpsamplesTheCloudsIntoTheSamePicture) {
   EXPECT_LT(march_half, march_full) << "a quarter of the pixels costs no less";
 }
 
+// The 40/60 Hz near segment marches 1 of 4 of its half-resolution pixels a frame and reprojects the rest
+// (--cloud-near-reprojection 4, the default): inside the Stormbird's chamber, where the near layer is the picture,
+// the same picture for a quarter of the near march's rays.
+TEST(RunCli, TheNearSegmentReprojectsIntoTheSamePicture) {
+  fs::path d = temp_dir();
+  auto render = [&](const std::string& n) {
+    fs::path png = d / ("near" + n + ".png"), stats = d / ("near" + n + ".json");
+    auto r = run_cumulo("run " + kLevel + " --headless --frames 8 --size 160x90 --camera lair --mode 60 --cloud-near-reprojection " +
+                        n + " --screenshot " + png.string() + " --stats " + stats.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    auto j = nlohmann::json::parse(read_text(stats));
+    EXPECT_EQ(j["validation_errors"], 0) << r.output;
+    return std::make_pair(load_png(png), j);
+  };
+  auto [every, every_stats] = render("1");
+  auto [quarter, quarter_stats] = render("4");
+  ASSERT_EQ(every.w, 160);
+  ASSERT_EQ(quarter.w, 160);
+  EXPECT_FALSE(every_stats["passes"].contains("clouds.reconstruct_near"));
+  ASSERT_TRUE(quarter_stats["passes"].contains("clouds.reconstruct_near")) << quarter_stats["passes"].dump(2);
+  EXPECT_LT(quarter_stats["passes"]["clouds.march_near"]["median_ms"].get<double>(),
+            every_stats["passes"]["clouds.march_near"]["median_ms"].get<double>() * 0.6);
+  double se = 0.0;
+  for (size_t i = 0; i < every.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) se += std::pow(double(every.rgba[i + c]) - double(quarter.rgba[i + c]), 2.0);
+  const double psnr = 10.0 * std::log10(255.0 * 255.0 / std::max(se / double(every.w * every.h * 3), 1e-9));
+  EXPECT_GT(psnr, 35.0);
+}
+
 TEST(RunCli, SameSeedGivesIdenticalImages) {
   fs::path d = temp_dir();
   std::string args = "run " + kLevel + " --headless --frames 2 --size 160x90 --camera mixed --seed 7 --start-at 1.5 --screenshot ";
