@@ -174,7 +174,15 @@ FrameRenderer::~FrameRenderer() {
 
 void FrameRenderer::add_feature(RenderFeature& feature) {
   GpuServices services{impl_->ctx, impl_->library};
-  feature.create_gpu(services);
+  try {
+    feature.create_gpu(services);
+  } catch (...) {
+    // A failed create (a shader that does not compile) may have made some of the feature's objects: free
+    // them now, while the device lives (the feature itself outlives the renderer and the device).
+    impl_->ctx.wait_idle();
+    feature.destroy_gpu();
+    throw;
+  }
   features_.push_back(&feature);
 }
 

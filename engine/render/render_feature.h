@@ -91,7 +91,8 @@ class RenderFeature {
   // Called once by the renderer the feature is added to. Throws cumulo::Error on failure (a shader
   // that does not compile names the file and line).
   virtual void create_gpu(GpuServices&) {}
-  // Called before the context goes away, with the device idle.
+  // Called before the context goes away, with the device idle; also right after a create_gpu that threw, to
+  // free what it had made (so it must cope with a partial create).
   virtual void destroy_gpu() {}
   // Called for every stage of every frame, in Stage order, features in the order they were added.
   virtual void add_passes(Stage, StageContext&) {}

@@ -320,4 +320,19 @@ TEST(RunCliBadInput, BrokenShaderNamesFileAndLine) {
   auto r = run_cumulo("run " + fs::absolute(kLevel).string() + " --headless --size 160x90", "CUMULO_ROOT=" + root.string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("geometry_lit.frag:"), std::string::npos) << r.output;
+
+  // A module's shader (the clouds' reconstruction, compiled while the module creates its GPU objects): the
+  // same clear error, and the objects it made before are freed while the device lives (it used to abort in
+  // vkDestroyImageView after the device was gone, exit 134).
+  std::ofstream(frag) << read_text("shaders/engine/geometry_lit.frag");
+  fs::path comp = root / "shaders/clouds/reconstruct.comp";
+  src = read_text(comp);
+  main_pos = src.find("void main() {");
+  ASSERT_NE(main_pos, std::string::npos);
+  src.insert(main_pos + 13, "\n  this is not glsl;");
+  std::ofstream(comp) << src;
+  r = run_cumulo("run " + fs::absolute(kLevel).string() + " --headless --size 160x90", "CUMULO_ROOT=" + root.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("reconstruct.comp:"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("still live"), std::string::npos) << r.output;
 }
