@@ -296,6 +296,8 @@ uint64_t persistent_gpu_bytes(const CloudResources& res) {
     total += 2ull * res.history.texture().desc().width * res.history.texture().desc().height * 8;
   if (res.recon_history.texture().has_images())
     total += 2ull * res.recon_history.texture().desc().width * res.recon_history.texture().desc().height * 8;
+  if (res.near_history.texture().has_images())
+    total += 2ull * res.near_history.texture().desc().width * res.near_history.texture().desc().height * 8;
   if (res.shadow_image) total += uint64_t(res.shadow_image.extent().width) * res.shadow_image.extent().height * 2;
   return total;
 }
