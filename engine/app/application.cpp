@@ -44,7 +44,10 @@ int run_headless(RunContext& rc) {
     session.wait_frame();
     const auto timings = session.pass_timings();
     rc.stats.add_gpu_frame(timings);
-    detail::after_frame(rc, timings, wall.ms(), snap.resolution_scale);
+    // Headless waits for each frame: its timings are complete (the wall clock, with no pacing, where the
+    // device has no timestamps).
+    detail::feed_resolution(rc, timings, wall.ms());
+    rc.stats.add_resolution_scale(snap.resolution_scale);
     if (f == 1 && !o.dump_graph.empty()) detail::write_graph_dump(o.dump_graph, session.renderer().last_compiled());
   }
   rc.stats.set_frames(frames);

@@ -2,6 +2,7 @@
 // mode, the fly camera, shader hot reload. Simulation steps follow real time in fixed steps.
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cstdio>
 #include <thread>
 
@@ -80,6 +81,7 @@ int run_windowed(RunContext& rc) {
   const double target_s = render::budget_frame_seconds(o.mode);
   Stopwatch frame_clock, title_clock;
   uint64_t rendered = 0;
+  uint64_t resolution_frame = 0;  // the last completed frame fed to the dynamic resolution
   render::FrameSnapshot last;
   bool dumped = false;
 
@@ -124,7 +126,13 @@ int run_windowed(RunContext& rc) {
     auto timings = renderer.pass_timings();  // the previous frame's, when it has completed
     if (rendered > 0) {
       rc.stats.add_gpu_frame(timings);
-      after_frame(rc, timings, dt * 1000.0, last.resolution_scale);
+      rc.stats.add_resolution_scale(last.resolution_scale);
+    }
+    // Dynamic resolution reads each completed frame once (frames in flight: the last recorded one is rarely
+    // complete here). Never the wall clock: it holds the frame pacing's sleep.
+    if (auto [done, done_timings] = renderer.latest_completed_pass_timings(); done > resolution_frame) {
+      resolution_frame = done;
+      feed_resolution(rc, done_timings, std::numeric_limits<double>::quiet_NaN());
     }
     std::optional<uint32_t> image = swapchain.acquire(f.acquired);
     if (!image) {  // out of date: nothing was signalled; submit the empty frame to keep the ring in step

@@ -206,6 +206,13 @@ std::vector<std::pair<std::string, double>> FrameRenderer::pass_timings() const 
   return out;
 }
 
+std::pair<uint64_t, std::vector<std::pair<std::string, double>>> FrameRenderer::latest_completed_pass_timings() const {
+  render::Executor::CompletedTimings t = impl_->executor.latest_completed_timings();
+  std::vector<std::pair<std::string, double>> out;
+  for (auto& p : t.passes) out.emplace_back(p.name, p.ms);
+  return {t.frame, std::move(out)};
+}
+
 void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, const RenderTarget& target, uint32_t slot) {
   Impl& m = *impl_;
   m.ensure_tonemap(target.format);

@@ -56,6 +56,9 @@ class FrameRenderer {
   void record_frame(VkCommandBuffer cmd, const FrameSnapshot& snapshot, const RenderTarget& target, uint32_t slot);
   // GPU time per pass of the last recorded frame, in execution order; empty until it completed.
   std::vector<std::pair<std::string, double>> pass_timings() const;
+  // The newest completed frame's GPU time per pass (frames in flight: the last recorded one is usually not
+  // complete yet) and that frame's number (1-based, increasing; 0: none yet). Dynamic resolution reads it.
+  std::pair<uint64_t, std::vector<std::pair<std::string, double>>> latest_completed_pass_timings() const;
   // The compiled graph of the last recorded frame.
   const CompiledGraph& last_compiled() const;  // throws before the first frame
   bool has_recorded() const;                     // a frame was recorded (last_compiled() is there)

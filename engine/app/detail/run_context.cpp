@@ -36,12 +36,10 @@ float next_resolution_scale(const RunContext& rc) {
   return rc.opt.resolution_scale ? *rc.opt.resolution_scale : rc.resolution.scale();
 }
 
-void after_frame(RunContext& rc, const std::vector<std::pair<std::string, double>>& timings, double wall_ms,
-                 float frame_scale) {
+void feed_resolution(RunContext& rc, const std::vector<std::pair<std::string, double>>& timings, double fallback_ms) {
   double gpu_ms = 0.0;
   for (const auto& t : timings) gpu_ms += t.second;
-  rc.resolution.update(timings.empty() ? wall_ms : gpu_ms, rc.opt.mode);
-  rc.stats.add_resolution_scale(frame_scale);
+  rc.resolution.update(timings.empty() ? fallback_ms : gpu_ms, rc.opt.mode);
 }
 
 void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h) {

@@ -40,10 +40,9 @@ render::FrameSnapshot extract(RunContext& rc, uint32_t w, uint32_t h, uint64_t f
 void configure_resolution(RunContext& rc, const gpu::Context& ctx, bool windowed);
 // The scale the next frame renders at: --resolution-scale, else the dynamic one (1 when off).
 float next_resolution_scale(const RunContext& rc);
-// After a frame completed: its GPU pass timings (the wall clock `wall_ms` when the device has none) feed
-// the controller, and the scale it ran at goes into the stats.
-void after_frame(RunContext& rc, const std::vector<std::pair<std::string, double>>& timings, double wall_ms,
-                 float frame_scale);
+// A completed frame's GPU pass timings (their sum; `fallback_ms` when there are none, ignored when NaN) feed
+// the dynamic resolution.
+void feed_resolution(RunContext& rc, const std::vector<std::pair<std::string, double>>& timings, double fallback_ms);
 // Writes --stats (if asked).
 void write_stats(RunContext& rc, gpu::Context& ctx, uint32_t w, uint32_t h);
 // Writes --dump-graph: Graphviz when the path ends in .dot, text otherwise.

@@ -157,6 +157,7 @@ void Executor::rebuild(const RenderGraph& graph) {
     }
     pool_capacity_ = queries;
     last_passes_.clear();
+    for (uint32_t s = 0; s < kTimestampSlots; ++s) slot_frame_[s] = 0, slot_passes_[s].clear();
   }
   shapes_.push_back(std::move(phys));
   physical_ = shapes_.back().get();
@@ -266,15 +267,30 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
     for (const CompiledPass& p : c.passes) last_passes_.push_back(p.name);
   last_slot_ = slot;
   ++frame_;
+  slot_frame_[slot] = pool ? frame_ : 0;
+  slot_passes_[slot] = last_passes_;
 }
 
-std::vector<PassTiming> Executor::timings() const {
+std::vector<PassTiming> Executor::timings() const { return read_slot(last_slot_, last_passes_); }
+
+Executor::CompletedTimings Executor::latest_completed_timings() const {
+  // Newest first: the slots of the last kTimestampSlots frames.
+  for (uint64_t back = 0; back < kTimestampSlots && back < frame_; ++back) {
+    const uint32_t slot = uint32_t((frame_ - 1 - back) % kTimestampSlots);
+    if (slot_frame_[slot] != frame_ - back) continue;  // no timestamps that frame
+    std::vector<PassTiming> t = read_slot(slot, slot_passes_[slot]);
+    if (!t.empty()) return {slot_frame_[slot], std::move(t)};
+  }
+  return {};
+}
+
+std::vector<PassTiming> Executor::read_slot(uint32_t slot, const std::vector<std::string>& passes) const {
   std::vector<PassTiming> out;
-  if (last_passes_.empty()) return out;
-  const uint32_t n = uint32_t(last_passes_.size());
+  if (passes.empty()) return out;
+  const uint32_t n = uint32_t(passes.size());
   std::vector<uint64_t> data(size_t(4) * n);  // (value, availability) pairs
   VkResult r =
-      vkGetQueryPoolResults(ctx_.device(), pools_[last_slot_], 0, 2 * n, data.size() * sizeof(uint64_t), data.data(),
+      vkGetQueryPoolResults(ctx_.device(), pools_[slot], 0, 2 * n, data.size() * sizeof(uint64_t), data.data(),
                             2 * sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
   if (r < 0) return out;
   const double period_ms = double(ctx_.info().limits.timestampPeriod) * 1e-6;
@@ -282,7 +298,7 @@ std::vector<PassTiming> Executor::timings() const {
     const uint64_t begin = data[4 * i], begin_ok = data[4 * i + 1];
     const uint64_t end = data[4 * i + 2], end_ok = data[4 * i + 3];
     if (!begin_ok || !end_ok) return {};
-    if (std::optional<double> ms = timestamp_interval_ms(begin, end, period_ms)) out.push_back({last_passes_[i], *ms});
+    if (std::optional<double> ms = timestamp_interval_ms(begin, end, period_ms)) out.push_back({passes[i], *ms});
   }
   return out;
 }

@@ -69,6 +69,13 @@ class Executor {
   // command buffer has not completed, or when the queue has no timestamps. A pass whose timestamps
   // are out of order is left out (see timestamp_interval_ms).
   std::vector<PassTiming> timings() const;
+  // The newest frame whose timestamps have all arrived (frames in flight: usually one or two frames before
+  // the last recorded): its number (1-based, increasing; 0 when none has completed yet) and timings.
+  struct CompletedTimings {
+    uint64_t frame = 0;
+    std::vector<PassTiming> passes;
+  };
+  CompletedTimings latest_completed_timings() const;
   double pass_ms(const std::string& pass) const;  // -1 when unknown or not available
 
   // Counters for tests and stats: how often the graph was compiled / how many transient images
@@ -97,6 +104,10 @@ class Executor {
   uint64_t frame_ = 0;                    // frames executed
   std::vector<std::string> last_passes_;  // pass names of the last frame, in order
   uint32_t last_slot_ = 0;
+  // Per timestamp slot: the frame (1-based; 0: none) whose timestamps it holds, and its pass names.
+  uint64_t slot_frame_[kTimestampSlots] = {};
+  std::vector<std::string> slot_passes_[kTimestampSlots];
+  std::vector<PassTiming> read_slot(uint32_t slot, const std::vector<std::string>& passes) const;
   uint32_t compile_count_ = 0, images_created_ = 0, blocks_created_ = 0;
 };
 

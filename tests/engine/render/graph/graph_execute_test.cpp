@@ -309,6 +309,11 @@ TEST_F(RenderGraphVulkan, FourPassGraphOverSeveralFrames) {
     EXPECT_EQ(timings[0].name, "fill");
     EXPECT_GT(executor.pass_ms("composite"), 0.0);
     EXPECT_LT(executor.pass_ms("debug"), 0.0);  // culled: no timing
+    // run_frame waits for each frame: the newest completed one is the last, frame 4, with the same passes.
+    const Executor::CompletedTimings done = executor.latest_completed_timings();
+    EXPECT_EQ(done.frame, 4u);
+    ASSERT_EQ(done.passes.size(), 4u);
+    EXPECT_EQ(done.passes[0].name, "fill");
   }
   EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
 }
