@@ -66,7 +66,7 @@ std::string RunStats::to_json(const Info& in) const {
   j["gpu_frame_ms"] = stat(gpu_total_);
   j["budget"] = {{"frame_ms", in.frame_budget_ms}, {"scale", in.budget_scale}, {"dynamic_resolution", in.dynamic_resolution}};
   J scale = stat(scale_);
-  scale["last"] = last_scale_;
+  scale["last"] = scale_.samples.empty() ? 1.0 : scale_.samples.back();
   scale["changes"] = in.resolution_changes;
   j["resolution_scale"] = scale;
   J passes = J::object();

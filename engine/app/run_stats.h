@@ -31,7 +31,7 @@ class RunStats {
   // One frame's GPU pass timings (name, ms) in execution order.
   void add_gpu_frame(const std::vector<std::pair<std::string, double>>& passes);
   void set_frames(uint64_t frames) { frames_ = frames; }
-  void add_resolution_scale(float s) { scale_.add(s), last_scale_ = s; }
+  void add_resolution_scale(float s) { scale_.add(s); }
 
   struct Info {
     uint32_t width = 0, height = 0;
@@ -58,7 +58,6 @@ class RunStats {
  private:
   uint64_t frames_ = 0;
   MinMaxMean cpu_, gpu_total_, scale_;
-  float last_scale_ = 1.0f;
   std::vector<std::pair<std::string, MinMaxMean>> passes_;  // frame order of first appearance
 };
 

@@ -156,7 +156,6 @@ void Executor::rebuild(const RenderGraph& graph) {
       ctx_.set_name(pool, "graph timestamps");
     }
     pool_capacity_ = queries;
-    last_passes_.clear();
     for (uint32_t s = 0; s < kTimestampSlots; ++s) slot_frame_[s] = 0, slot_passes_[s].clear();
   }
   shapes_.push_back(std::move(phys));
@@ -262,16 +261,19 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
       if (a.resource == i) physical_->images[i].set_layout(a.layout);
   }
 
-  last_passes_.clear();
+  std::vector<std::string>& names = slot_passes_[slot];
+  names.clear();
   if (pool)
-    for (const CompiledPass& p : c.passes) last_passes_.push_back(p.name);
-  last_slot_ = slot;
+    for (const CompiledPass& p : c.passes) names.push_back(p.name);
   ++frame_;
   slot_frame_[slot] = pool ? frame_ : 0;
-  slot_passes_[slot] = last_passes_;
 }
 
-std::vector<PassTiming> Executor::timings() const { return read_slot(last_slot_, last_passes_); }
+std::vector<PassTiming> Executor::timings() const {
+  if (frame_ == 0) return {};
+  const uint32_t last = uint32_t((frame_ - 1) % kTimestampSlots);
+  return read_slot(last, slot_passes_[last]);
+}
 
 Executor::CompletedTimings Executor::latest_completed_timings() const {
   // Newest first: the slots of the last kTimestampSlots frames.

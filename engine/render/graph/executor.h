@@ -102,9 +102,8 @@ class Executor {
   VkQueryPool pools_[kTimestampSlots] = {};
   uint32_t pool_capacity_ = 0;            // queries per pool
   uint64_t frame_ = 0;                    // frames executed
-  std::vector<std::string> last_passes_;  // pass names of the last frame, in order
-  uint32_t last_slot_ = 0;
-  // Per timestamp slot: the frame (1-based; 0: none) whose timestamps it holds, and its pass names.
+  // Per timestamp slot (frame f, 0-based, uses slot f % kTimestampSlots): the frame (1-based; 0: none) whose
+  // timestamps it holds, and its pass names in order.
   uint64_t slot_frame_[kTimestampSlots] = {};
   std::vector<std::string> slot_passes_[kTimestampSlots];
   std::vector<PassTiming> read_slot(uint32_t slot, const std::vector<std::string>& passes) const;

@@ -149,6 +149,16 @@ void add_split_merge(CloudResources& res, RenderGraph& graph, TextureHandle near
       });
 }
 
+bool near_segment_runs(const CloudFrameInputs& in) {
+  // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
+  // the near segment is empty, so its half-resolution march and the merge are skipped and the far
+  // march runs over the whole ray (the same samples: none lie nearer than the split). The split
+  // debug view keeps both, to show them.
+  const CloudSettings& s = in.settings;
+  if (!s.split) return false;
+  return !(s.skip_empty_near && s.debug != CloudDebugView::Split && nearest_instance_distance(in) >= s.split_distance_m);
+}
+
 }  // namespace
 
 Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in) {
@@ -165,7 +175,8 @@ Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const 
   }
   res.recon_block = rp.block > 1 ? rp.block : 0;
   // The near segment's, when it runs (a skipped near segment leaves its history to restart).
-  rp.near_block = near_segment_runs(in) ? near_reprojection_block(in.settings) : 1;
+  rp.near_runs = near_segment_runs(in);
+  rp.near_block = rp.near_runs ? near_reprojection_block(in.settings) : 1;
   if (rp.near_block > 1) {
     if (in.camera_cut || res.near_block != rp.near_block) res.near_history.invalidate();
     res.near_history.set_scale(0.5f * in.resolution_scale);
@@ -178,16 +189,6 @@ Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const 
   return rp;
 }
 
-bool near_segment_runs(const CloudFrameInputs& in) {
-  // 40/60 Hz with no cloudscape box within the split distance (the ground view: clouds from 600 m up):
-  // the near segment is empty, so its half-resolution march and the merge are skipped and the far
-  // march runs over the whole ray (the same samples: none lie nearer than the split). The split
-  // debug view keeps both, to show them.
-  const CloudSettings& s = in.settings;
-  if (!s.split) return false;
-  return !(s.skip_empty_near && s.debug != CloudDebugView::Split && nearest_instance_distance(in) >= s.split_distance_m);
-}
-
 MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
                               const CloudLightOutputs& light, const Reprojection& rp, TextureHandle depth, VkBuffer ubo) {
   const CloudSettings& s = in.settings;
@@ -195,7 +196,7 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
   const float rs = in.resolution_scale;
   m.color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat, rs));
   m.depth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat, rs));
-  const bool near_empty = s.split && !near_segment_runs(in);
+  const bool near_empty = s.split && !rp.near_runs;
   if (!s.split) {
     add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march", CLOUD_SEGMENT_ALL, m.color, m.depth);
   } else if (near_empty) {

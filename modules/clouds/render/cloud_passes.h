@@ -241,13 +241,13 @@ struct Reprojection {
   uint32_t block = 1;
   glm::uvec2 sub_offset{0, 0};
   HistoryImports history;
-  // The 40/60 Hz near segment's (half resolution; CloudSettings::near_reprojection_block): 1, every pixel.
+  // Whether the 40/60 Hz near segment is marched this frame (no cloudscape box within the split distance: skipped),
+  // and its reprojection (half resolution; CloudSettings::near_reprojection_block): 1, every pixel.
+  bool near_runs = false;
   uint32_t near_block = 1;
   glm::uvec2 near_offset{0, 0};
   HistoryImports near_history;
 };
-// Whether the 40/60 Hz near segment is marched this frame (no cloudscape box within the split distance: skipped).
-bool near_segment_runs(const CloudFrameInputs& in);
 Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
 // 2. The march: its colour (rgb radiance, a transmittance) and depth at full resolution.
 struct MarchOutputs {

@@ -17,6 +17,16 @@ static std::optional<RunOptions> parse(std::vector<std::string> args) {
   return parse_run_options(static_cast<int>(argv.size()), argv.data());
 }
 
+// The error a parse throws, or "(accepted)".
+static std::string message(std::vector<std::string> args) {
+  try {
+    parse(std::move(args));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
 TEST(RunOptions, ParsesEveryFlag) {
   auto o = parse({"level.json", "--headless", "--frames", "3", "--size", "320x180", "--mode", "40", "--screenshot",
                   "a.png", "--camera", "ground", "--time-of-day", "17.5", "--seed", "42", "--start-at", "2.5",
@@ -47,14 +57,6 @@ TEST(RunOptions, HeadlessDefaultsToOneFrame) {
 }
 
 TEST(RunOptions, BadValuesAreClearErrors) {
-  auto message = [](std::vector<std::string> a) {
-    try {
-      parse(a);
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("(accepted)");
-  };
   EXPECT_NE(message({"l.json", "--size", "320by180"}).find("WIDTHxHEIGHT"), std::string::npos);
   EXPECT_NE(message({"l.json", "--size", "0x10"}).find("outside"), std::string::npos);
   EXPECT_NE(message({"l.json", "--mode", "50"}).find("30, 40 or 60"), std::string::npos);
@@ -85,14 +87,6 @@ TEST(RunOptions, BudgetAndResolutionFlags) {
   o = parse({"l.json", "--resolution-scale", "0.75"});
   ASSERT_TRUE(o);
   EXPECT_FLOAT_EQ(o->resolution_scale.value_or(0), 0.75f);
-  auto message = [](std::vector<std::string> a) {
-    try {
-      parse(a);
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("(accepted)");
-  };
   EXPECT_NE(message({"l.json", "--resolution-scale", "0.5", "--dynamic-resolution", "on"}).find("not both"), std::string::npos);
   EXPECT_NE(message({"l.json", "--resolution-scale", "2"}).find("--resolution-scale: 2 is out of range"), std::string::npos);
   EXPECT_NE(message({"l.json", "--resolution-scale", "nan"}).find("finite"), std::string::npos);
