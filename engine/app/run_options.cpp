@@ -63,7 +63,7 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, const Modules
               &o.aerial_lut)
       .option("--lod-error", "PX",
               "large meshes (the terrain) are drawn per chunk at the coarsest level of detail whose error projects "
-              "within PX pixels (default 0.25; 0: full detail everywhere)",
+              "within PX pixels (default 3; 0: full detail everywhere)",
               &o.lod_error_px)
       .range(0, 100)
       .on_off("--dynamic-resolution",

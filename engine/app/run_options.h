@@ -8,6 +8,7 @@
 #include "engine/app/game_events.h"
 #include "engine/app/module.h"
 #include "engine/render/budget_mode.h"
+#include "engine/render/mesh_lod.h"
 
 namespace cumulo::app {
 
@@ -31,7 +32,7 @@ struct RunOptions {
   std::string record;                // --record FILE: write the run's inputs (engine/app/recording.h)
   std::string replay;                // --replay FILE: drive the run from a recording
   bool aerial_lut = true;            // --aerial-perspective lut|fog: the atmosphere's froxels or the height fog
-  float lod_error_px = 0.25f;        // --lod-error PX: large meshes' level of detail (render/mesh_lod.h)
+  float lod_error_px = render::kDefaultLodErrorPx;        // --lod-error PX: large meshes' level of detail (render/mesh_lod.h)
   bool require_window = false;       // `cumulo edit`: no headless fallback (fail when no window opens)
   // Budget modes that hold a budget (render/dynamic_resolution.h).
   std::optional<bool> dynamic_resolution;  // --dynamic-resolution on|off; unset: on in a window, off headless

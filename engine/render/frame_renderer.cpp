@@ -1,6 +1,7 @@
 #include "engine/render/frame_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 #include "engine/core/error.h"
@@ -39,14 +40,31 @@ struct FrameRenderer::Impl {
   Executor executor;
   GpuSceneCache scene;
   UniformAllocator uniforms;
-  gpu::Pipeline* geometry = nullptr;
-  gpu::Pipeline* geometry_double_sided = nullptr;
+  // The geometry pass's variants (geometry_variant): on a CPU device both sides of a branch run, so what a
+  // frame does not use (point lights, a shadow map, the fog when the froxels light the air, a height
+  // field's normal map) is compiled out.
+  std::array<gpu::Pipeline*, 64> geometry_variants{};
   gpu::Pipeline* sky = nullptr;
   gpu::Pipeline* tonemap = nullptr;  // for tonemap_format
-  // mesh_lod.h: a chunk's level may stray this many pixels at most. 0.25: the sample level's views stay
-  // within 40 dB of full detail (1 px: 34.5 dB in mixed, the shading of larger triangles differs).
-  float lod_error_px = 0.25f;
-  std::vector<ChunkDraw> chunk_draws;  // draw_models' scratch
+  // mesh_lod.h: a chunk's level may stray this many pixels at most (a silhouette, or the coastline, moves
+  // that far when the level changes; the shading does not: a height field shades from its normal texture).
+  // 3: the sample level's views at 640x360 stay within 38 dB of full detail, and mixed's geometry costs
+  // a third of what it did at full detail.
+  float lod_error_px = kDefaultLodErrorPx;
+  bool aerial_lut = true;  // FrameRenderer::aerial_lut_, for the geometry's variant
+  // draw_models' scratch: the meshes in view and their chunks' draws
+  struct MeshDraw {
+    glm::mat4 world;
+    const GpuMesh* mesh;
+    const GpuMaterial* material;
+  };
+  struct QueuedDraw {
+    ChunkDraw draw;
+    uint32_t mesh;  // into meshes_drawn
+  };
+  std::vector<ChunkDraw> chunk_draws;
+  std::vector<MeshDraw> meshes_drawn;
+  std::vector<QueuedDraw> queued;
   std::unique_ptr<AtmospherePasses> atmosphere;  // its LUTs (the sky pass reads the sky view)
   gpu::Image no_shadow;  // 1x1 white: the geometry's light-shadow binding when no feature casts shadows
   std::unique_ptr<LightDepthMap> light_depth;  // the geometry from the key light (modules read it)
@@ -59,10 +77,18 @@ struct FrameRenderer::Impl {
     build_scene_pipelines();
   }
 
-  gpu::GraphicsPipelineDesc geometry_desc(bool double_sided) const {
+  enum GeometryVariant : uint32_t { kDoubleSided = 1, kPointLights = 2, kShadowMap = 4, kAerialLut = 8, kNormalMap = 16,
+                                    kBaseTexture = 32 };
+  gpu::GraphicsPipelineDesc geometry_desc(uint32_t variant) const {
+    const bool double_sided = variant & kDoubleSided;
     gpu::GraphicsPipelineDesc d;
     d.vertex = "engine/geometry_lit.vert";
     d.fragment = "engine/geometry_lit.frag";
+    d.defines = {{"GEOMETRY_POINT_LIGHTS", variant & kPointLights ? "1" : "0"},
+                 {"GEOMETRY_SHADOW_MAP", variant & kShadowMap ? "1" : "0"},
+                 {"GEOMETRY_AERIAL_LUT", variant & kAerialLut ? "1" : "0"},
+                 {"GEOMETRY_NORMAL_MAP", variant & kNormalMap ? "1" : "0"},
+                 {"GEOMETRY_BASE_TEXTURE", variant & kBaseTexture ? "1" : "0"}};
     d.color_formats = {kHdrFormat};
     d.depth_format = kDepthFormat;
     d.depth_test = d.depth_write = true;
@@ -75,6 +101,11 @@ struct FrameRenderer::Impl {
                            {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(scene::Vertex, uv)}};
     d.name = double_sided ? "geometry (double-sided)" : "geometry";
     return d;
+  }
+  gpu::Pipeline* geometry_variant(uint32_t variant) {
+    gpu::Pipeline*& p = geometry_variants[variant];
+    if (!p) p = &library.graphics(geometry_desc(variant));  // compiled on first use (a first lightning flash)
+    return p;
   }
   gpu::GraphicsPipelineDesc sky_desc() const {
     gpu::GraphicsPipelineDesc d;
@@ -98,8 +129,10 @@ struct FrameRenderer::Impl {
   }
 
   void build_scene_pipelines() {
-    geometry = &library.graphics(geometry_desc(false));
-    geometry_double_sided = &library.graphics(geometry_desc(true));
+    // The variants every frame without lightning uses, compiled up front (a broken shader fails here).
+    for (uint32_t v : {kShadowMap | kAerialLut, kShadowMap | kAerialLut | kBaseTexture | kNormalMap,
+                       kDoubleSided | kShadowMap | kAerialLut | kBaseTexture})
+      geometry_variant(v);
     sky = &library.graphics(sky_desc());
     atmosphere = std::make_unique<AtmospherePasses>(ctx, library, default_atmosphere());
     no_shadow = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
@@ -116,49 +149,72 @@ struct FrameRenderer::Impl {
     tonemap_format = out;
   }
 
+  // Every mesh's chunks, culled and at their level of detail, drawn front to back: the depth test then
+  // rejects what lies behind before it is shaded (the terrain under the sea, a hill's far side), which on a
+  // CPU device is most of the pass's cost.
   void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const UniformSlice& ubo, VkImageView shadow,
-                   VkImageLayout shadow_layout, VkImageView aerial, VkImageLayout aerial_layout) {
+                   VkImageLayout shadow_layout, VkImageView aerial, VkImageLayout aerial_layout, bool shadow_map) {
+    // Linear, mipmapped, clamped: the shadow map, the froxels, the normals.
     const VkSampler shadow_sampler = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
     scene::Frustum frustum = scene::Frustum::from(s.camera.view_proj);
     const float pixels_per_unit = std::abs(s.camera.proj[1][1]) * 0.5f * float(s.height);
-    const gpu::Pipeline* bound = nullptr;
+    const uint32_t frame_variant = (s.lighting.point_lights.empty() ? 0u : kPointLights) |
+                                   (shadow_map ? kShadowMap : 0u) | (aerial_lut ? kAerialLut : 0u);
+    meshes_drawn.clear();
+    queued.clear();
     for (const ModelDraw& draw : s.models) {
       const GpuModel& gm = scene.get(draw.model);
       for (const scene::MeshInstance& inst : draw.model->instances) {
         const scene::Mesh& mesh = draw.model->meshes[inst.mesh];
         const GpuMesh& gpu_mesh = gm.meshes[inst.mesh];
         if (!gpu_mesh.index_count || !gpu_mesh.vertices) continue;
-        glm::mat4 world = draw.world * inst.world;
+        const glm::mat4 world = draw.world * inst.world;
         if (!frustum.intersects(mesh.bounds.transformed(world))) continue;
         const GpuMaterial& mat = gm.material(mesh.material);
-        const gpu::Pipeline* p = mat.double_sided ? geometry_double_sided : geometry;
+        chunk_draws.clear();
+        select_chunk_draws(gpu_mesh.chunks, world, frustum, s.camera.position, pixels_per_unit, lod_error_px, chunk_draws);
+        for (const ChunkDraw& d : chunk_draws) queued.push_back({d, uint32_t(meshes_drawn.size())});
+        meshes_drawn.push_back({world, &gpu_mesh, &mat});
+      }
+    }
+    std::stable_sort(queued.begin(), queued.end(),
+                     [](const QueuedDraw& a, const QueuedDraw& b) { return a.draw.distance < b.draw.distance; });
+    const gpu::Pipeline* bound = nullptr;
+    uint32_t current = UINT32_MAX;
+    for (const QueuedDraw& q : queued) {
+      if (q.mesh != current) {
+        current = q.mesh;
+        const MeshDraw& md = meshes_drawn[q.mesh];
+        const bool normal_map = bool(md.mesh->normals);
+        const gpu::Pipeline* p = geometry_variant(frame_variant | (md.material->double_sided ? kDoubleSided : 0u) |
+                                                  (normal_map ? kNormalMap : 0u) |
+                                                  (md.material->textured ? kBaseTexture : 0u));
         if (p != bound) {
           p->bind(cmd);
           bound = p;
         }
         gpu::DescriptorWriter()
             .uniform_buffer(FRAME_PARAMS_BINDING, ubo.buffer, ubo.offset, ubo.size)
-            .sampled_image(GEOMETRY_BASE_COLOR_BINDING, mat.texture, mat.sampler)
+            .sampled_image(GEOMETRY_BASE_COLOR_BINDING, md.material->texture, md.material->sampler)
             .sampled_image(GEOMETRY_LIGHT_SHADOW_BINDING, shadow, shadow_sampler, shadow_layout)
             .sampled_image(GEOMETRY_AERIAL_BINDING, aerial, shadow_sampler, aerial_layout)
+            .sampled_image(GEOMETRY_NORMAL_BINDING, normal_map ? md.mesh->normals.view() : no_shadow.view(), shadow_sampler)
             .push(ctx, cmd, *p);
         shared::DrawParams dp{};
-        dp.model = world;
-        dp.base_color_factor = mat.base_color_factor;
-        dp.roughness = mat.roughness;
-        dp.metallic = mat.metallic;
-        dp.double_sided = mat.double_sided ? 1u : 0u;
+        dp.model = md.world;
+        dp.normal_plane_u = md.mesh->normal_plane_u;
+        dp.normal_plane_v = md.mesh->normal_plane_v;
+        dp.base_color_factor = md.material->base_color_factor;
+        dp.roughness = md.material->roughness;
+        dp.metallic = md.material->metallic;
+        dp.double_sided = md.material->double_sided ? 1u : 0u;
         p->push_constants(cmd, dp);
         VkDeviceSize offset = 0;
-        VkBuffer vb = gpu_mesh.vertices.handle();
+        VkBuffer vb = md.mesh->vertices.handle();
         vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
-        vkCmdBindIndexBuffer(cmd, gpu_mesh.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
-        // Per chunk (mesh_lod.h): culled against the frustum, drawn at the coarsest level whose error
-        // projects within lod_error_px.
-        chunk_draws.clear();
-        select_chunk_draws(gpu_mesh.chunks, world, frustum, s.camera.position, pixels_per_unit, lod_error_px, chunk_draws);
-        for (const ChunkDraw& d : chunk_draws) vkCmdDrawIndexed(cmd, d.index_count, 1, d.first_index, 0, 0);
+        vkCmdBindIndexBuffer(cmd, md.mesh->indices.handle(), 0, VK_INDEX_TYPE_UINT32);
       }
+      vkCmdDrawIndexed(cmd, q.draw.index_count, 1, q.draw.first_index, 0, 0);
     }
   }
 };
@@ -217,11 +273,14 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   Impl& m = *impl_;
   m.ensure_tonemap(target.format);
   // Upload models before recording (uploads wait on the queue; they must not happen inside a pass).
-  for (const ModelDraw& d : s.models) m.scene.get(d.model);
+  // The sea's level, where an opaque ocean draws a terrain's coastline, taken as in the model's own space (a
+  // terrain placed level with the world): its levels of detail keep that line where it is.
+  for (const ModelDraw& d : s.models) m.scene.get(d.model, s.ocean ? s.ocean->sea_level - d.world[3][1] : NAN);
 
   m.uniforms.begin_frame(slot);
   shared::FrameParams params = make_frame_params(s, exposure_ * s.lighting.exposure);
   params.aerial = glm::vec4(aerial_lut_ ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
+  m.aerial_lut = aerial_lut_;
   UniformSlice ubo = m.uniforms.push(params);
 
   RenderGraph graph(target.extent);
@@ -264,9 +323,9 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         const VkImageView aerial = c.view(luts.aerial);
         const VkImageLayout aerial_layout = c.layout(luts.aerial);
         if (shadow.texture.valid())
-          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture), aerial, aerial_layout);
+          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture), aerial, aerial_layout, true);
         else
-          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, aerial, aerial_layout);
+          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, aerial, aerial_layout, false);
         vkCmdEndRendering(c.cmd());
       });
 

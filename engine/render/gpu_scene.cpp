@@ -55,7 +55,7 @@ GpuSceneCache::GpuSceneCache(gpu::Context& ctx) : ctx_(ctx) {
 
 GpuSceneCache::~GpuSceneCache() = default;
 
-const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& model) {
+const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& model, float contour) {
   auto it = models_.find(model.get());
   if (it != models_.end()) return *it->second;
 
@@ -90,6 +90,7 @@ const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& mo
       sd.filter = t.linear_filter ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
       sd.address = address_mode(t.wrap_u);  // one mode for u and v (the cache's description)
       gm.texture = g->textures[size_t(m->base_color_texture)].view();
+      gm.textured = true;
       gm.sampler = ctx_.samplers().get(sd);
     }
     return gm;
@@ -107,12 +108,31 @@ const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& mo
       continue;
     }
     std::string vname = base + ":" + m.name + " vertices", iname = base + ":" + m.name + " indices";
-    gm.vertices = gpu::Buffer(ctx_, {m.vertices.size() * sizeof(scene::Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+    MeshLodSettings lod_settings;
+    lod_settings.contour = contour;
+    ChunkedMesh lods = build_mesh_lods(m, lod_settings);
+    std::vector<scene::Vertex> vertices = m.vertices;  // then the skirts' (mesh_lod.h)
+    vertices.insert(vertices.end(), lods.skirt_vertices.begin(), lods.skirt_vertices.end());
+    gm.vertices = gpu::Buffer(ctx_, {vertices.size() * sizeof(scene::Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                      gpu::MemoryUsage::GpuOnly, vname.c_str()});
-    gm.vertices.upload(m.vertices.data(), m.vertices.size() * sizeof(scene::Vertex));
-    ChunkedMesh lods = build_mesh_lods(m);
+    gm.vertices.upload(vertices.data(), vertices.size() * sizeof(scene::Vertex));
     gm.index_count = static_cast<uint32_t>(lods.indices.size());
     gm.chunks = std::move(lods.chunks);
+    if (lods.normals.width) {
+      scene::Texture nt;
+      nt.width = lods.normals.width;
+      nt.height = lods.normals.height;
+      nt.rgba = std::move(lods.normals.rgba);
+      auto chain = build_mip_chain(nt);
+      std::string nname = base + ":" + m.name + " normals";
+      gm.normals = gpu::Image(ctx_, gpu::ImageDesc::tex2d(nt.width, nt.height, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT,
+                                                          uint32_t(chain.size()), nname.c_str()));
+      std::vector<gpu::MipData> mips;
+      for (auto& c : chain) mips.push_back({c.data(), c.size()});
+      gm.normals.upload(mips);
+      gm.normal_plane_u = lods.normals.plane_u;
+      gm.normal_plane_v = lods.normals.plane_v;
+    }
     gm.indices = gpu::Buffer(ctx_, {lods.indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
                                     gpu::MemoryUsage::GpuOnly, iname.c_str()});
     gm.indices.upload(lods.indices.data(), lods.indices.size() * sizeof(uint32_t));

@@ -111,8 +111,10 @@ LightDepth LightDepthMap::add_pass(RenderGraph& graph, const FrameSnapshot& s) {
             VkBuffer vb = mesh.vertices.handle();
             vkCmdBindVertexBuffers(c.cmd(), 0, 1, &vb, &offset);
             vkCmdBindIndexBuffer(c.cmd(), mesh.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
-            for (const MeshChunk& chunk : mesh.chunks)  // level 0: the shadow map is re-made rarely, keep it exact
-              vkCmdDrawIndexed(c.cmd(), chunk.levels[0].index_count, 1, chunk.levels[0].first_index, 0, 0);
+            for (const MeshChunk& chunk : mesh.chunks) {  // level 0: the map is re-made rarely, keep it exact
+              const MeshLodLevel& full = chunk.levels[0];  // its surface: a skirt hangs where no light reaches
+              vkCmdDrawIndexed(c.cmd(), full.index_count - full.skirt_count, 1, full.first_index, 0, 0);
+            }
           }
         }
         vkCmdEndRendering(c.cmd());

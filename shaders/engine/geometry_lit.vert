@@ -13,11 +13,13 @@ layout(location = 2) in vec2 in_uv;
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec2 out_uv;
+layout(location = 3) out vec2 out_normal_uv;  // a height field's normal map (DrawParams normal_plane_*)
 
 void main() {
   vec4 world = draw.model * vec4(in_position, 1.0);
   out_world = world.xyz;
   out_normal = mat3(draw.model) * in_normal;  // uniform scale: no inverse-transpose needed
   out_uv = in_uv;
+  out_normal_uv = vec2(dot(vec4(in_position, 1.0), draw.normal_plane_u), dot(vec4(in_position, 1.0), draw.normal_plane_v));
   gl_Position = frame.view_proj * world;
 }

@@ -11,6 +11,7 @@
 #define TONEMAP_HDR_BINDING 0          // tonemap: the HDR scene colour
 #define GEOMETRY_LIGHT_SHADOW_BINDING 2  // geometry: the key light's transmittance map (cloud shadows; white when none)
 #define GEOMETRY_AERIAL_BINDING 3        // geometry: sampler3D, the atmosphere's aerial-perspective froxels
+#define GEOMETRY_NORMAL_BINDING 4        // geometry: a height field's mesh-space shading normals (a 1x1 stand-in when none)
 
 CUMULO_SHARED_BEGIN
 
@@ -57,8 +58,12 @@ struct DrawParams {
   float metallic;           // glTF metallic
   uint double_sided;        // 1: light both faces
   uint pad0;
+  // A height field's shading normals (GEOMETRY_NORMAL_MAP): a mesh-space position p's texture coordinate
+  // is (dot(vec4(p, 1), normal_plane_u), dot(vec4(p, 1), normal_plane_v)).
+  vec4 normal_plane_u;
+  vec4 normal_plane_v;
 };
-CUMULO_SHARED_SIZE(DrawParams, 96)
+CUMULO_SHARED_SIZE(DrawParams, 128)
 
 // Push constants of the tonemap pass.
 #define TONEMAP_ACES 0

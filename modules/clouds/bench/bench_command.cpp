@@ -200,7 +200,7 @@ void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds) 
                       .option("--views", "A,B", "cameras (default ground,mixed,immersed)", &views)
                       .option("--ablations", "A,B", "ablation steps (default base,voxel-lighting,full)", &ablations)
                       .option("--modes", "30,60", "budget modes (default 30,60)", &modes)
-                      .option("--lod-error", "PX", "the terrain's level of detail: a chunk's error within PX pixels (default 0.25; 0: full detail)",
+                      .option("--lod-error", "PX", "the terrain's level of detail: a chunk's error within PX pixels (default 3; 0: full detail)",
                               &o.lod_error_px)
                       .range(0, 100);
                   clouds.add_run_options(p);  // --cloud-formats, --cloud-temporal, ...

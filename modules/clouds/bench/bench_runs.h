@@ -9,6 +9,7 @@
 
 #include "engine/core/file_io.h"
 #include "engine/gpu/readback.h"
+#include "engine/render/mesh_lod.h"
 #include "modules/clouds/render/cloud_renderer.h"
 
 namespace cumulo::clouds::bench {
@@ -27,7 +28,7 @@ struct BenchOptions {
   std::vector<std::string> views{"ground", "mixed", "immersed"};
   std::vector<CloudAblation> ablations{CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full};
   std::vector<int> modes{30, 60};
-  float lod_error_px = 0.25f;  // --lod-error: the terrain's level of detail (engine/render/mesh_lod.h)
+  float lod_error_px = cumulo::render::kDefaultLodErrorPx;  // --lod-error: the terrain's level of detail (engine/render/mesh_lod.h)
 };
 
 // One round's medians of a run (the JSON keeps them so "in every round" can be checked, not only the

@@ -57,6 +57,21 @@ std::string read_text(const fs::path& p) {
   return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
+// Two pictures of one size compared: PSNR over RGB, and how many channel values differ at all.
+struct Comparison {
+  double psnr = 0.0, differ = 0.0;
+};
+Comparison compare(const Image& a, const Image& b) {
+  double se = 0.0, differ = 0.0;
+  for (size_t i = 0; i < a.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) {
+      const double e = double(a.rgba[i + c]) - double(b.rgba[i + c]);
+      se += e * e;
+      differ += e != 0.0;
+    }
+  return {10.0 * std::log10(255.0 * 255.0 / std::max(se / double(a.w * a.h * 3), 1e-9)), differ};
+}
+
 }  // namespace
 
 TEST(RunCli, HelpDocumentsEveryFlag) {
@@ -147,6 +162,26 @@ TEST(RunCli, DynamicResolutionFollowsTheBudget) {
 
 // A fixed --resolution-scale: the cloud march runs at half the size and the composite upsamples it; the
 // picture stays the same picture (the terrain untouched, the sky close), from a quarter of the rays.
+// The terrain's levels of detail at the default error (3 px) keep the picture of full detail: a coarse level's
+// triangles shade from the height field's normal texture, and its coastline stays within the error.
+TEST(RunCli, TheTerrainsLevelsOfDetailKeepThePictureOfFullDetail) {
+  fs::path d = temp_dir();
+  auto render = [&](const std::string& flags, const std::string& name) {
+    fs::path png = d / (name + ".png"), stats = d / (name + ".json");
+    auto r = run_cumulo("run " + kLevel + " --headless --frames 2 --size 320x180 --camera mixed --mode 60 --clouds off " +
+                        flags + " --screenshot " + png.string() + " --stats " + stats.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(nlohmann::json::parse(read_text(stats))["validation_errors"], 0) << r.output;
+    return load_png(png);
+  };
+  const auto full = render("--lod-error 0", "full"), lod = render("", "default");
+  ASSERT_EQ(full.rgba.size(), lod.rgba.size());
+  const auto [psnr, differ] = compare(full, lod);
+  EXPECT_GT(differ, 100.0) << "the default draws full detail";
+  // 34.7 dB measured; the same levels shaded by their vertices' normals (before the normal texture): 30.9 dB.
+  EXPECT_GT(psnr, 33.0);
+}
+
 TEST(RunCli, ResolutionScaleUpsamplesTheCloudsIntoTheSamePicture) {
   fs::path d = temp_dir();
   auto render = [&](const std::string& flags, const std::string& name) {
@@ -164,14 +199,7 @@ TEST(RunCli, ResolutionScaleUpsamplesTheCloudsIntoTheSamePicture) {
   ASSERT_EQ(half.w, 320);
   ASSERT_EQ(half.h, 180);
   EXPECT_FLOAT_EQ(half_stats["resolution_scale"]["last"].get<float>(), 0.5f);
-  double se = 0.0, differ = 0.0;
-  for (size_t i = 0; i < full.rgba.size(); i += 4)
-    for (int c = 0; c < 3; ++c) {
-      const double e = double(full.rgba[i + c]) - double(half.rgba[i + c]);
-      se += e * e;
-      differ += e != 0.0;
-    }
-  const double psnr = 10.0 * std::log10(255.0 * 255.0 / (se / double(full.w * full.h * 3)));
+  const auto [psnr, differ] = compare(full, half);
   EXPECT_GT(differ, 1000.0) << "the scale did not reach the clouds";
   // 23.7 dB measured after 8 frames (the 1-in-16 reprojection has not converged at either scale); the clouds
   // upsampled from the wrong place (the top-left quarter stretched) score 10.7 dB.
@@ -210,11 +238,7 @@ TEST(RunCli, TheNearSegmentReprojectsIntoTheSamePicture) {
   EXPECT_EQ(read_text(d / "near1.txt").find("clouds.near_sub_color"), std::string::npos);
   EXPECT_NE(read_text(d / "near4.txt").find("clouds.near_sub_color image transient 40x23x1"), std::string::npos)
       << read_text(d / "near4.txt");
-  double se = 0.0;
-  for (size_t i = 0; i < every.rgba.size(); i += 4)
-    for (int c = 0; c < 3; ++c) se += std::pow(double(every.rgba[i + c]) - double(quarter.rgba[i + c]), 2.0);
-  const double psnr = 10.0 * std::log10(255.0 * 255.0 / std::max(se / double(every.w * every.h * 3), 1e-9));
-  EXPECT_GT(psnr, 35.0);
+  EXPECT_GT(compare(every, quarter).psnr, 35.0);
 }
 
 TEST(RunCli, SameSeedGivesIdenticalImages) {
