@@ -48,8 +48,8 @@ struct FrameRenderer::Impl {
   gpu::Pipeline* tonemap = nullptr;  // for tonemap_format
   // mesh_lod.h: a chunk's level may stray this many pixels at most (a silhouette, or the coastline, moves
   // that far when the level changes; the shading does not: a height field shades from its normal texture).
-  // 3: the sample level's views at 640x360 stay within 38 dB of full detail, and mixed's geometry costs
-  // a third of what it did at full detail.
+  // 3: the sample level's views at 640x360 stay within 38 dB of full detail, and mixed's geometry pass costs
+  // a third of what it did at 0.25 px with the chunks' borders locked (13.9 -> 4.2 ms, 320x180, lavapipe).
   float lod_error_px = kDefaultLodErrorPx;
   bool aerial_lut = true;  // FrameRenderer::aerial_lut_, for the geometry's variant
   // draw_models' scratch: the meshes in view and their chunks' draws
@@ -104,8 +104,26 @@ struct FrameRenderer::Impl {
   }
   gpu::Pipeline* geometry_variant(uint32_t variant) {
     gpu::Pipeline*& p = geometry_variants[variant];
-    if (!p) p = &library.graphics(geometry_desc(variant));  // compiled on first use (a first lightning flash)
+    if (!p) p = &library.graphics(geometry_desc(variant));  // compiled on first use (prepare_geometry)
     return p;
+  }
+  uint32_t frame_variant(const FrameSnapshot& s, bool shadow_map) const {
+    return (s.lighting.point_lights.empty() ? 0u : kPointLights) | (shadow_map ? kShadowMap : 0u) |
+           (aerial_lut ? kAerialLut : 0u);
+  }
+  static uint32_t mesh_variant(const GpuMesh& mesh, const GpuMaterial& material) {
+    return (material.double_sided ? kDoubleSided : 0u) | (mesh.normals ? kNormalMap : 0u) |
+           (material.textured ? kBaseTexture : 0u);
+  }
+  // Compiles the variants this frame's draws need before the graph records (a compile error then fails the
+  // frame before any pass began, not inside the geometry pass).
+  void prepare_geometry(const FrameSnapshot& s, bool shadow_map) {
+    const uint32_t frame = frame_variant(s, shadow_map);
+    for (const ModelDraw& draw : s.models) {
+      const GpuModel& gm = scene.get(draw.model);
+      for (const scene::MeshInstance& inst : draw.model->instances)
+        geometry_variant(frame | mesh_variant(gm.meshes[inst.mesh], gm.material(draw.model->meshes[inst.mesh].material)));
+    }
   }
   gpu::GraphicsPipelineDesc sky_desc() const {
     gpu::GraphicsPipelineDesc d;
@@ -129,10 +147,13 @@ struct FrameRenderer::Impl {
   }
 
   void build_scene_pipelines() {
-    // The variants every frame without lightning uses, compiled up front (a broken shader fails here).
-    for (uint32_t v : {kShadowMap | kAerialLut, kShadowMap | kAerialLut | kBaseTexture | kNormalMap,
-                       kDoubleSided | kShadowMap | kAerialLut | kBaseTexture})
-      geometry_variant(v);
+    // The variants a level's frames use (an untextured mesh, a textured one, a height field; with and without
+    // a lightning flash's point lights), compiled up front: a shader broken in any of their #if blocks fails
+    // here, by name and line, not at the first flash. Others (the fog, no shadow map) compile at first use.
+    for (uint32_t lights : {0u, uint32_t(kPointLights)})
+      for (uint32_t v : {kShadowMap | kAerialLut, kShadowMap | kAerialLut | kBaseTexture | kNormalMap,
+                         kDoubleSided | kShadowMap | kAerialLut | kBaseTexture})
+        geometry_variant(v | lights);
     sky = &library.graphics(sky_desc());
     atmosphere = std::make_unique<AtmospherePasses>(ctx, library, default_atmosphere());
     no_shadow = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
@@ -158,8 +179,7 @@ struct FrameRenderer::Impl {
     const VkSampler shadow_sampler = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
     scene::Frustum frustum = scene::Frustum::from(s.camera.view_proj);
     const float pixels_per_unit = std::abs(s.camera.proj[1][1]) * 0.5f * float(s.height);
-    const uint32_t frame_variant = (s.lighting.point_lights.empty() ? 0u : kPointLights) |
-                                   (shadow_map ? kShadowMap : 0u) | (aerial_lut ? kAerialLut : 0u);
+    const uint32_t frame = frame_variant(s, shadow_map);
     meshes_drawn.clear();
     queued.clear();
     for (const ModelDraw& draw : s.models) {
@@ -186,9 +206,7 @@ struct FrameRenderer::Impl {
         current = q.mesh;
         const MeshDraw& md = meshes_drawn[q.mesh];
         const bool normal_map = bool(md.mesh->normals);
-        const gpu::Pipeline* p = geometry_variant(frame_variant | (md.material->double_sided ? kDoubleSided : 0u) |
-                                                  (normal_map ? kNormalMap : 0u) |
-                                                  (md.material->textured ? kBaseTexture : 0u));
+        const gpu::Pipeline* p = geometry_variant(frame | mesh_variant(*md.mesh, *md.material));
         if (p != bound) {
           p->bind(cmd);
           bound = p;
@@ -306,6 +324,7 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
     ubo = frame.frame_params = m.uniforms.push(with_shadow);
   }
 
+  m.prepare_geometry(s, shadow.texture.valid());
   // The atmosphere's LUTs (the sky view for the sky pass, the aerial perspective for the geometry).
   const AtmosphereLuts luts = m.atmosphere->add_passes(graph, s, slot);
   if (aerial_lut_) frame.resources.publish(AerialPerspective{luts.aerial});
