@@ -42,7 +42,7 @@ HeightFieldNormals build_height_field_normals(const scene::Mesh& mesh, const std
       n[k] = len > 1e-6f && std::isfinite(len) ? vx.normal / len : glm::normalize(face);
     }
     const float det = (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);
-    if (!(std::abs(det) > 1e-12f)) continue;
+    if (!(std::abs(det) > 1e-12f) || !std::isfinite(det)) continue;  // no area, or a corner not finite
     const int x0 = std::max(0, int(std::ceil(std::min({q[0].x, q[1].x, q[2].x}) - 1e-3f)));
     const int x1 = std::min(int(w) - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}) + 1e-3f)));
     const int y0 = std::max(0, int(std::ceil(std::min({q[0].y, q[1].y, q[2].y}) - 1e-3f)));

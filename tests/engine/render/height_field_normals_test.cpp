@@ -70,6 +70,12 @@ TEST(HeightFieldNormals, AHoleTakesItsNeighboursNormalAndDegenerateInputGivesNoT
   ASSERT_GT(t.width, 0u);
   const glm::vec3 want = glm::normalize(glm::vec3(0.3f, 1.0f, 0.0f));
   EXPECT_NEAR(glm::length(texel(t, 15, 15) - want), 0.0f, 0.012f);  // the hole's centre
+  // A vertex that is not a number (a broken file) costs its triangles, not the texture.
+  scene::Mesh broken = m;
+  broken.vertices[size_t(3 * n + 3)].position.x = NAN;
+  const HeightFieldNormals b = build_height_field_normals(broken, broken.indices, 0, 2, 1);
+  EXPECT_EQ(b.width, t.width);
+  EXPECT_NEAR(glm::length(texel(b, 6, 6) - want), 0.0f, 0.012f);
   // No triangles, or no extent over the plane: no texture.
   EXPECT_EQ(build_height_field_normals(m, {}, 0, 2, 1).width, 0u);
   scene::Mesh line;
