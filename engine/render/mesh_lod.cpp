@@ -315,8 +315,11 @@ ChunkedMesh build_mesh_lods(const scene::Mesh& mesh, const MeshLodSettings& s) {
     list.insert(list.end(), tri, tri + 3);
   }
   cells.erase(std::remove_if(cells.begin(), cells.end(), [](const auto& c) { return c.empty(); }), cells.end());
-  const bool skirted = is_height_field(mesh, mesh.indices, field);
-  if (skirted) out.normals = build_height_field_normals(mesh, mesh.indices, field.u, field.v, field.h);
+  // A height field shades from its normal texture whichever way it faces; it hangs skirts only when it stands
+  // over x and z (a terrain, glTF's y up): a wall's skirts would stick out sideways behind it.
+  const bool height_field = is_height_field(mesh, mesh.indices, field);
+  if (height_field) out.normals = build_height_field_normals(mesh, mesh.indices, field.u, field.v, field.h);
+  const bool skirted = height_field && field.h == 1;
   // Where a contour shows (a coastline), the simplifier sees the surface steepened across it, so it keeps the
   // vertices that hold the line in place (the levels' errors are measured on the real surface).
   std::vector<glm::vec3> steer;

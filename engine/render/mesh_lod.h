@@ -2,10 +2,11 @@
 // Chunks and levels of detail for large meshes (issue 23). A mesh of many triangles (the sample terrain:
 // four meshes of 129 x 129 vertices) is cut into chunks of about `chunk_triangles` along its two widest axes,
 // and each chunk gets a chain of simplified index lists (meshoptimizer's meshopt_simplify), each with the
-// mesh-space error it introduces. A height field (a terrain) simplifies its chunks' borders too, with a skirt
-// under every level's border to close the gaps between neighbours at different levels, and shades from a
-// normal texture (height_field_normals.h), so a coarse level looks as the full one does; any other mesh keeps
-// its chunks' borders locked, so neighbours at other levels meet without cracks. The geometry pass culls
+// mesh-space error it introduces. A height field shades from a normal texture (height_field_normals.h), so a
+// coarse level looks as the full one does; one that stands over x and z (a terrain) also simplifies its
+// chunks' borders, with a skirt under every level's border to close the gaps between neighbours at different
+// levels (at the mesh's own outer border too: a terrain's tiles are separate meshes). Any other mesh keeps its
+// chunks' borders locked, so neighbours at other levels meet without cracks. The geometry pass culls
 // chunks against the frustum and draws the coarsest level whose error projects under a pixel budget.
 // Vertices are shared: a level is an index range into the mesh's one vertex buffer (and its skirt vertices).
 #include <cmath>

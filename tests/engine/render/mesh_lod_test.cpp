@@ -236,6 +236,24 @@ TEST(MeshLod, ALevelStaysWithinItsStatedErrorOfTheFullSurface) {
   }
 }
 
+// A height field that stands upright (a wall: its heights along z) shades from its normal texture but keeps
+// its chunks' borders locked: skirts would stick out sideways behind it.
+TEST(MeshLod, AnUprightHeightFieldHasNormalsButNoSkirts) {
+  scene::Mesh wall = grid_mesh(129, 8.0f, 60.0f);
+  for (scene::Vertex& v : wall.vertices) std::swap(v.position.y, v.position.z);
+  wall.bounds = {};
+  for (const scene::Vertex& v : wall.vertices) wall.bounds.add(v.position);
+  const ChunkedMesh c = build_mesh_lods(wall);
+  EXPECT_GT(c.normals.width, 0u);
+  EXPECT_EQ(c.skirt_depth, 0.0f);
+  EXPECT_TRUE(c.skirt_vertices.empty());
+  for (const MeshChunk& ch : c.chunks)
+    for (size_t l = 1; l < ch.levels.size(); ++l) {
+      EXPECT_EQ(ch.levels[l].skirt_count, 0u);
+      EXPECT_EQ(border(c.indices, ch.levels[l]), border(c.indices, ch.levels[0])) << "level " << l;
+    }
+}
+
 // A coast: a gentle slope (1 in 20) through the contour height 0, with bumps. With the contour given, a level
 // moves the coastline (where it crosses lines along x, to the nearest point of the full surface's line) no
 // farther than its stated error; measured with only the heights' error, it moves it farther.
