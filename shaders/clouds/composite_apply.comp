@@ -6,7 +6,7 @@
 // cloud's half-opacity depth (hazed() below): the atmosphere's froxels when bound (AERIAL 1), else the
 // terrain's height fog (sky_common.glsl's fog_amount) toward the sky's gradient colour:
 //   hdr = hdr * T + (1 - f) * radiance + f * (1 - T) * sky.
-// Debug views (P.frame.w): profile and split arrive opaque from the march/merge (alpha 0); steps maps
+// Debug views (P.frame.w; DEBUG_VIEWS 1): profile and split arrive opaque from the march/merge (alpha 0); steps maps
 // the march's step count (depth image y) to a blue..red heat map over P.march.w steps; light-grid shows
 // a horizontal slice of instance 0's grid at height P.misc.z (0..1): red = sun transmittance
 // exp(-extinction * summed density), green = the same toward the sky.
@@ -38,6 +38,9 @@ layout(set = 0, binding = CLOUD_BINDING_AERIAL) uniform sampler3D aerial_tex;
 #endif
 #ifndef UPSAMPLE
 #define UPSAMPLE 0
+#endif
+#ifndef DEBUG_VIEWS
+#define DEBUG_VIEWS 0  // 1: the steps and light-grid views (compiled out otherwise: an unused branch costs on a CPU device)
 #endif
 #if SKY_LAYER
 layout(set = 0, binding = CLOUD_BINDING_SKY_COLOR) uniform sampler2D sky_tex;
@@ -117,6 +120,7 @@ void main() {
     else rgb = (scene.rgb * c.a + voxel_rgb) * s.a + sky_rgb;
   }
 #endif
+#if DEBUG_VIEWS
   uint view = P.frame.w;
   if (view == CLOUD_DEBUG_STEPS) {
     rgb = heat(cd.y / max(P.march.w, 1.0));
@@ -124,5 +128,6 @@ void main() {
     vec2 g = textureLod(debug_grid, vec3(uv.x, P.misc.z, uv.y / float(max(P.frame.y, 1u))), 0.0).xy;
     rgb = vec3(exp(-g.x * P.march.x), exp(-g.y * P.march.x), 0.0);
   }
+#endif
   imageStore(hdr, pixel, vec4(rgb, scene.a));
 }

@@ -83,8 +83,9 @@ struct CloudResources {
   gpu::Pipeline* temporal_pipe = nullptr;
   gpu::Pipeline* merge_pipe = nullptr;
   // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)][clouds below the output's size (UPSAMPLE),
-  // made on first use]
-  gpu::Pipeline* composite_pipes[2][2][2] = {};
+  // made on first use][a debug view that replaces the picture (DEBUG_VIEWS: steps, light grid; made on first
+  // use): on a CPU device an unused branch still costs, the light grid's fetch a third of the pass]
+  gpu::Pipeline* composite_pipes[2][2][2][2] = {};
   gpu::Pipeline* shadow_pipe = nullptr;
   // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
   gpu::Image shadow_image;
@@ -123,15 +124,17 @@ struct CloudResources {
     march_pipes[key] = &p;
     return p;
   }
-  gpu::Pipeline& composite(bool sky, bool aerial, bool upsample) {
-    gpu::Pipeline*& p = composite_pipes[sky][aerial][upsample];
+  gpu::Pipeline& composite(bool sky, bool aerial, bool upsample, bool debug_views = false) {
+    gpu::Pipeline*& p = composite_pipes[sky][aerial][upsample][debug_views];
     if (!p)
       p = &library.compute({.shader = "clouds/composite_apply.comp",
                             .defines = {{"SKY_LAYER", sky ? "1" : "0"},
                                         {"AERIAL", aerial ? "1" : "0"},
-                                        {"UPSAMPLE", upsample ? "1" : "0"}},
+                                        {"UPSAMPLE", upsample ? "1" : "0"},
+                                        {"DEBUG_VIEWS", debug_views ? "1" : "0"}},
                             .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") +
-                                    (aerial ? " (aerial froxels)" : "") + (upsample ? " (upsampled)" : "")});
+                                    (aerial ? " (aerial froxels)" : "") + (upsample ? " (upsampled)" : "") +
+                                    (debug_views ? " (debug views)" : "")});
     return *p;
   }
   gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {

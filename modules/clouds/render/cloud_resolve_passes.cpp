@@ -41,7 +41,8 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
   const VkExtent2D out = graph.output_size(), clouds = march_extent(graph, in);
   const bool upsample = clouds.width != out.width || clouds.height != out.height;
   const bool scene_depth = sky || upsample;
-  gpu::Pipeline* comp = &res.composite(sky, aerial, upsample);
+  const CloudDebugView view = in.settings.debug;
+  gpu::Pipeline* comp = &res.composite(sky, aerial, upsample, view == CloudDebugView::Steps || view == CloudDebugView::LightGrid);
   CloudResources* r = &res;
   const TextureHandle grid = light.grid;
   const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth, aerial_tex = in.aerial;
