@@ -51,7 +51,6 @@ struct FrameRenderer::Impl {
   // 3: the sample level's views at 640x360 stay within 38 dB of full detail, and mixed's geometry pass costs
   // a third of what it did at 0.25 px with the chunks' borders locked (13.9 -> 4.2 ms, 320x180, lavapipe).
   float lod_error_px = kDefaultLodErrorPx;
-  bool aerial_lut = true;  // FrameRenderer::aerial_lut_, for the geometry's variant
   // draw_models' scratch: the meshes in view and their chunks' draws
   struct MeshDraw {
     glm::mat4 world;
@@ -107,7 +106,7 @@ struct FrameRenderer::Impl {
     if (!p) p = &library.graphics(geometry_desc(variant));  // compiled on first use (prepare_geometry)
     return p;
   }
-  uint32_t frame_variant(const FrameSnapshot& s, bool shadow_map) const {
+  static uint32_t frame_variant(const FrameSnapshot& s, bool shadow_map, bool aerial_lut) {
     return (s.lighting.point_lights.empty() ? 0u : kPointLights) | (shadow_map ? kShadowMap : 0u) |
            (aerial_lut ? kAerialLut : 0u);
   }
@@ -117,8 +116,7 @@ struct FrameRenderer::Impl {
   }
   // Compiles the variants this frame's draws need before the graph records (a compile error then fails the
   // frame before any pass began, not inside the geometry pass).
-  void prepare_geometry(const FrameSnapshot& s, bool shadow_map) {
-    const uint32_t frame = frame_variant(s, shadow_map);
+  void prepare_geometry(const FrameSnapshot& s, uint32_t frame) {
     for (const ModelDraw& draw : s.models) {
       const GpuModel& gm = scene.get(draw.model);
       for (const scene::MeshInstance& inst : draw.model->instances)
@@ -174,12 +172,11 @@ struct FrameRenderer::Impl {
   // rejects what lies behind before it is shaded (the terrain under the sea, a hill's far side), which on a
   // CPU device is most of the pass's cost.
   void draw_models(VkCommandBuffer cmd, const FrameSnapshot& s, const UniformSlice& ubo, VkImageView shadow,
-                   VkImageLayout shadow_layout, VkImageView aerial, VkImageLayout aerial_layout, bool shadow_map) {
+                   VkImageLayout shadow_layout, VkImageView aerial, VkImageLayout aerial_layout, uint32_t frame) {
     // Linear, mipmapped, clamped: the shadow map, the froxels, the normals.
     const VkSampler shadow_sampler = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
     scene::Frustum frustum = scene::Frustum::from(s.camera.view_proj);
     const float pixels_per_unit = std::abs(s.camera.proj[1][1]) * 0.5f * float(s.height);
-    const uint32_t frame = frame_variant(s, shadow_map);
     meshes_drawn.clear();
     queued.clear();
     for (const ModelDraw& draw : s.models) {
@@ -298,7 +295,6 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
   m.uniforms.begin_frame(slot);
   shared::FrameParams params = make_frame_params(s, exposure_ * s.lighting.exposure);
   params.aerial = glm::vec4(aerial_lut_ ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
-  m.aerial_lut = aerial_lut_;
   UniformSlice ubo = m.uniforms.push(params);
 
   RenderGraph graph(target.extent);
@@ -324,7 +320,9 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
     ubo = frame.frame_params = m.uniforms.push(with_shadow);
   }
 
-  m.prepare_geometry(s, shadow.texture.valid());
+  // The geometry's shader variant for this frame (frame_variant), its pipelines compiled before recording.
+  const uint32_t geometry_frame = Impl::frame_variant(s, shadow.texture.valid(), aerial_lut_);
+  m.prepare_geometry(s, geometry_frame);
   // The atmosphere's LUTs (the sky view for the sky pass, the aerial perspective for the geometry).
   const AtmosphereLuts luts = m.atmosphere->add_passes(graph, s, slot);
   if (aerial_lut_) frame.resources.publish(AerialPerspective{luts.aerial});
@@ -335,16 +333,16 @@ void FrameRenderer::record_frame(VkCommandBuffer cmd, const FrameSnapshot& s, co
         if (shadow.texture.valid()) b.read(shadow.texture, Usage::Sampled);
         b.read(luts.aerial, Usage::Sampled);
       },
-      [&m, &s, ubo, shadow, luts, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
+      [&m, &s, ubo, shadow, luts, geometry_frame, hdr = frame.hdr, depth = frame.depth](PassContext& c) {
         Attachment d{depth, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE};
         d.clear.depthStencil = {0.0f, 0};  // reversed-Z far plane
         begin_rendering(c, {hdr, VK_ATTACHMENT_LOAD_OP_CLEAR}, &d);
         const VkImageView aerial = c.view(luts.aerial);
         const VkImageLayout aerial_layout = c.layout(luts.aerial);
         if (shadow.texture.valid())
-          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture), aerial, aerial_layout, true);
+          m.draw_models(c.cmd(), s, ubo, c.view(shadow.texture), c.layout(shadow.texture), aerial, aerial_layout, geometry_frame);
         else
-          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, aerial, aerial_layout, false);
+          m.draw_models(c.cmd(), s, ubo, m.no_shadow.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, aerial, aerial_layout, geometry_frame);
         vkCmdEndRendering(c.cmd());
       });
 

@@ -19,6 +19,17 @@ VkSamplerAddressMode address_mode(scene::Wrap w) {
   return VK_SAMPLER_ADDRESS_MODE_REPEAT;
 }
 
+// An RGBA8 texture with its box-filtered mip chain, uploaded (waits for the copy).
+gpu::Image upload_texture(gpu::Context& ctx, const scene::Texture& t, VkFormat format, const std::string& name) {
+  auto chain = build_mip_chain(t);
+  gpu::Image img(ctx, gpu::ImageDesc::tex2d(t.width, t.height, format, VK_IMAGE_USAGE_SAMPLED_BIT, uint32_t(chain.size()),
+                                            name.c_str()));
+  std::vector<gpu::MipData> mips;
+  for (auto& m : chain) mips.push_back({m.data(), m.size()});
+  img.upload(mips);
+  return img;
+}
+
 }  // namespace
 
 std::vector<std::vector<uint8_t>> build_mip_chain(const scene::Texture& t) {
@@ -66,14 +77,8 @@ const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& mo
     const scene::Texture& t = model->textures[i];
     if (t.width == 0 || t.height == 0 || t.rgba.size() != size_t(t.width) * t.height * 4)
       fail("%s: texture %zu (%s) has no valid RGBA8 pixels", model->source.string().c_str(), i, t.name.c_str());
-    auto chain = build_mip_chain(t);
     std::string name = base + ":" + (t.name.empty() ? "texture" + std::to_string(i) : t.name);
-    gpu::Image img(ctx_, gpu::ImageDesc::tex2d(t.width, t.height, t.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
-                                               VK_IMAGE_USAGE_SAMPLED_BIT, uint32_t(chain.size()), name.c_str()));
-    std::vector<gpu::MipData> mips;
-    for (auto& m : chain) mips.push_back({m.data(), m.size()});
-    img.upload(mips);
-    g->textures.push_back(std::move(img));
+    g->textures.push_back(upload_texture(ctx_, t, t.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM, name));
   }
   auto make_material = [&](const scene::Material* m) {
     GpuMaterial gm;
@@ -123,13 +128,7 @@ const GpuModel& GpuSceneCache::get(const std::shared_ptr<const scene::Model>& mo
       nt.width = lods.normals.width;
       nt.height = lods.normals.height;
       nt.rgba = std::move(lods.normals.rgba);
-      auto chain = build_mip_chain(nt);
-      std::string nname = base + ":" + m.name + " normals";
-      gm.normals = gpu::Image(ctx_, gpu::ImageDesc::tex2d(nt.width, nt.height, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT,
-                                                          uint32_t(chain.size()), nname.c_str()));
-      std::vector<gpu::MipData> mips;
-      for (auto& c : chain) mips.push_back({c.data(), c.size()});
-      gm.normals.upload(mips);
+      gm.normals = upload_texture(ctx_, nt, VK_FORMAT_R8G8B8A8_UNORM, base + ":" + m.name + " normals");
       gm.normal_plane_u = lods.normals.plane_u;
       gm.normal_plane_v = lods.normals.plane_v;
     }

@@ -38,6 +38,24 @@ bool is_height_field(const scene::Mesh& mesh, const std::vector<uint32_t>& tris,
   return sign != 0;
 }
 
+// A border edge of a triangle list (an edge of one triangle only), as that triangle winds it (a to b), with
+// the triangle's third corner c.
+struct BorderEdge {
+  uint32_t a, b, c;
+};
+
+std::vector<BorderEdge> border_edges(const uint32_t* tris, size_t count) {
+  std::unordered_map<uint64_t, int> uses;  // undirected edge -> how many triangles have it
+  auto key = [](uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); };
+  for (size_t t = 0; t + 2 < count; t += 3)
+    for (int k = 0; k < 3; ++k) ++uses[key(tris[t + k], tris[t + (k + 1) % 3])];
+  std::vector<BorderEdge> out;
+  for (size_t t = 0; t + 2 < count; t += 3)
+    for (int k = 0; k < 3; ++k)
+      if (uses[key(tris[t + k], tris[t + (k + 1) % 3])] == 1) out.push_back({tris[t + k], tris[t + (k + 1) % 3], tris[t + (k + 2) % 3]});
+  return out;
+}
+
 // A height field's triangles binned in a 16 x 16 grid over `box`, for the height above a point.
 class SurfaceLookup {
  public:
@@ -137,8 +155,8 @@ float farthest(const std::vector<Segment>& from, const std::vector<Segment>& to)
 // also how far the level moves that line: the distance, each way, between the level's contour line and the
 // full one (`full_contour`), and where a point changes sides, its height difference over the flatter slope
 // (an island that appears or goes, with no line near it in this chunk). Negative when a point finds no
-// triangle (the level's outline moved). `border`: the largest
-// height difference at the points flagged in `on_border` (the full chunk's border vertices and edges).
+// triangle (the level's outline moved). `border`: the largest height difference at the points flagged in
+// `on_border` (the full chunk's border vertices and edges).
 struct MeasuredError {
   float error = -1.0f, border = 0.0f;
 };
@@ -216,18 +234,12 @@ BuiltChunk build_chunk(const scene::Mesh& mesh, std::vector<uint32_t> tris, floa
         edges.emplace_back(std::min(a, b), std::max(a, b));
       }
     std::sort(edges.begin(), edges.end());
-    std::vector<std::pair<uint32_t, uint32_t>> border_edges;
-    for (size_t i = 0; i < edges.size();) {
-      size_t j = i;
-      while (j < edges.size() && edges[j] == edges[i]) ++j;
-      if (j - i == 1) border_edges.push_back(edges[i]);
-      i = j;
-    }
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     on_border.assign(vertices.size() + edges.size(), 0);
-    for (const auto& [a, b] : border_edges) {
-      for (uint32_t v : {a, b}) on_border[size_t(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin())] = 1;
-      on_border[vertices.size() + size_t(std::lower_bound(edges.begin(), edges.end(), std::make_pair(a, b)) - edges.begin())] = 1;
+    for (const BorderEdge& e : border_edges(tris.data(), tris.size())) {
+      for (uint32_t v : {e.a, e.b}) on_border[size_t(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin())] = 1;
+      const auto edge = std::make_pair(std::min(e.a, e.b), std::max(e.a, e.b));
+      on_border[vertices.size() + size_t(std::lower_bound(edges.begin(), edges.end(), edge) - edges.begin())] = 1;
     }
   }
   const std::vector<Segment> full_contour =
@@ -266,20 +278,13 @@ BuiltChunk build_chunk(const scene::Mesh& mesh, std::vector<uint32_t> tris, floa
 template <typename Lowered>
 void append_skirt(const scene::Mesh& mesh, const std::vector<uint32_t>& tris, const glm::vec3& down, Lowered&& lowered,
                   std::vector<uint32_t>& out) {
-  std::unordered_map<uint64_t, int> uses;  // undirected edge -> how many triangles have it
-  auto key = [](uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); };
-  for (size_t t = 0; t < tris.size(); t += 3)
-    for (int k = 0; k < 3; ++k) ++uses[key(tris[t + k], tris[t + (k + 1) % 3])];
-  for (size_t t = 0; t < tris.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = tris[t + k], b = tris[t + (k + 1) % 3], c = tris[t + (k + 2) % 3];
-      if (uses[key(a, b)] != 1) continue;
-      const uint32_t la = lowered(a), lb = lowered(b);
-      const glm::vec3 pa = mesh.vertices[a].position, pb = mesh.vertices[b].position, pc = mesh.vertices[c].position;
-      // (a, la, b) faces along down x (b - a): keep the winding that faces away from the triangle's third vertex.
-      if (glm::dot(glm::cross(down, pb - pa), pa - pc) >= 0.0f) out.insert(out.end(), {a, la, b, b, la, lb});
-      else out.insert(out.end(), {a, b, la, b, lb, la});
-    }
+  for (const auto& [a, b, c] : border_edges(tris.data(), tris.size())) {
+    const uint32_t la = lowered(a), lb = lowered(b);
+    const glm::vec3 pa = mesh.vertices[a].position, pb = mesh.vertices[b].position, pc = mesh.vertices[c].position;
+    // (a, la, b) faces along down x (b - a): keep the winding that faces away from the triangle's third vertex.
+    if (glm::dot(glm::cross(down, pb - pa), pa - pc) >= 0.0f) out.insert(out.end(), {a, la, b, b, la, lb});
+    else out.insert(out.end(), {a, b, la, b, lb, la});
+  }
 }
 
 }  // namespace
@@ -374,7 +379,11 @@ ChunkedMesh build_mesh_lods(const scene::Mesh& mesh, const MeshLodSettings& s) {
       }
       level.index_count = uint32_t(out.indices.size()) - level.first_index;
     }
-    if (out.skirt_depth > 0.0f) b.chunk.bounds.add(b.chunk.bounds.min + down * out.skirt_depth);
+    if (out.skirt_depth > 0.0f) {  // the box holds the skirts, whichever way the field faces
+      const scene::Bounds surface = b.chunk.bounds;
+      b.chunk.bounds.add(surface.min + down * out.skirt_depth);
+      b.chunk.bounds.add(surface.max + down * out.skirt_depth);
+    }
     out.chunks.push_back(std::move(b.chunk));
   }
   return out;

@@ -37,14 +37,15 @@ layout(push_constant, std430) uniform DrawBlock { DrawParams draw; };
 
 // Transmittance of the key light at a world point: projected along the light onto the map's plane.
 float light_visibility(vec3 p, vec3 l) {
-#if !GEOMETRY_SHADOW_MAP
-  return 1.0;
-#endif
+#if GEOMETRY_SHADOW_MAP
   if (frame.shadow_misc.y < 0.5 || l.y < 0.02) return 1.0;
   vec3 q = p + l * ((frame.shadow_misc.x - p.y) / l.y);
   vec2 uv = (q.xz - frame.shadow_plane.xy) * frame.shadow_plane.zw;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
   return textureLod(light_shadow_tex, uv, 0.0).r;
+#else
+  return 1.0;
+#endif
 }
 
 layout(location = 0) in vec3 in_world;
