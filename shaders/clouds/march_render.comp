@@ -60,6 +60,9 @@
 #ifndef LIGHT_SAMPLE_NOISE_MEAN
 #define LIGHT_SAMPLE_NOISE_MEAN 1
 #endif
+#ifndef MS_FIELD
+#define MS_FIELD 0
+#endif
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_LIGHT_GRID) uniform sampler3D light_grid_tex;
@@ -96,6 +99,20 @@ struct PixelData {
 };
 
 #include "clouds/light_grid_lookup.glsl"
+
+// MS_FIELD 1 (CloudSettings::ms_solve): the sun's multiple scattering solved by diffusion on the light grid
+// (light_grid_diffusion.comp): the scattered light's fluence per unit sun irradiance at an asset-space point,
+// trilinear between voxels (outside the box: none), stacked per instance as the light grid is.
+#if MS_FIELD
+layout(set = 0, binding = CLOUD_BINDING_MS_FIELD) uniform sampler3D ms_field_tex;
+float solved_fluence(int i, vec3 asset_pos) {
+  vec3 uvw = asset_uvw(P.instances[i], asset_pos);
+  if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return 0.0;
+  float layers = float(textureSize(ms_field_tex, 0).z) / float(P.frame.y);
+  uvw.z = (float(i) + clamp(uvw.z, 0.5 / layers, 1.0 - 0.5 / layers)) / float(P.frame.y);
+  return textureLod(ms_field_tex, uvw, 0.0).w;
+}
+#endif
 
 // The terrain between a cloud sample and the key light (issue 10: "the sun behind a mountain darkens
 // the cloud base near it"): the geometry's depth map from the light (render/light_depth.h), with the
@@ -278,6 +295,10 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // leaks out through it on its way in, as in a slab of that half-thickness lit edge-on.
         if (slab && P.sun_color.w > 0.0)
           ms_falloff *= exp(-P.sun_color.w * r * max(min(od.y, away) - tau_surface, 0.0) / (2.0 * r * tau_surface + 4.0 / 3.0));
+#if MS_FIELD
+        // The solved field (its leaks through every surface included), weighed against the slab's falloff.
+        ms_falloff = mix(ms_falloff, solved_fluence(i, q) * uintBitsToFloat(P.effects.w), uintBitsToFloat(P.effects.z));
+#endif
         float ms = edge * ms_falloff;
         // The multiple scattering's phase (slab, P.sky_zenith.w > 0): the first orders of scattering keep the phase's
         // forward lobe, so near the lit surface the field is anisotropic (Wrenninge's octaves narrow their

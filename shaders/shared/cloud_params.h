@@ -41,6 +41,10 @@ CUMULO_SHARED_BEGIN
 // CLOUD_COVERAGE_BAND, for the air steps while the weather's coverage leaves every other cloud absent
 #define CLOUD_BINDING_FIELD_FAIR 27
 #define CLOUD_BINDING_FIELD_FAIR_1 28
+// The multiple scattering solved by diffusion on the light grid (CloudSettings::ms_solve; light_grid_diffusion.comp
+// writes it, the march's MS_FIELD variant reads w): x source, y extinction, z the voxel's kind, w the fluence
+#define CLOUD_BINDING_MS_FIELD 29    // sampler3D (march_render.comp, MS_FIELD 1)
+#define CLOUD_BINDING_MS_OUT 30      // image3D rgba16f (light_grid_diffusion.comp)
 // shadow_map.comp (reads PARAMS and LIGHT_GRID)
 #define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp
@@ -139,7 +143,8 @@ struct CloudParams {
   vec4 light_color[CLOUD_MAX_POINT_LIGHTS];  // rgb: colour x intensity; w: unused
   mat4 light_depth;     // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
   uvec4 effects;        // x: CLOUD_EFFECT_* bits of the lighting terms in effect (the march); y: bit 0 = other instances
-                        // shadow an instance (light_grid_lookup.glsl); z, w: unused
+                        // shadow an instance (light_grid_lookup.glsl); z, w (floats by their bits; MS_FIELD): the
+                        // solved multiple scattering's weight against the slab's falloff, its strength over the slab's
   vec4 ms;              // the multiple-scattering field's attenuation (x od): x deep inside toward the sun (talk 0.05),
                         // y at the surface and away from the sun (talk 0.25); z: 1 = diffusion's falloff
                         // 1 / (1 + 0.75 (1 - g) od_own) instead (CloudSettings::ms_diffusion); w: with z, the

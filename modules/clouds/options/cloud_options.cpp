@@ -83,7 +83,8 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
            "(cumulo fidelity), diffusion's falloff of the multiple scattering through a cloud and Beer-Lambert "
            "across other clouds, or the slab (default; issue 21): a slab's falloff from the cloud's depth on both "
            "sides along the sun's line, enclosed air (a chamber) inside the cloud, the sky from the upper "
-           "hemisphere, its diffused light, a ground bounce and a forward lobe of the multiple scattering",
+           "hemisphere, its diffused light, a ground bounce and a forward lobe of the multiple scattering; or the solve: "
+           "the slab's terms with the multiple scattering solved by diffusion on the light grid",
            &o.lighting)
       .option("--cloud-ms-strength", "X", "the multiple-scattering field's strength, overriding the preset's (talk: 1)",
               &o.ms_strength)
@@ -143,6 +144,29 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "line through the cloud, overriding the preset's (0: none)",
               &o.ms_lateral)
       .range(0.0, 100.0)
+      .option("--cloud-ms-solve-iterations", "N",
+              "with the solve lighting, rounds over the light grid's tiles of the multiple scattering's diffusion after a "
+              "full rebuild of the grid (default 4)",
+              &o.ms_solve_iterations)
+      .range(0.0, 1000.0)
+      .option("--cloud-ms-solve-local", "N",
+              "with the solve lighting, red-black relaxations of a tile per visit (default 8)",
+              &o.ms_solve_local)
+      .range(1.0, 64.0)
+      .option("--cloud-ms-solve-weight", "W",
+              "with the solve lighting, the solved multiple scattering's weight against the slab's falloff, overriding "
+              "the preset's (solve: 0.5; 1: the solved field alone)",
+              &o.ms_solve_weight)
+      .range(0.0, 1.0)
+      .option("--cloud-ms-solve-strength", "X",
+              "with the solve lighting, the solved field's strength, overriding the preset's (solve: 3.5; 1: the "
+              "diffusion's fluence as it is)",
+              &o.ms_solve_strength)
+      .range(0.0, 100.0)
+      .option("--cloud-ms-solve-omega", "W",
+              "with the solve lighting, the relaxation factor of those sweeps (default 1.8; 1: Gauss-Seidel)",
+              &o.ms_solve_omega)
+      .range(0.5, 1.99)
       .choice("--cloud-sky-mean", kOnOffNames, "preset",
               "the clouds' sky light from the sky's mean radiance over the upper hemisphere (on) or 0.5 (zenith + "
               "horizon) (off), overriding the preset's (slab: off)",

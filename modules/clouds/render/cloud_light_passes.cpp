@@ -28,6 +28,30 @@ uint64_t instance_key(const CloudInstance& inst, const CloudResourcesDesc& d) {
   return hash64(&k, sizeof k);
 }
 
+// The asset textures a light pass samples, captured by value into its record callback: declared as reads, and
+// bound for one asset slot (push descriptors: rebound when an instance reads another asset).
+struct AssetTextures {
+  std::vector<TextureHandle> modelings, fields, coverages;
+  TextureHandle noise;
+  explicit AssetTextures(const CloudLightOutputs& a)
+      : modelings(a.modelings), fields(a.fields), coverages(a.coverages), noise(a.noise) {}
+  void read(PassBuilder& b) const {
+    for (size_t a = 0; a < modelings.size(); ++a) {
+      b.read(modelings[a], Usage::Sampled);
+      b.read(fields[a], Usage::Sampled);
+    }
+    for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
+    b.read(noise, Usage::Sampled);
+  }
+  void bind(Bindings& bindings, PassContext& c, const CloudResources& r, uint32_t a) const {
+    bindings.sampled(CLOUD_BINDING_MODELING, c.view(modelings[a]), r.linear_clamp, c.layout(modelings[a]))
+        .sampled(CLOUD_BINDING_FIELD, c.view(fields[a]), r.linear_clamp, c.layout(fields[a]))
+        .sampled(CLOUD_BINDING_NOISE, c.view(noise), r.linear_repeat, c.layout(noise));
+    if (!coverages.empty())
+      bindings.sampled(CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r.linear_clamp, c.layout(coverages[a]));
+  }
+};
+
 }  // namespace
 
 CloudLightOutputs import_cloud_assets(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in) {
@@ -120,6 +144,7 @@ LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in) 
       g.sun = sun_asset, g.key = key, g.valid = true;
       g.frames_same_sun = res.desc.light_grid_divisions;  // every level computed with this sun
       ++res.rebuilds;
+      work.rebuilt = true;
     } else if (current) {
       w.first = 0, w.layers = 0;
       w.level_first = 0, w.level_count = 0;
@@ -151,23 +176,14 @@ TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const
   CloudResources* r = &res;
   const std::vector<LightGridWork::Grid>& grids = work.grids;
   const std::vector<LightGridWork::SweepPlan>& plans = work.plans;
-  const std::vector<TextureHandle>& modelings = assets.modelings;
-  const std::vector<TextureHandle>& fields = assets.fields;
-  const std::vector<TextureHandle>& coverages = assets.coverages;
   const std::vector<uint32_t>& slots = assets.slots;
-  const TextureHandle noise = assets.noise;
-  constexpr VkDeviceSize kUboSize = kParamsSize;
+  const AssetTextures textures(assets);
   graph.add_pass("clouds.light_grid", Queue::Compute,
       [&](PassBuilder& b) {
-        for (size_t a = 0; a < modelings.size(); ++a) {
-          b.read(modelings[a], Usage::Sampled);
-          b.read(fields[a], Usage::Sampled);
-        }
-        for (TextureHandle t : coverages) b.read(t, Usage::Sampled);
-        b.read(noise, Usage::Sampled);
+        textures.read(b);
         grid = b.read_write(grid, Usage::StorageWrite);
       },
-      [r, grid_pipe, grids, plans, sweep, grid, modelings, fields, coverages, slots, noise, ubo_handle, rdesc](PassContext& c) {
+      [r, grid_pipe, grids, plans, sweep, grid, textures, slots, ubo_handle, rdesc](PassContext& c) {
         const VkExtent3D e = c.extent(grid);
         // Each instance's dispatches read its own asset (push descriptors: rebound when the asset changes).
         uint32_t bound = UINT32_MAX;
@@ -175,13 +191,8 @@ TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const
           if (a == bound) return;
           bound = a;
           Bindings bindings(*grid_pipe);
-          bindings.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
-              .sampled(CLOUD_BINDING_MODELING, c.view(modelings[a]), r->linear_clamp, c.layout(modelings[a]))
-              .sampled(CLOUD_BINDING_FIELD, c.view(fields[a]), r->linear_clamp, c.layout(fields[a]))
-              .sampled(CLOUD_BINDING_NOISE, c.view(noise), r->linear_repeat, c.layout(noise))
-              .storage(CLOUD_BINDING_GRID_OUT, c.view(grid));
-          if (!coverages.empty())
-            bindings.sampled(CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp, c.layout(coverages[a]));
+          bindings.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kParamsSize).storage(CLOUD_BINDING_GRID_OUT, c.view(grid));
+          textures.bind(bindings, c, *r, a);
           bindings.push(r->ctx, c.cmd());
         };
         for (uint32_t i = 0; i < grids.size(); ++i) {
@@ -214,6 +225,93 @@ TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const
         }
       });
   return grid;
+}
+
+TextureHandle add_ms_solve_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                                const LightGridWork& work, const CloudLightOutputs& assets, VkBuffer ubo_handle) {
+  const CloudSettings& s = in.settings;
+  if (!s.ms_solve) return {};
+  gpu::Context& ctx = res.ctx;
+  const VkExtent3D ge = res.grid_image.extent();
+  if (ge.height > kMaxSolveLevels)
+    fail("clouds: the solve lighting (--cloud-lighting solve) takes a light grid of at most %u levels; this one has %u",
+         kMaxSolveLevels, ge.height);
+  if (!res.ms_image || res.ms_image.extent().width != ge.width || res.ms_image.extent().height != ge.height ||
+      res.ms_image.extent().depth != ge.depth) {
+    if (res.ms_image) ctx.wait_idle();  // frames in flight may still sample the old field (rare: the grid changed size)
+    res.ms_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(ge.width, ge.height, ge.depth, kGridFormat,
+                                                         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
+                                                         "clouds.ms_field"));
+    res.ms_texture = {"clouds.ms_field", TextureDesc::absolute(kGridFormat, ge.width, ge.height, ge.depth),
+                      res.ms_image.handle(), res.ms_image.view(), ResourceState::undefined()};
+    res.ms_valid = false;
+  }
+  TextureHandle ms = graph.import_persistent(res.ms_texture);
+  // A new image's fluence starts at zero (its first setup writes it; later ones warm-start from the last solution).
+  const bool fresh = !res.ms_valid;
+  // Rounds over the grid's tiles: a new image or a rebuild after a long rest, the whole solve; a rebuild soon after
+  // the last solve (the weather's coverage changing, a sun crossing the rebuild threshold again) starts from that
+  // solution and takes one round; a partial update (the sun moved less than CloudSettings::sun_rebuild_degrees)
+  // ms_solve_update_iterations (0 by default: the field lags the sun by less than a degree until the next rebuild).
+  const bool recent = res.ms_valid && in.frame_index < res.ms_frame + 2ull * res.desc.light_grid_divisions;
+  const uint32_t rounds = fresh ? s.ms_solve_iterations
+                          : work.rebuilt ? (recent ? std::min(1u, s.ms_solve_iterations) : s.ms_solve_iterations)
+                          : work.any     ? s.ms_solve_update_iterations
+                                         : 0;
+  if (rounds == 0 && !fresh) return ms;
+  const uint32_t local = s.ms_solve_local_iterations;
+  res.ms_valid = true;
+  res.ms_frame = in.frame_index;
+  gpu::Pipeline* pipe = &res.ms_solve(assets.bc1, assets.coverage_texture);
+  CloudResources* r = &res;
+  const TextureHandle grid = assets.grid;
+  const std::vector<uint32_t>& slots = assets.slots;
+  const AssetTextures textures(assets);
+  const uint32_t n = uint32_t(in.instances.size());
+  const uint32_t layers = res.desc.light_grid_size.z;
+  const float omega = s.ms_solve_omega;
+  graph.add_pass("clouds.ms_solve", Queue::Compute,
+      [&](PassBuilder& b) {
+        textures.read(b);
+        b.read(grid, Usage::Sampled);
+        ms = b.read_write(ms, Usage::StorageWrite);
+        b.side_effect();  // kept for the frames that reuse it
+      },
+      [r, pipe, grid, ms, textures, slots, ubo_handle, n, layers, rounds, local, omega, fresh](PassContext& c) {
+        const VkExtent3D e = c.extent(ms);
+        bool first = true;
+        uint32_t bound = UINT32_MAX;
+        for (uint32_t i = 0; i < n; ++i) {
+          if (slots[i] != bound) {
+            bound = slots[i];
+            Bindings bindings(*pipe);
+            bindings.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kParamsSize)
+                .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
+                .storage(CLOUD_BINDING_MS_OUT, c.view(ms));
+            textures.bind(bindings, c, *r, bound);
+            bindings.push(r->ctx, c.cmd());
+          }
+          shared::CloudLightGridPush pc{};
+          pc.grid = glm::vec4(omega, float(local), 0.0f, 0.0f);
+          // Setup (mode 0; w = 1: a new image, whose fluence starts at zero), the tiles of each colour in turn
+          // (modes 1, 2), then the open air's values for the march's filtering (mode 3).
+          std::vector<uint32_t> modes{0u};
+          for (uint32_t k = 0; k < rounds; ++k) modes.insert(modes.end(), {1u, 2u});
+          modes.push_back(3u);
+          for (uint32_t mode : modes) {
+            // Each step reads what the one before wrote (the only barriers inside this pass).
+            if (!first)
+              gpu::cmd_memory_barrier(c.cmd(), VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+            first = false;
+            pc.region = glm::uvec4(i, mode, layers, fresh ? 1u : 0u);
+            pipe->push_constants(c.cmd(), pc);
+            pipe->dispatch_threads(c.cmd(), e.width, layers, 1);
+          }
+        }
+      });
+  return ms;
 }
 
 void add_shadow_map_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, bool grid_changed,

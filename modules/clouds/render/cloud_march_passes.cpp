@@ -19,8 +19,10 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
   const CloudSettings& s = in.settings;
   const bool terrain = s.terrain_shadow && in.terrain_depth.valid();
   const TextureHandle terrain_depth = in.terrain_depth;
+  const TextureHandle ms_field = light.ms_field;
+  const bool solved = ms_field.valid();
   gpu::Pipeline* pipe = &res.march(s.ablation, segment, light.bc1, s.distance_noise_mip, s.light_sample_noise_mean,
-                                   light.asset_slots, terrain, light.coverage_texture);
+                                   light.asset_slots, terrain, light.coverage_texture, solved);
   const std::vector<TextureHandle>& modelings = light.modelings;
   const std::vector<TextureHandle>& fields = light.fields;
   const std::vector<TextureHandle>& coverages = light.coverages;
@@ -42,11 +44,12 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
         b.read(depth, Usage::Sampled);
         if (front.valid()) b.read(front, Usage::Sampled);
         if (terrain) b.read(terrain_depth, Usage::Sampled);
+        if (solved) b.read(ms_field, Usage::Sampled);
         color = b.write(color, Usage::StorageWrite);
         cdepth = b.write(cdepth, Usage::StorageWrite);
       },
       [r, pipe, grid, modeling, field, modelings, fields, coverages, fairs, noise, depth, color, cdepth, front, ubo_handle, sub_block,
-       sub_offset, size, terrain, terrain_depth](PassContext& c) {
+       sub_offset, size, terrain, terrain_depth, solved, ms_field](PassContext& c) {
         Bindings bind(*pipe);
         bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
             .sampled(CLOUD_BINDING_MODELING, c.view(modeling), r->linear_clamp, c.layout(modeling))
@@ -56,6 +59,7 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
             .storage(CLOUD_BINDING_OUT_COLOR, c.view(color))
             .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
             .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
+        if (solved) bind.sampled(CLOUD_BINDING_MS_FIELD, c.view(ms_field), r->linear_clamp, c.layout(ms_field));
         if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
         if (terrain)
           bind.sampled(CLOUD_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), r->nearest_clamp, c.layout(terrain_depth));

@@ -2,7 +2,8 @@
 // Inside the voxel-cloud renderer (cloud_renderer.h): the persistent resources and the frame's passes as
 // named steps, each in the file that owns it, called in order by add_cloud_light_passes and
 // add_cloud_passes (cloud_renderer.cpp), the way the render graph's compiler runs its steps:
-//   cloud_light_passes.cpp    0. the assets and the noise imported   1. the light grid   1b. the shadow map
+//   cloud_light_passes.cpp    0. the assets and the noise imported   1. the light grid   1a. its multiple scattering
+//                             solved (the solve lighting)   1b. the shadow map
 //   cloud_march_passes.cpp    2. the march (one pass, or near/far and their merge; sub-sampled + reconstructed)
 //   cloud_resolve_passes.cpp  3. temporal accumulation   4. the composite over the scene colour
 // Not for use outside render/.
@@ -50,8 +51,8 @@ struct CloudResources {
     uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
   };
   // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow,
-  // coverage texture (the BC1 modeling NVDF)
-  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool, bool>;
+  // coverage texture (the BC1 modeling NVDF), the solved multiple scattering (MS_FIELD)
+  using MarchKey = std::tuple<int, int, bool, bool, bool, int, bool, bool, bool>;
 
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
@@ -64,6 +65,12 @@ struct CloudResources {
   cumulo::render::PersistentTexture grid_texture;
   uint32_t grid_instances = 0;
   LightGrid grids[kMaxInstances];
+  // CloudSettings::ms_solve: the diffusion solve's coefficients and fluence, the light grid's size and stacking
+  // (light_grid_diffusion.comp); valid once solved after the image was made.
+  gpu::Image ms_image;
+  cumulo::render::PersistentTexture ms_texture;
+  bool ms_valid = false;
+  uint64_t ms_frame = 0;  // the frame of the last solve
   // Temporal accumulation: the graph's history pair (engine/render/history.h).
   cumulo::render::GpuHistory history{"clouds.history", kColorFormat, 1.0f,
                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
@@ -101,8 +108,9 @@ struct CloudResources {
   CloudResources(gpu::Context& c, gpu::PipelineLibrary& lib) : ctx(c), library(lib) {}
 
   gpu::Pipeline& march(CloudAblation a, int segment, bool bc1, bool distance_mip, bool mean_light_noise,
-                       int asset_slots = 1, bool terrain_shadow = false, bool coverage_texture = false) {
-    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow, coverage_texture};
+                       int asset_slots = 1, bool terrain_shadow = false, bool coverage_texture = false,
+                       bool ms_field = false) {
+    MarchKey key{int(a), segment, bc1, distance_mip, mean_light_noise, asset_slots, terrain_shadow, coverage_texture, ms_field};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     static const char* kSegments[] = {"all", "near", "far"};
@@ -115,8 +123,10 @@ struct CloudResources {
                  {"LIGHT_SAMPLE_NOISE_MEAN", mean_light_noise ? "1" : "0"},
                  {"CLOUD_ASSET_SLOTS", std::to_string(asset_slots)},
                  {"TERRAIN_SHADOW", terrain_shadow ? "1" : "0"},
-                 {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}};
+                 {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"},
+                 {"MS_FIELD", ms_field ? "1" : "0"}};
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
+             (ms_field ? ", solved multiple scattering" : "") +
              (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
              (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") +
              (coverage_texture ? ", coverage texture" : "") + ")";
@@ -138,7 +148,7 @@ struct CloudResources {
     return *p;
   }
   gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
-    MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture};
+    MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture, false};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
@@ -148,9 +158,20 @@ struct CloudResources {
     march_pipes[key] = &p;
     return p;
   }
+  gpu::Pipeline& ms_solve(bool bc1, bool coverage_texture = false) {
+    MarchKey key{-3, 0, bc1, true, true, 1, false, coverage_texture, true};
+    auto it = march_pipes.find(key);
+    if (it != march_pipes.end()) return *it->second;
+    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_diffusion.comp",
+                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
+                                        .name = std::string("clouds.ms_solve") + (bc1 ? " (bc1 sdf)" : "") +
+                                                (coverage_texture ? " (coverage texture)" : "")});
+    march_pipes[key] = &p;
+    return p;
+  }
   gpu::Pipeline& grid(bool bc1, bool coverage_texture = false) {
     // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true, true, 1, false, coverage_texture};
+    MarchKey key{-1, 0, bc1, true, true, 1, false, coverage_texture, false};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
     gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
@@ -225,7 +246,8 @@ struct LightGridWork {
   };
   std::vector<Grid> grids;
   std::vector<SweepPlan> plans;
-  bool any = false;  // some grid changes this frame
+  bool any = false;      // some grid changes this frame
+  bool rebuilt = false;  // some grid is rebuilt whole this frame
 };
 // Also (re)creates the grids' image when the instance count or size changed.
 LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in);
@@ -233,6 +255,10 @@ LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in);
 TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
                                   const LightGridWork& work, const CloudLightOutputs& assets, TextureHandle grid,
                                   VkBuffer ubo);
+// 1a. The multiple scattering solved on the light grid (CloudSettings::ms_solve; light_grid_diffusion.comp), when
+// the grid changed or the solve's image is new; returns its new version (invalid without ms_solve).
+TextureHandle add_ms_solve_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                                const LightGridWork& work, const CloudLightOutputs& assets, VkBuffer ubo);
 // 1b. The clouds' shadow on the scene (out.shadow; recomputed when the grid changed or the plane moved).
 void add_shadow_map_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, bool grid_changed,
                          VkBuffer ubo, CloudLightOutputs& out);

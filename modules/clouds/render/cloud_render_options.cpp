@@ -28,6 +28,11 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   if (o.light_sample_growth > 0.0f) s.light_sample_growth = o.light_sample_growth;
   if (o.edge_depth >= 0.0f) s.edge_depth_scale = o.edge_depth;
   if (o.ms_lateral >= 0.0f) s.ms_lateral = o.ms_lateral;
+  if (o.ms_solve_iterations >= 0) s.ms_solve_iterations = uint32_t(o.ms_solve_iterations);
+  if (o.ms_solve_local > 0) s.ms_solve_local_iterations = uint32_t(o.ms_solve_local);
+  if (o.ms_solve_weight >= 0.0f) s.ms_solve_weight = o.ms_solve_weight;
+  if (o.ms_solve_strength >= 0.0f) s.ms_solve_strength = o.ms_solve_strength;
+  if (o.ms_solve_omega > 0.0f) s.ms_solve_omega = o.ms_solve_omega;
   if (o.step_growth >= 1.0f) s.step_growth = o.step_growth;
   if (o.sky_mean) s.sky_mean_ambient = *o.sky_mean;
   if (o.instance_shadows) s.instance_shadows = *o.instance_shadows;

@@ -29,7 +29,7 @@ struct CloudRenderOptions {
   bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds
   uint32_t effects = CLOUD_EFFECTS_ALL;  // --cloud-effects-off: CLOUD_EFFECT_* bits in effect
-  CloudLightingPreset lighting = CloudLightingPreset::Slab;  // --cloud-lighting talk|tuned|diffusion|slab
+  CloudLightingPreset lighting = CloudLightingPreset::Slab;  // --cloud-lighting talk|tuned|diffusion|slab|solve
   // The preset's constants overridden by flags (< 0 or empty: the preset's).
   float ms_strength = -1.0f;            // --cloud-ms-strength
   float ambient_occlusion = -1.0f;      // --cloud-ambient-occlusion
@@ -44,6 +44,11 @@ struct CloudRenderOptions {
   float edge_depth = -1.0f;             // --cloud-edge-depth
   std::optional<bool> instance_shadows;  // --cloud-instance-shadows
   float ms_lateral = -1.0f;             // --cloud-ms-lateral
+  int ms_solve_iterations = -1;         // --cloud-ms-solve-iterations
+  int ms_solve_local = -1;              // --cloud-ms-solve-local
+  float ms_solve_omega = -1.0f;         // --cloud-ms-solve-omega
+  float ms_solve_weight = -1.0f;        // --cloud-ms-solve-weight
+  float ms_solve_strength = -1.0f;      // --cloud-ms-solve-strength
   float step_growth = -1.0f;     // --cloud-step-growth (< 0: the setting's default)
   std::optional<bool> sky_mean;         // --cloud-sky-mean
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,

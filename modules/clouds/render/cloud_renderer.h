@@ -115,6 +115,8 @@ inline const char* debug_view_name(CloudDebugView v) { return name_of(kCloudDebu
 
 // The most marched light samples before the light grid (CloudSettings::light_samples).
 inline constexpr uint32_t kMaxLightSamples = 8;
+// The most light-grid levels the multiple-scattering solve takes (its tiles' shared memory; the talk's grid has 32).
+inline constexpr uint32_t kMaxSolveLevels = 32;
 
 struct CloudSettings {
   CloudAblation ablation = CloudAblation::Full;
@@ -185,6 +187,22 @@ struct CloudSettings {
   // both ends of the sun's line through the own cloud (a tower's top under a grazing sun), the multiple scattering
   // falls by exp(-c tau'_excess / (2 tau'_surface + 4/3)) (transport optical depths). 0: none.
   float ms_lateral = 0.0f;
+  // The multiple scattering solved by diffusion on the light grid (light_grid_diffusion.comp) instead of the slab's
+  // falloff along the sun's line: the cloud's shape decides where diffused light leaks out (bases, tops, chambers).
+  // Solved by tiles of 8x8 columns, each relaxed ms_solve_local_iterations times red-black (over-relaxed by
+  // ms_solve_omega) per visit; ms_solve_iterations rounds over every tile after a full rebuild of a grid (one when
+  // the last solve is recent: it starts from that solution), ms_solve_update_iterations after a partial update (the
+  // sun moving less than sun_rebuild_degrees; 0: none, the field lags by less than that). On lavapipe a round costs
+  // about 50 ms per instance of the CPU grid; 4 rounds are within 67 dB of 16 (the sample's ground view).
+  bool ms_solve = false;
+  // The multiple scattering's falloff: mix(the slab's x ms_strength, the solved fluence x ms_solve_strength,
+  // ms_solve_weight).
+  float ms_solve_weight = 1.0f;
+  float ms_solve_strength = 1.0f;
+  uint32_t ms_solve_iterations = 4;
+  uint32_t ms_solve_update_iterations = 0;
+  uint32_t ms_solve_local_iterations = 8;
+  float ms_solve_omega = 1.8f;
   // With ms_diffusion: the Beer-Lambert coefficient (x od) of the optical depth toward the sun that lies in other
   // clouds than the sample's own (the light grid's z channel tells them apart): diffused light leaves a cloud in
   // every direction, so little of what crossed one cloud reaches another across the air. 0: no difference.
@@ -237,11 +255,14 @@ uint32_t cloud_effect_bit(std::string_view name);
 // (ms_slab), enclosed air (ms_enclosed_sky_depth), the sky from the upper hemisphere at its full optical depth,
 // its diffused light, a ground bounce (ground_albedo) and a forward lobe of the multiple scattering
 // (ms_anisotropy); docs/fidelity/diffusion_lighting.md has what each measured.
-enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion, Slab };
+// Solve (issue 21): the slab's terms with the sun's multiple scattering solved by diffusion on the light grid
+// (ms_solve) instead of the slab's falloff.
+enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion, Slab, Solve };
 inline constexpr std::array kCloudLightingPresetNames{
     EnumName<CloudLightingPreset>{CloudLightingPreset::Talk, "talk"}, EnumName<CloudLightingPreset>{CloudLightingPreset::Tuned, "tuned"},
     EnumName<CloudLightingPreset>{CloudLightingPreset::Diffusion, "diffusion"},
-    EnumName<CloudLightingPreset>{CloudLightingPreset::Slab, "slab"}};
+    EnumName<CloudLightingPreset>{CloudLightingPreset::Slab, "slab"},
+    EnumName<CloudLightingPreset>{CloudLightingPreset::Solve, "solve"}};
 inline const char* lighting_preset_name(CloudLightingPreset p) { return name_of(kCloudLightingPresetNames, p); }
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p);
 
@@ -379,6 +400,7 @@ struct CloudPassOutputs {
 // handles are of this graph only.
 struct CloudLightOutputs {
   TextureHandle grid;                      // the light grid after this frame's update
+  TextureHandle ms_field;                  // CloudSettings::ms_solve: the solved multiple scattering (else invalid)
   cumulo::render::LightShadowMap shadow;   // texture invalid: no shadow this frame (light too low, off)
   std::vector<TextureHandle> modelings, fields;  // the assets' imports, by slot
   std::vector<TextureHandle> coverages;          // their coverage textures (coverage_texture only), by slot
