@@ -10,12 +10,18 @@
 // indexed in a loop crashes LLVM 15's lavapipe backend, and one image is one fetch). Outside the box:
 // 0 (nothing beyond the cloudscape shadows it); z is clamped to the slab's texel centres so the filter
 // never blends two instances.
-vec4 light_grid(int i, vec3 asset_pos) {
-  vec3 uvw = asset_uvw(P.instances[i], asset_pos);
-  if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return vec4(0.0);
-  float layers = float(textureSize(light_grid_tex, 0).z) / float(P.frame.y);
+// Instance i's texture coordinates in an image of such stacked slabs, `depth` texels deep; false outside its box.
+bool instance_slab_uvw(int i, vec3 asset_pos, int depth, out vec3 uvw) {
+  uvw = asset_uvw(P.instances[i], asset_pos);
+  if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return false;
+  float layers = float(depth) / float(P.frame.y);
   uvw.z = (float(i) + clamp(uvw.z, 0.5 / layers, 1.0 - 0.5 / layers)) / float(P.frame.y);
-  return textureLod(light_grid_tex, uvw, 0.0);
+  return true;
+}
+vec4 light_grid(int i, vec3 asset_pos) {
+  vec3 uvw;
+  return instance_slab_uvw(i, asset_pos, textureSize(light_grid_tex, 0).z, uvw) ? textureLod(light_grid_tex, uvw, 0.0)
+                                                                                 : vec4(0.0);
 }
 
 // The summed density x world metres that the other instances' clouds put between a world point and the sun (x)

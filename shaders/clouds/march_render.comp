@@ -106,11 +106,8 @@ struct PixelData {
 #if MS_FIELD
 layout(set = 0, binding = CLOUD_BINDING_MS_FIELD) uniform sampler3D ms_field_tex;
 float solved_fluence(int i, vec3 asset_pos) {
-  vec3 uvw = asset_uvw(P.instances[i], asset_pos);
-  if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return 0.0;
-  float layers = float(textureSize(ms_field_tex, 0).z) / float(P.frame.y);
-  uvw.z = (float(i) + clamp(uvw.z, 0.5 / layers, 1.0 - 0.5 / layers)) / float(P.frame.y);
-  return textureLod(ms_field_tex, uvw, 0.0).w;
+  vec3 uvw;
+  return instance_slab_uvw(i, asset_pos, textureSize(ms_field_tex, 0).z, uvw) ? textureLod(ms_field_tex, uvw, 0.0).w : 0.0;
 }
 #endif
 

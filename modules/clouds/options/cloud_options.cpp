@@ -159,7 +159,7 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               &o.ms_solve_weight)
       .range(0.0, 1.0)
       .option("--cloud-ms-solve-strength", "X",
-              "with the solve lighting, the solved field's strength, overriding the preset's (solve: 3.5; 1: the "
+              "with the solve lighting, the solved field's strength, overriding the preset's (solve: 5; 1: the "
               "diffusion's fluence as it is)",
               &o.ms_solve_strength)
       .range(0.0, 100.0)

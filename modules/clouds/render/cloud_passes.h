@@ -147,43 +147,28 @@ struct CloudResources {
                                     (debug_views ? " (debug views)" : "")});
     return *p;
   }
-  gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
-    MarchKey key{-2, 0, bc1, true, true, 1, false, coverage_texture, false};
+  // The light grid's shaders (the sweep, the talk's rays, the solve) sample the density: one pipeline per SDF form
+  // and coverage source, named "NAME (variant)".
+  gpu::Pipeline& light_pipeline(int kind, const char* shader, const std::string& name, bool bc1, bool coverage_texture) {
+    MarchKey key{kind, 0, bc1, true, true, 1, false, coverage_texture, false};
     auto it = march_pipes.find(key);
     if (it != march_pipes.end()) return *it->second;
-    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_sweep.comp",
+    const std::string variant =
+        std::string(bc1 ? "bc1 sdf" : "") + (bc1 && coverage_texture ? ", " : "") + (coverage_texture ? "coverage texture" : "");
+    gpu::Pipeline& p = library.compute({.shader = shader,
                                         .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
-                                        .name = std::string("clouds.light_grid (sweep") + (bc1 ? ", bc1 sdf" : "") +
-                                                (coverage_texture ? ", coverage texture" : "") + ")"});
+                                        .name = variant.empty() ? name : name + " (" + variant + ")"});
     march_pipes[key] = &p;
     return p;
+  }
+  gpu::Pipeline& sweep(bool bc1, bool coverage_texture = false) {
+    return light_pipeline(-2, "clouds/light_grid_sweep.comp", "clouds.light_grid_sweep", bc1, coverage_texture);
   }
   gpu::Pipeline& ms_solve(bool bc1, bool coverage_texture = false) {
-    MarchKey key{-3, 0, bc1, true, true, 1, false, coverage_texture, true};
-    auto it = march_pipes.find(key);
-    if (it != march_pipes.end()) return *it->second;
-    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_diffusion.comp",
-                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
-                                        .name = std::string("clouds.ms_solve") + (bc1 ? " (bc1 sdf)" : "") +
-                                                (coverage_texture ? " (coverage texture)" : "")});
-    march_pipes[key] = &p;
-    return p;
+    return light_pipeline(-3, "clouds/light_grid_diffusion.comp", "clouds.ms_solve", bc1, coverage_texture);
   }
   gpu::Pipeline& grid(bool bc1, bool coverage_texture = false) {
-    // The grid shader samples the SDF too: built per SDF form.
-    MarchKey key{-1, 0, bc1, true, true, 1, false, coverage_texture, false};
-    auto it = march_pipes.find(key);
-    if (it != march_pipes.end()) return *it->second;
-    gpu::Pipeline& p = library.compute({.shader = "clouds/light_grid_update.comp",
-                                        .defines = {{"SDF_BC1", bc1 ? "1" : "0"}, {"COVERAGE_TEXTURE", coverage_texture ? "1" : "0"}},
-                                        .name = bc1 || coverage_texture
-                                                    ? std::string("clouds.light_grid (") +
-                                                          (bc1 && coverage_texture ? "bc1 sdf, coverage texture"
-                                                           : bc1                   ? "bc1 sdf"
-                                                                                   : "coverage texture") + ")"
-                                                    : std::string("clouds.light_grid")});
-    march_pipes[key] = &p;
-    return p;
+    return light_pipeline(-1, "clouds/light_grid_update.comp", "clouds.light_grid", bc1, coverage_texture);
   }
 };
 

@@ -192,8 +192,8 @@ struct CloudSettings {
   // Solved by tiles of 8x8 columns, each relaxed ms_solve_local_iterations times red-black (over-relaxed by
   // ms_solve_omega) per visit; ms_solve_iterations rounds over every tile after a full rebuild of a grid (one when
   // the last solve is recent: it starts from that solution), ms_solve_update_iterations after a partial update (the
-  // sun moving less than sun_rebuild_degrees; 0: none, the field lags by less than that). On lavapipe a round costs
-  // about 50 ms per instance of the CPU grid; 4 rounds are within 67 dB of 16 (the sample's ground view).
+  // sun moving less than sun_rebuild_degrees; 0: none, the field lags by less than that). On lavapipe a whole solve (4 rounds)
+  // costs about 170 ms per instance of the CPU grid; 4 rounds are within 67 dB of 16 (the sample's ground view).
   bool ms_solve = false;
   // The multiple scattering's falloff: mix(the slab's x ms_strength, the solved fluence x ms_solve_strength,
   // ms_solve_weight).
@@ -256,7 +256,7 @@ uint32_t cloud_effect_bit(std::string_view name);
 // its diffused light, a ground bounce (ground_albedo) and a forward lobe of the multiple scattering
 // (ms_anisotropy); docs/fidelity/diffusion_lighting.md has what each measured.
 // Solve (issue 21): the slab's terms with the sun's multiple scattering solved by diffusion on the light grid
-// (ms_solve) instead of the slab's falloff.
+// (ms_solve) blended half and half with the slab's falloff.
 enum class CloudLightingPreset : uint8_t { Talk, Tuned, Diffusion, Slab, Solve };
 inline constexpr std::array kCloudLightingPresetNames{
     EnumName<CloudLightingPreset>{CloudLightingPreset::Talk, "talk"}, EnumName<CloudLightingPreset>{CloudLightingPreset::Tuned, "tuned"},
