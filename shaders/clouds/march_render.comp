@@ -100,6 +100,14 @@ struct PixelData {
 
 #include "clouds/light_grid_lookup.glsl"
 
+// What the march reads of the light grids at the sample (light_grid_local.comp): x, y the other instances' summed
+// density toward the sun and the sky, z the own sky sum, w the own sum away from the sun; 0 outside the box.
+layout(set = 0, binding = CLOUD_BINDING_LIGHT_LOCAL) uniform sampler3D light_local_tex;
+vec4 light_local(int i, vec3 asset_pos) {
+  vec3 uvw;
+  return instance_slab_uvw(i, asset_pos, textureSize(light_local_tex, 0).z, uvw) ? textureLod(light_local_tex, uvw, 0.0) : vec4(0.0);
+}
+
 // MS_FIELD 1 (CloudSettings::ms_solve): the sun's multiple scattering solved by diffusion on the light grid
 // (light_grid_diffusion.comp): the scattered light's fluence per unit sun irradiance at an asset-space point,
 // trilinear between voxels (outside the box: none), stacked per instance as the light grid is.
@@ -258,13 +266,14 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
 #endif
         vec2 od = sun_optical_depth(CLOUD_MODELING(modeling, coverage), i, inst, q, ts, mip, mean_noise);
         vec3 world_q = ro + rd * ts;
-        // Other instances' clouds in the way (the long shadows' grid term): other clouds' depth toward the sun.
-        vec2 od_others = (P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u ? other_instances_depth(i, world_q) * ext : vec2(0.0);
+        bool slab = P.ms.z > 1.5;
+        bool long_shadows = (P.effects.x & CLOUD_EFFECT_LONG_SHADOWS) != 0u;
+        // One fetch for the sky, the slab and the other instances' clouds in the way (the long shadows' grid term).
+        vec4 local = ambient_direction || slab || long_shadows ? light_local(i, q) : vec4(0.0);
+        vec2 od_others = long_shadows ? local.xy * ext : vec2(0.0);
         od.x += od_others.x;
         float od_sun = od.x;
-        bool slab = P.ms.z > 1.5;
-        vec4 grid_here = ambient_direction || slab ? light_grid(i, q) : vec4(0.0);  // one fetch for the sky and the slab
-        float od_sky = ambient_direction ? (grid_here.y * ext + od_others.y) * P.light.y : 0.0;
+        float od_sky = ambient_direction ? (local.z * ext + od_others.y) * P.light.y : 0.0;
         // Diffusion (P.ms.z): the multiple scattering crosses the point's own cloud as diffuse light does,
         // 1 / (1 + 0.75 (1 - g) od); the optical depth of other clouds between it and the sun (od.x - od.y)
         // shadows it by Beer-Lambert at P.ms.w of the extinction: diffused light leaves a cloud in every
@@ -278,7 +287,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // the diffusion preset the forward lobe's g (0.8), as calibrated.
         float g_mean = mix(P.phase.y, P.phase.x, P.phase.z);
         float r = 1.0 - (slab ? g_mean : P.phase.x);
-        float away = slab ? grid_here.w * ext : 0.0;
+        float away = slab ? local.w * ext : 0.0;
         float ms_falloff = P.ms.z > 0.5 ? exp(-P.ms.w * max(od.x - od.y, 0.0)) * (1.0 + 1.5 * r * away) / (1.0 + 0.75 * r * (od.y + away))
                                         : exp(-od_sun * value_remap(sun_dot, 0.0, 0.9, P.ms.y, value_remap(sdf, -128.0, 0.0, P.ms.x, P.ms.y)));
         // The dark edges' in-scatter probability: the talks' profile (0 at a cloud's edge, 1 deep in), or (slab,

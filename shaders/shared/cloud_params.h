@@ -45,6 +45,10 @@ CUMULO_SHARED_BEGIN
 // writes it, the march's MS_FIELD variant reads w): x source, y extinction, z the voxel's kind, w the fluence
 #define CLOUD_BINDING_MS_FIELD 29    // sampler3D (march_render.comp, MS_FIELD 1)
 #define CLOUD_BINDING_MS_OUT 30      // image3D rgba16f (light_grid_diffusion.comp)
+// What the march reads of the light grids at a sample (light_grid_local.comp writes it after the grids change): x, y the
+// other instances' summed density toward the sun and the sky, z the own sky sum, w the own sum away from the sun
+#define CLOUD_BINDING_LIGHT_LOCAL 31  // sampler3D (march_render.comp)
+#define CLOUD_BINDING_LOCAL_OUT 32    // image3D rgba16f (light_grid_local.comp)
 // shadow_map.comp (reads PARAMS and LIGHT_GRID)
 #define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp
@@ -159,7 +163,7 @@ CUMULO_SHARED_SIZE(CloudParams, 1296)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {
-  uvec4 region;  // x: instance, y: first z layer, z: layer count, w: unused
+  uvec4 region;  // x: instance, y: first z layer, z: layer count, w: unused (each shader's header says what it reads)
   vec4 grid;     // x: sun march steps, y: sky march steps, z: z layers per instance, w: unused
 };
 CUMULO_SHARED_SIZE(CloudLightGridPush, 32)

@@ -65,8 +65,11 @@ std::vector<Summary> summarize(const std::vector<Run>& runs, const std::vector<R
   std::vector<Summary> out;
   auto grid_share = [](const Run* r) {
     if (!r || r->cloud_ms <= 0) return double(NAN);
-    auto it = r->passes.find("clouds.light_grid");
-    return it == r->passes.end() ? 0.0 : it->second / r->cloud_ms;  // absent: the grid rested
+    // The grid and what the march reads of it (clouds.light_grid_local); absent: the grid rested.
+    double ms = 0.0;
+    for (const char* name : {"clouds.light_grid", "clouds.light_grid_local"})
+      if (auto it = r->passes.find(name); it != r->passes.end()) ms += it->second;
+    return ms / r->cloud_ms;
   };
   for (const std::string& v : views) {
     Summary s{v};

@@ -227,6 +227,68 @@ TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const
   return grid;
 }
 
+TextureHandle add_light_local_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                                   const LightGridWork& work, TextureHandle grid, VkBuffer ubo_handle) {
+  gpu::Context& ctx = res.ctx;
+  const VkExtent3D ge = res.grid_image.extent();
+  if (!res.local_image || res.local_image.extent().width != ge.width || res.local_image.extent().height != ge.height ||
+      res.local_image.extent().depth != ge.depth) {
+    if (res.local_image) ctx.wait_idle();  // frames in flight may still sample the old image (rare: the grid changed size)
+    res.local_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(ge.width, ge.height, ge.depth, kGridFormat,
+                                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
+                                                            "clouds.light_grid_local"));
+    res.local_texture = {"clouds.light_grid_local", TextureDesc::absolute(kGridFormat, ge.width, ge.height, ge.depth),
+                         res.local_image.handle(), res.local_image.view(), ResourceState::undefined()};
+    res.local_valid = false;
+  }
+  TextureHandle local = graph.import_persistent(res.local_texture);
+  const bool shadows = in.settings.instance_shadows;
+  // A rebuilt grid (an instance moved, the sun turned) changes the other instances' shadow everywhere; a partial
+  // update changes its levels (sweep) or layers (rays), and the other instances' values read from them follow when
+  // their own levels come round, within one cycle of the grid's updates.
+  const bool whole = !res.local_valid || work.rebuilt || shadows != res.local_shadows;
+  if (!whole && !work.any) return local;
+  const uint32_t n = uint32_t(in.instances.size());
+  const uint32_t layers = res.desc.light_grid_size.z, levels = ge.height;
+  const bool sweep = in.settings.light_grid_method == CloudLightGridMethod::Sweep;
+  // Per instance: first level, level count, first z layer, layer count (a count of 0: nothing this frame).
+  std::vector<glm::uvec4> regions(n, glm::uvec4(0u));
+  for (uint32_t i = 0; i < n && i < work.grids.size(); ++i) {
+    const LightGridWork::Grid& g = work.grids[i];
+    if (whole) regions[i] = {0u, levels, 0u, layers};
+    else if (g.layers > 0 && (!sweep || g.level_count > 0))
+      regions[i] = sweep ? glm::uvec4(g.level_first, g.level_count, g.first, g.layers) : glm::uvec4(0u, levels, g.first, g.layers);
+  }
+  res.local_valid = true;
+  res.local_shadows = shadows;
+  gpu::Pipeline* pipe = res.local_pipe;
+  CloudResources* r = &res;
+  graph.add_pass("clouds.light_grid_local", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(grid, Usage::Sampled);
+        local = b.read_write(local, Usage::StorageWrite);
+        b.side_effect();  // kept for the frames that reuse it
+      },
+      [r, pipe, grid, local, ubo_handle, regions, layers](PassContext& c) {
+        Bindings(*pipe)
+            .ubo(CLOUD_BINDING_PARAMS, ubo_handle, kParamsSize)
+            .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
+            .storage(CLOUD_BINDING_LOCAL_OUT, c.view(local))
+            .push(r->ctx, c.cmd());
+        const VkExtent3D e = c.extent(local);
+        for (uint32_t i = 0; i < regions.size(); ++i) {
+          if (regions[i].y == 0 || regions[i].w == 0) continue;
+          shared::CloudLightGridPush pc{};
+          pc.region = glm::uvec4(i, regions[i].x, regions[i].y, regions[i].z);
+          pc.grid = glm::vec4(0.0f, 0.0f, float(layers), float(regions[i].w));
+          pipe->push_constants(c.cmd(), pc);
+          // One work group in z (light_grid_local.comp): levels x layers along y.
+          pipe->dispatch_threads(c.cmd(), e.width, regions[i].y * regions[i].w, 1);
+        }
+      });
+  return local;
+}
+
 TextureHandle add_ms_solve_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
                                 const LightGridWork& work, const CloudLightOutputs& assets, VkBuffer ubo_handle) {
   const CloudSettings& s = in.settings;

@@ -27,7 +27,8 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
   const std::vector<TextureHandle>& fields = light.fields;
   const std::vector<TextureHandle>& coverages = light.coverages;
   const std::vector<TextureHandle>& fairs = light.fairs;
-  const TextureHandle modeling = modelings[0], field = fields[0], noise = light.noise, grid = light.grid;
+  const TextureHandle modeling = modelings[0], field = fields[0], noise = light.noise, grid = light.grid,
+                      local = light.local;
   const VkExtent2D size = target;
   CloudResources* r = &res;
   constexpr VkDeviceSize kUboSize = kParamsSize;
@@ -41,6 +42,7 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
         for (TextureHandle t : fairs) b.read(t, Usage::Sampled);
         b.read(noise, Usage::Sampled);
         b.read(grid, Usage::Sampled);
+        b.read(local, Usage::Sampled);
         b.read(depth, Usage::Sampled);
         if (front.valid()) b.read(front, Usage::Sampled);
         if (terrain) b.read(terrain_depth, Usage::Sampled);
@@ -48,7 +50,7 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
         color = b.write(color, Usage::StorageWrite);
         cdepth = b.write(cdepth, Usage::StorageWrite);
       },
-      [r, pipe, grid, modeling, field, modelings, fields, coverages, fairs, noise, depth, color, cdepth, front, ubo_handle, sub_block,
+      [r, pipe, grid, local, modeling, field, modelings, fields, coverages, fairs, noise, depth, color, cdepth, front, ubo_handle, sub_block,
        sub_offset, size, terrain, terrain_depth, solved, ms_field](PassContext& c) {
         Bindings bind(*pipe);
         bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kUboSize)
@@ -58,7 +60,8 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
             .sampled(CLOUD_BINDING_SCENE_DEPTH, c.view(depth), r->nearest_clamp, c.layout(depth))
             .storage(CLOUD_BINDING_OUT_COLOR, c.view(color))
             .storage(CLOUD_BINDING_OUT_DEPTH, c.view(cdepth))
-            .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid));
+            .sampled(CLOUD_BINDING_LIGHT_GRID, c.view(grid), r->linear_clamp, c.layout(grid))
+            .sampled(CLOUD_BINDING_LIGHT_LOCAL, c.view(local), r->linear_clamp, c.layout(local));
         if (solved) bind.sampled(CLOUD_BINDING_MS_FIELD, c.view(ms_field), r->linear_clamp, c.layout(ms_field));
         if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
         if (terrain)

@@ -71,6 +71,14 @@ struct CloudResources {
   cumulo::render::PersistentTexture ms_texture;
   bool ms_valid = false;
   uint64_t ms_frame = 0;  // the frame of the last solve
+  // What the march reads of the light grids at a sample (light_grid_local.comp): the other instances' shadow, the own
+  // sky and away sums; the light grid's size and stacking. Valid once written for the grid's instances with
+  // `local_shadows` (CloudSettings::instance_shadows); after that, updated where the grids changed.
+  gpu::Image local_image;
+  cumulo::render::PersistentTexture local_texture;
+  bool local_valid = false;
+  bool local_shadows = false;
+  gpu::Pipeline* local_pipe = nullptr;
   // Temporal accumulation: the graph's history pair (engine/render/history.h).
   cumulo::render::GpuHistory history{"clouds.history", kColorFormat, 1.0f,
                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
@@ -240,11 +248,16 @@ LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in);
 TextureHandle add_light_grid_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
                                   const LightGridWork& work, const CloudLightOutputs& assets, TextureHandle grid,
                                   VkBuffer ubo);
-// 1a. The multiple scattering solved on the light grid (CloudSettings::ms_solve; light_grid_diffusion.comp), when
+// 1a. What the march reads of the light grids at a sample (light_grid_local.comp): written whole when a grid is rebuilt,
+// the image is new or the instances' shadows were switched, else where the grids were updated this frame; returns
+// its new version.
+TextureHandle add_light_local_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
+                                   const LightGridWork& work, TextureHandle grid, VkBuffer ubo);
+// 1b. The multiple scattering solved on the light grid (CloudSettings::ms_solve; light_grid_diffusion.comp), when
 // the grid changed or the solve's image is new; returns its new version (invalid without ms_solve).
 TextureHandle add_ms_solve_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
                                 const LightGridWork& work, const CloudLightOutputs& assets, VkBuffer ubo);
-// 1b. The clouds' shadow on the scene (out.shadow; recomputed when the grid changed or the plane moved).
+// 1c. The clouds' shadow on the scene (out.shadow; recomputed when the grid changed or the plane moved).
 void add_shadow_map_pass(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, bool grid_changed,
                          VkBuffer ubo, CloudLightOutputs& out);
 

@@ -258,6 +258,7 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   for (int sky = 0; sky < 2; ++sky)
     for (int aerial = 0; aerial < 2; ++aerial) res->composite(sky, aerial, false);
   res->shadow_pipe = &library.compute({.shader = "clouds/shadow_map.comp", .name = "clouds.shadow_map"});
+  res->local_pipe = &library.compute({.shader = "clouds/light_grid_local.comp", .name = "clouds.light_grid_local"});
   res->march(CloudAblation::Full, CLOUD_SEGMENT_ALL, false, true, true);  // the common variant, built up front
   res->linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
   res->linear_repeat = ctx.samplers().get(gpu::SamplerDesc::linear_repeat());
@@ -310,6 +311,8 @@ uint64_t persistent_gpu_bytes(const CloudResources& res) {
     total += uint64_t(res.grid_image.extent().width) * res.grid_image.extent().height * res.grid_image.extent().depth * 8;
   if (res.ms_image)
     total += uint64_t(res.ms_image.extent().width) * res.ms_image.extent().height * res.ms_image.extent().depth * 8;
+  if (res.local_image)
+    total += uint64_t(res.local_image.extent().width) * res.local_image.extent().height * res.local_image.extent().depth * 8;
   if (res.history.texture().has_images())
     total += 2ull * res.history.texture().desc().width * res.history.texture().desc().height * 8;
   if (res.recon_history.texture().has_images())
@@ -383,8 +386,9 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
   // again (history, reprojection) before the frame is submitted, with the same instances.
   const VkBuffer ubo = write_params(res, in, march_extent(graph, in), false, out.slots);
   out.grid = add_light_grid_pass(res, graph, in, work, out, out.grid, ubo);  // 1. the light grid
-  out.ms_field = add_ms_solve_pass(res, graph, in, work, out, ubo);          // 1a. its multiple scattering solved
-  add_shadow_map_pass(res, graph, in, work.any, ubo, out);                   // 1b. the clouds' shadow on the scene
+  out.local = add_light_local_pass(res, graph, in, work, out.grid, ubo);     // 1a. what the march reads of it at a sample
+  out.ms_field = add_ms_solve_pass(res, graph, in, work, out, ubo);          // 1b. its multiple scattering solved
+  add_shadow_map_pass(res, graph, in, work.any, ubo, out);                   // 1c. the clouds' shadow on the scene
   return out;
 }
 

@@ -400,6 +400,7 @@ struct CloudPassOutputs {
 // handles are of this graph only.
 struct CloudLightOutputs {
   TextureHandle grid;                      // the light grid after this frame's update
+  TextureHandle local;                     // what the march reads of the grids at a sample (light_grid_local.comp)
   TextureHandle ms_field;                  // CloudSettings::ms_solve: the solved multiple scattering (else invalid)
   cumulo::render::LightShadowMap shadow;   // texture invalid: no shadow this frame (light too low, off)
   std::vector<TextureHandle> modelings, fields;  // the assets' imports, by slot

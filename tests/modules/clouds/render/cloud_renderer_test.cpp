@@ -1075,6 +1075,15 @@ TEST_F(CloudRender, OneInstanceShadowsAnother) {
   EXPECT_GT(without.y, 0.0);
   EXPECT_LT(with.y, 0.8 * without.y) << "the right instance lies in the left one's shadow";
   EXPECT_NEAR(with.x, without.x, 0.01 * without.x) << "the left one, nearer the sun, keeps its light";
+  // The march reads the other instances' shadow from a grid gathered when the grids change (light_grid_local.comp):
+  // the left one moved out of the sun's way, the right one's light comes back in the next frame.
+  in.settings.instance_shadows = true;
+  const glm::dvec2 again = left_right_radiance(render(in));
+  EXPECT_NEAR(again.y, with.y, 0.01 * with.y) << "switched back on, the shadow is back";
+  in.instances[0].position.y += 2000.0f;
+  const glm::dvec2 moved = left_right_radiance(render(in));
+  std::printf("  the left one moved out of the way: right %.2f\n", moved.y);
+  EXPECT_NEAR(moved.y, without.y, 0.02 * without.y) << "nothing shadows the right one any more";
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
