@@ -19,6 +19,11 @@ CUMULO_SHARED_BEGIN
 #define SKY_MAX_YIELD_BOXES 4      // voxel cloudscape boxes the layer yields to
 #define SKY_BINDING_PROBE_POINTS 8 // sky_layer_probe.comp: vec4 world points
 #define SKY_BINDING_PROBE_OUT 9    // sky_layer_probe.comp: float densities
+// sky_layer.comp, VOXEL_OCCLUSION 1: this frame's voxel clouds (where they hide the shell the layer is not marched)
+// and the layer's last reconstruction (what such a pixel keeps)
+#define SKY_BINDING_VOXEL_COLOR 10  // sampler2D rgba16f: a transmittance
+#define SKY_BINDING_VOXEL_DEPTH 11  // sampler2D rgba32f: x opacity-0.5 distance
+#define SKY_BINDING_HISTORY 12      // sampler2D rgba16f: the layer's last frame
 
 struct SkyLayerParams {
   mat4 inv_view_proj;
@@ -39,8 +44,9 @@ struct SkyLayerParams {
   vec4 misc;           // x: yield fade (m, outside each box's footprint), y: yield box count, z: jitter frame, w: vertical yield fade (m, above / below a box)
   vec4 yield_min[SKY_MAX_YIELD_BOXES];  // xyz: world AABB min of a voxel cloudscape; w unused
   vec4 yield_max[SKY_MAX_YIELD_BOXES];
+  mat4 prev_view_proj;  // last frame's world -> clip (VOXEL_OCCLUSION: a hidden pixel keeps its last value)
 };
-CUMULO_SHARED_SIZE(SkyLayerParams, 432)
+CUMULO_SHARED_SIZE(SkyLayerParams, 496)
 
 CUMULO_SHARED_END
 

@@ -58,6 +58,9 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
       .choice("--cloud-sky", kOnOffNames, "auto",
               "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
               &o.sky)
+      .on_off("--cloud-sky-occlusion",
+              "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",
+              &o.sky_occlusion)
       .option("--cloud-effects-off", "LIST",
               "switch off lighting effects of the talks in the march, comma-separated: silver-lining, dark-edges, "
               "inner-glow, long-shadows, ambient-direction, lightning-glow (default: all on)",

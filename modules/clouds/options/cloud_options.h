@@ -19,6 +19,7 @@
 //   --cloud-lighting talk|tuned|diffusion|slab  the lighting model (default slab), and its constants' overrides
 //   --cloud-sky auto|on|off    the weather-driven 2.5D sky beyond and above the voxel cloudscape
 //                              (sky_layer.h; auto, the default: on when the level has a WeatherScheduler)
+//   --cloud-sky-occlusion on|off  the 2.5D sky left unmarched where the voxel clouds hide it (default on)
 //   --weather ID               the state schedulers start in (drawn every frame without a scheduler)
 //   --weather-dir DIR          the folder of weather states (default: the level's)
 #include <string>

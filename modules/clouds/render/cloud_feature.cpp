@@ -117,7 +117,14 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   }
   for (CloudFramePass* p : drawn_passes_) p->add_before_clouds(f, *frame, in);
   CloudPassOutputs outputs;
-  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_);
+  // The passes' additions before the composite go to the composite's copy of the inputs and to `in` (the passes after
+  // the clouds read them: the light shafts the 2.5D sky).
+  const BeforeComposite before_composite = [&](const CloudPassOutputs& voxel, CloudFrameInputs& composite_in) {
+    for (CloudFramePass* p : drawn_passes_) p->add_before_composite(f, *frame, voxel, composite_in);
+    in.sky_color = composite_in.sky_color;
+    in.sky_depth = composite_in.sky_depth;
+  };
+  f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_, before_composite);
   light_ = {};
   if (measure_steps_ && outputs.depth.valid())
     add_steps_readback(f, outputs.depth, cumulo::render::relative_extent(f.graph.output_size(), in.resolution_scale));

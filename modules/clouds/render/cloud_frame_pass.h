@@ -37,6 +37,10 @@ class CloudFramePass {
   // Before the clouds' march: what the march and the composite take from this pass, into `in`.
   virtual void add_before_clouds(cumulo::render::StageContext& /*stage*/, const CloudFrame& /*frame*/,
                                  CloudFrameInputs& /*in*/) {}
+  // After the clouds' march, before their composite: what the composite takes from this pass (the 2.5D sky's colour
+  // and depth, which leave out what `voxel`, the march's colour and depth, hides), into `in`.
+  virtual void add_before_composite(cumulo::render::StageContext& /*stage*/, const CloudFrame& /*frame*/,
+                                    const CloudPassOutputs& /*voxel*/, CloudFrameInputs& /*in*/) {}
   // Adds the passes of this frame and returns the new hdr (`c.stage.hdr` when it draws nothing).
   virtual cumulo::render::TextureHandle add_passes(const CloudFramePassContext& c) = 0;
 };

@@ -25,6 +25,7 @@ struct CloudRenderOptions {
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
+  bool sky_occlusion = true;  // --cloud-sky-occlusion: the 2.5D sky is not marched where the voxel clouds hide it
   bool light_shafts = true;  // --cloud-light-shafts
   bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds

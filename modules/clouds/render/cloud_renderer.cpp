@@ -393,7 +393,8 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
 }
 
 TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
-                               TextureHandle depth, CloudPassOutputs* outputs, const CloudLightOutputs* light) {
+                               TextureHandle depth, CloudPassOutputs* outputs, const CloudLightOutputs* light,
+                               const BeforeComposite& before_composite) {
   if (in.instances.empty()) return hdr;
   CloudLightOutputs own;
   if (!light) {
@@ -410,8 +411,16 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   const MarchOutputs march = add_march_passes(res, graph, in, *light, rp, depth, ubo);          // 2. the march
   const TextureHandle color = s.temporal ? add_temporal_pass(res, graph, march, history, ubo)  // 3. temporal
                                          : march.color;
-  hdr = add_composite_pass(res, graph, in, *light, color, march.depth, depth, hdr, ubo);       // 4. the composite
-  if (outputs) *outputs = {color, march.depth};
+  const CloudPassOutputs voxel{color, march.depth};
+  CloudFrameInputs with_sky;
+  const CloudFrameInputs* composite_in = &in;
+  if (before_composite) {  // 3b. what joins the composite (the 2.5D sky)
+    with_sky = in;
+    before_composite(voxel, with_sky);
+    composite_in = &with_sky;
+  }
+  hdr = add_composite_pass(res, graph, *composite_in, *light, color, march.depth, depth, hdr, ubo);  // 4. the composite
+  if (outputs) *outputs = voxel;
   return hdr;
 }
 

@@ -49,6 +49,7 @@
 // Every pass declares what it touches; barriers come from the graph. The assets are imported per graph
 // in SHADER_READ_ONLY_OPTIMAL (they may be shared by several renderers); the light grid and the history
 // are persistent graph textures (the graph remembers their state between frames).
+#include <functional>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -413,9 +414,13 @@ struct CloudLightOutputs {
   bool coverage_texture = false;  // the BC1 modeling NVDF: the coverage thresholds are a texture of their own (COVERAGE_TEXTURE)
 };
 CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
+// `before_composite` (optional): called with the march's colour and depth (after temporal accumulation) and a copy of
+// `in` before the composite, which then takes that copy: the 2.5D sky adds its passes there (sky_color, sky_depth), as
+// it leaves out what the voxel clouds hide.
+using BeforeComposite = std::function<void(const CloudPassOutputs& voxel, CloudFrameInputs& in)>;
 TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
                                TextureHandle depth, CloudPassOutputs* outputs = nullptr,
-                               const CloudLightOutputs* light = nullptr);
+                               const CloudLightOutputs* light = nullptr, const BeforeComposite& before_composite = {});
 
 // The shadow map's plane (at the lowest box's bottom) and extent (every box's footprint along the
 // light), or none: shadows off, no instance, or the light lower than kShadowMinLightHeight (sin of

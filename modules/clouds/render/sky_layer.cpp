@@ -90,6 +90,7 @@ struct SkyLayer::Impl {
   bool map_loaded = false;
   float map_tile_m = 32000.0f;
   gpu::Pipeline* march = nullptr;
+  gpu::Pipeline* march_occluded = nullptr;  // VOXEL_OCCLUSION 1: not marched where the voxel clouds hide it
   gpu::Pipeline* reconstruct = nullptr;
   gpu::Pipeline* probe = nullptr;  // built on first use
   gpu::PipelineLibrary& library;
@@ -194,6 +195,9 @@ SkyLayer::SkyLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const fs::p
   m.detail = m.load(dir / "sky_noise_detail.nvdf");
   m.curl = m.load(dir / "curl_noise.nvdf");
   m.march = &library.compute({.shader = "clouds/sky_layer.comp", .name = "clouds.sky_layer"});
+  m.march_occluded = &library.compute({.shader = "clouds/sky_layer.comp",
+                                       .defines = {{"VOXEL_OCCLUSION", "1"}},
+                                       .name = "clouds.sky_layer (voxel occlusion)"});
   m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.sky_layer_reconstruct"});
   for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i) {
     m.ubo[i] = gpu::Buffer(ctx, {sizeof(shared::SkyLayerParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -258,12 +262,13 @@ std::vector<float> SkyLayer::probe_density(const SkyLayerFrame& sky, const Cloud
 }
 
 SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky,
-                                       const CloudFrameInputs& in, TextureHandle scene_depth) {
+                                       const CloudFrameInputs& in, TextureHandle scene_depth, const CloudPassOutputs& voxel) {
   Impl& m = *impl_;
   m.ensure_map(sky.map, in.frame_index + 1);
   const CloudSettings& s = in.settings;
   const double t = in.time;
-  const shared::SkyLayerParams p = m.params(sky, in);
+  shared::SkyLayerParams p = m.params(sky, in);
+  p.prev_view_proj = m.prev_view_proj;  // before it becomes this frame's below
   const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight];
   std::memcpy(ubo.mapped(), &p, sizeof p);
 
@@ -307,9 +312,17 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
       m.map_image.handle(), m.map_image.view(), cumulo::render::ResourceState::shader_read_only());
   Impl* mp = &m;
   const VkBuffer ubo_h = ubo.handle();
+  const bool occlusion = voxel.color.valid() && voxel.depth.valid();
+  const TextureHandle voxel_color = voxel.color, voxel_depth = voxel.depth, history_prev = h.previous;
+  const bool history_valid = h.valid;
   graph.add_pass(
       "clouds.sky_layer", Queue::Compute,
       [&](PassBuilder& b) {
+        if (occlusion) {
+          b.read(voxel_color, Usage::Sampled);
+          b.read(voxel_depth, Usage::Sampled);
+          b.read(history_prev, Usage::Sampled);
+        }
         b.read(map, Usage::Sampled);
         b.read(base, Usage::Sampled);
         b.read(detail, Usage::Sampled);
@@ -318,10 +331,16 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
         sub_c = b.write(sub_c, Usage::StorageWrite);
         sub_d = b.write(sub_d, Usage::StorageWrite);
       },
-      [mp, ubo_h, map, base, detail, curl, scene_depth, sub_c, sub_d, hw, hh, offset](PassContext& c) {
-        gpu::Pipeline& pipe = *mp->march;
+      [mp, ubo_h, map, base, detail, curl, scene_depth, sub_c, sub_d, hw, hh, offset, occlusion, voxel_color, voxel_depth,
+       history_prev, history_valid](PassContext& c) {
+        gpu::Pipeline& pipe = occlusion ? *mp->march_occluded : *mp->march;
         pipe.bind(c.cmd());
-        gpu::DescriptorWriter()
+        gpu::DescriptorWriter w;
+        if (occlusion)
+          w.sampled_image(SKY_BINDING_VOXEL_COLOR, c.view(voxel_color), mp->linear_clamp, c.layout(voxel_color))
+              .sampled_image(SKY_BINDING_VOXEL_DEPTH, c.view(voxel_depth), mp->linear_clamp, c.layout(voxel_depth))
+              .sampled_image(SKY_BINDING_HISTORY, c.view(history_prev), mp->linear_clamp, c.layout(history_prev));
+        w
             .uniform_buffer(SKY_BINDING_PARAMS, ubo_h, 0, sizeof(shared::SkyLayerParams))
             .sampled_image(SKY_BINDING_CLOUD_MAP, c.view(map), mp->linear_repeat, c.layout(map))
             .sampled_image(SKY_BINDING_BASE_NOISE, c.view(base), mp->linear_repeat, c.layout(base))
@@ -333,7 +352,7 @@ SkyLayer::Outputs SkyLayer::add_passes(cumulo::render::RenderGraph& graph, const
             .push(mp->ctx, c.cmd(), pipe);
         shared::CloudMarchPush pc{};
         pc.target = glm::vec4(float(hw), float(hh), 1.0f / float(hw), 1.0f / float(hh));
-        pc.sub = glm::vec4(float(kBlock), float(offset.x), float(offset.y), 0.0f);
+        pc.sub = glm::vec4(float(kBlock), float(offset.x), float(offset.y), history_valid ? 1.0f : 0.0f);
         pipe.push_constants(c.cmd(), pc);
         const VkExtent3D e = c.extent(sub_c);
         pipe.dispatch_threads(c.cmd(), e.width, e.height);

@@ -54,8 +54,10 @@ class SkyLayer {
   };
   // The frame's passes (camera, sun, ambient, extinction and phase from `in`; the yield boxes are its
   // instances). Nothing (invalid outputs) when !sky.enabled.
+  // `voxel` (optional): this frame's voxel clouds (the march's colour and depth): where they are opaque in front of the
+  // whole shell the layer is not marched (its last value is kept, reprojected).
   Outputs add_passes(cumulo::render::RenderGraph& graph, const SkyLayerFrame& sky, const CloudFrameInputs& in,
-                     cumulo::render::TextureHandle scene_depth);
+                     cumulo::render::TextureHandle scene_depth, const CloudPassOutputs& voxel = {});
   uint64_t gpu_bytes() const;
   // The layer's density (full detail) at world points with these parameters (sky_layer_probe.comp):
   // for tests and debugging; waits for the device.

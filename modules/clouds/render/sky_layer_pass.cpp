@@ -1,5 +1,5 @@
-// The weather-driven 2.5D sky (sky_layer.h) as a frame pass (cloud_frame_pass.h): before the clouds' march
-// its colour and depth join the inputs, and the composite orders them against the voxel clouds. Drawn with
+// The weather-driven 2.5D sky (sky_layer.h) as a frame pass (cloud_frame_pass.h): after the clouds' march, whose
+// opaque clouds hide it, its colour and depth join the composite's inputs, which orders them against the voxel clouds. Drawn with
 // --cloud-sky on, or auto in a level with a WeatherScheduler.
 #include <memory>
 
@@ -20,9 +20,11 @@ class SkyLayerPass final : public CloudFramePass {
   }
   void destroy_gpu() override { sky_.reset(); }
 
-  void add_before_clouds(cumulo::render::StageContext& stage, const CloudFrame& frame, CloudFrameInputs& in) override {
+  void add_before_composite(cumulo::render::StageContext& stage, const CloudFrame& frame, const CloudPassOutputs& voxel,
+                            CloudFrameInputs& in) override {
     if (options_->reference_comparable) return;
-    const SkyLayer::Outputs o = sky_->add_passes(stage.graph, frame.sky, in, stage.depth);
+    const SkyLayer::Outputs o = sky_->add_passes(stage.graph, frame.sky, in, stage.depth,
+                                                 options_->sky_occlusion ? voxel : CloudPassOutputs{});
     in.sky_color = o.color;
     in.sky_depth = o.depth;
   }

@@ -226,3 +226,40 @@ TEST_F(SkyLayerGpu, TheDensityFadesInAlongAVoxelBoxBorderWithoutAStep) {
   std::printf("  a box below the deck: mean density over its footprint %.3f, beyond %.3f\n", low.inside, low.full);
   EXPECT_GT(low.inside, 0.5 * low.full);
 }
+
+namespace {
+double psnr_rgb(const test::Png& a, const test::Png& b) {
+  double se = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < a.rgba.size() && i < b.rgba.size(); ++i) {
+    if (i % 4 == 3) continue;
+    const double d = double(a.rgba[i]) - double(b.rgba[i]);
+    se += d * d, ++n;
+  }
+  return se <= 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 * double(n) / se);
+}
+}  // namespace
+
+// The 2.5D sky left unmarched where this frame's voxel clouds hide it (--cloud-sky-occlusion, issue 23): inside the
+// storm cloud's chamber (lair) and in the mixed view, whose storm cloud hides part of the deck, the picture of a still
+// camera is the one the layer marched everywhere gives: a hidden pixel keeps its last value.
+TEST_F(CloudsRun, TheSkyLayerHiddenByVoxelCloudsKeepsThePicture) {
+  const fs::path level = fs::absolute("content/levels/sample/level.json");
+  for (const char* camera : {"lair", "mixed"}) {
+    const std::string on = std::string(camera) + "_occluded.png", off = std::string(camera) + "_marched.png";
+    ASSERT_EQ(run(level, on, {"--camera", camera, "--cloud-sky", "on", "--cloud-sky-occlusion", "on"}, 16), 0);
+    ASSERT_EQ(run(level, off, {"--camera", camera, "--cloud-sky", "on", "--cloud-sky-occlusion", "off"}, 16), 0);
+    // The layer's march reads the voxel clouds' colour (clouds.history) only with the occlusion on.
+    auto reads_voxels = [&](const std::string& shot) {
+      const std::string dump = read_file_text(dir_ / (shot + ".txt"));
+      const size_t at = dump.find("clouds.sky_layer (compute)");
+      const size_t next = dump.find("\npass ", at);
+      return at != std::string::npos && dump.substr(at, next - at).find("read clouds.history as sampled") != std::string::npos;
+    };
+    EXPECT_TRUE(reads_voxels(on)) << camera;
+    EXPECT_FALSE(reads_voxels(off)) << camera;
+    const double p = psnr_rgb(load_png(dir_ / on), load_png(dir_ / off));
+    std::printf("  %s: occluded against marched everywhere %.1f dB\n", camera, p);
+    EXPECT_GT(p, 45.0) << camera;
+  }
+}
