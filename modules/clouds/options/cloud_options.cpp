@@ -34,7 +34,7 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               &o.reprojection_block)
       .choice("--cloud-near-reprojection", kNearReprojectionNames,
               "the 40/60 Hz near segment (half resolution) marches 1 of N of its pixels per frame and reprojects the "
-              "rest (with temporal on): 1 every pixel, 4 (default), 16",
+              "rest (with temporal on): 1 every pixel, 4, 16 (default)",
               &o.near_reprojection_block)
       .choice("--cloud-light-grid", kLightGridNames,
               "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",

@@ -102,7 +102,8 @@ void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFram
   add_march(res, graph, in, light, depth, ubo, name, segment, sub_c, sub_d, front, block, size, rp.sub_offset);
   TextureHandle next = rp.history.next;
   add_reconstruct_pass(graph, res.ctx, "clouds.reconstruct",
-                       {res.recon_pipe, ubo, sub_c, sub_d, rp.history.prev, depth, block, rp.sub_offset, rp.history.valid},
+                       {res.recon_pipe, ubo, sub_c, sub_d, rp.history.prev, depth, block, rp.sub_offset, rp.history.valid,
+                        rp.settled},
                        next, cdepth);
   color = next;
 }
@@ -173,6 +174,12 @@ Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const 
   // B*B frames, neighbours far apart in time).
   Reprojection rp;
   rp.block = reprojection_block(in.settings);
+  if (in.camera_cut || !in.lights.empty() || res.rebuilds != res.settled_rebuilds) res.frames_settled = 0;
+  else ++res.frames_settled;
+  res.settled_rebuilds = res.rebuilds;
+  // A whole cycle of the block since: every pixel's history was marched in the settled picture. (The near segment's
+  // history keeps its clamp: the wind moves the detail of clouds within the split by pixels over a cycle.)
+  rp.settled = res.frames_settled >= rp.block * rp.block;
   if (rp.block > 1) {
     if (in.camera_cut || res.recon_block != rp.block) res.recon_history.invalidate();
     res.recon_history.set_scale(in.resolution_scale);  // a new scale replaces the pair (history invalid)

@@ -87,6 +87,10 @@ struct CloudResources {
   cumulo::render::GpuHistory recon_history{"clouds.reprojection", kColorFormat, 1.0f,
                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
   uint32_t recon_block = 0;  // block size of the last frame's reconstruction (0: none)
+  // Frames since the picture last changed in a way the reprojection cannot follow (a camera cut, a point light, a
+  // light-grid rebuild: an instance moved or faded, the weather's coverage, the sun past the rebuild angle).
+  uint32_t frames_settled = 0;
+  uint32_t settled_rebuilds = 0;  // `rebuilds` when frames_settled last started
   gpu::Pipeline* recon_pipe = nullptr;
   // The same for the near segment of the 40/60 Hz split (half resolution; its ray ends at the split).
   cumulo::render::GpuHistory near_history{"clouds.reprojection_near", kColorFormat, 0.5f,
@@ -268,6 +272,7 @@ struct Reprojection {
   uint32_t block = 1;
   glm::uvec2 sub_offset{0, 0};
   HistoryImports history;
+  bool settled = false;  // ReconstructInputs::settled for the full-resolution march
   // Whether the 40/60 Hz near segment is marched this frame (no cloudscape box within the split distance: skipped),
   // and its reprojection (half resolution; CloudSettings::near_reprojection_block): 1, every pixel.
   bool near_runs = false;

@@ -58,7 +58,7 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
         const VkExtent3D e = c.extent(color);
         shared::CloudMarchPush pc{};
         pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-        pc.sub = glm::vec4(float(in.block), float(in.offset.x), float(in.offset.y), in.history_valid ? 1.0f : 0.0f);
+        pc.sub = glm::vec4(float(in.block), float(in.offset.x), float(in.offset.y), in.history_valid ? (in.settled ? 2.0f : 1.0f) : 0.0f);
         in.pipe->push_constants(c.cmd(), pc);
         in.pipe->dispatch_threads(c.cmd(), e.width, e.height);
       });

@@ -29,6 +29,10 @@ struct ReconstructInputs {
   uint32_t block = 4;
   glm::uvec2 offset{0, 0};
   bool history_valid = false;
+  // The picture has not changed in ways the reprojection cannot follow for a whole cycle of the block (no camera cut,
+  // no point light, no light-grid rebuild: CloudResources::frames_settled): a pixel whose history lands exactly on a
+  // texel (a still camera) keeps it unclamped.
+  bool settled = false;
 };
 
 // Adds `name`: writes `color` (this frame's reconstruction, the next frame's history) and `depth`.

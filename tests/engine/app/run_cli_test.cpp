@@ -213,15 +213,15 @@ TEST(RunCli, ResolutionScaleUpsamplesTheCloudsIntoTheSamePicture) {
       << read_text(d / "half.txt");
 }
 
-// The 40/60 Hz near segment marches 1 of 4 of its half-resolution pixels a frame and reprojects the rest
-// (--cloud-near-reprojection 4, the default): inside the Stormbird's chamber, where the near layer is the picture,
-// the same picture for a quarter of the near march's rays (counted from the compiled graph's image sizes: a
-// unit test times nothing).
+// The 40/60 Hz near segment marches 1 of 16 of its half-resolution pixels a frame and reprojects the rest
+// (--cloud-near-reprojection 16, the default; 4 the one before): inside the Stormbird's chamber, where the near layer
+// is the picture, the same picture for a sixteenth (a quarter) of the near march's rays (counted from the compiled
+// graph's image sizes: a unit test times nothing).
 TEST(RunCli, TheNearSegmentReprojectsIntoTheSamePicture) {
   fs::path d = temp_dir();
   auto render = [&](const std::string& n) {
     fs::path png = d / ("near" + n + ".png"), stats = d / ("near" + n + ".json"), graph = d / ("near" + n + ".txt");
-    auto r = run_cumulo("run " + kLevel + " --headless --frames 8 --size 160x90 --camera lair --mode 60 --cloud-near-reprojection " +
+    auto r = run_cumulo("run " + kLevel + " --headless --frames 16 --size 160x90 --camera lair --mode 60 --cloud-near-reprojection " +
                         n + " --screenshot " + png.string() + " --stats " + stats.string() + " --dump-graph " + graph.string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     auto j = nlohmann::json::parse(read_text(stats));
@@ -230,15 +230,23 @@ TEST(RunCli, TheNearSegmentReprojectsIntoTheSamePicture) {
   };
   auto [every, every_stats] = render("1");
   auto [quarter, quarter_stats] = render("4");
+  auto [sixteenth, sixteenth_stats] = render("16");
   ASSERT_EQ(every.w, 160);
   ASSERT_EQ(quarter.w, 160);
+  ASSERT_EQ(sixteenth.w, 160);
   EXPECT_FALSE(every_stats["passes"].contains("clouds.reconstruct_near"));
   ASSERT_TRUE(quarter_stats["passes"].contains("clouds.reconstruct_near")) << quarter_stats["passes"].dump(2);
-  // The near march's rays: every pixel of the 80x45 half-resolution near layer, or one per 2x2 block of it.
+  ASSERT_TRUE(sixteenth_stats["passes"].contains("clouds.reconstruct_near"));
+  // The near march's rays: every pixel of the 80x45 half-resolution near layer, or one per 2x2 (4x4) block of it.
   EXPECT_EQ(read_text(d / "near1.txt").find("clouds.near_sub_color"), std::string::npos);
   EXPECT_NE(read_text(d / "near4.txt").find("clouds.near_sub_color image transient 40x23x1"), std::string::npos)
       << read_text(d / "near4.txt");
+  EXPECT_NE(read_text(d / "near16.txt").find("clouds.near_sub_color image transient 20x12x1"), std::string::npos)
+      << read_text(d / "near16.txt");
+  std::printf("  against every near pixel: 1 of 4 %.1f dB, 1 of 16 %.1f dB\n", compare(every, quarter).psnr,
+              compare(every, sixteenth).psnr);
   EXPECT_GT(compare(every, quarter).psnr, 35.0);
+  EXPECT_GT(compare(every, sixteenth).psnr, 35.0);
 }
 
 TEST(RunCli, SameSeedGivesIdenticalImages) {
