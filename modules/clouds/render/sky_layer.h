@@ -5,9 +5,11 @@
 //
 //   SkyLayer sky(ctx, library, prepare_sky_noise());
 //   const SkyLayerFrame& p = cloud_frame.sky;      // defaults, or from the weather (frame/cloud_extraction.h)
-//   SkyLayer::Outputs o = sky.add_passes(graph, p, cloud_inputs, scene_depth);
+//   SkyLayer::Outputs o = sky.add_passes(graph, p, cloud_inputs, scene_depth, voxel);  // voxel: the march's outputs
 //   cloud_inputs.sky_color = o.color; cloud_inputs.sky_depth = o.depth;   // composited with the voxel clouds
 //
+// Added between the voxel clouds' march and their composite (sky_layer_pass.cpp, add_before_composite): where this
+// frame's voxel clouds are opaque in front of the whole shell its march keeps the last value (VOXEL_OCCLUSION).
 // Passes: clouds.sky_layer (the march, one pixel of each 4x4 block of a half-resolution target per
 // frame: 2015's "1 out of 16 pixels for each 4x4 pixel block") and clouds.sky_layer_reconstruct
 // (reconstruct.comp: the other 15 reprojected from the last frame's, the history in the graph); the
