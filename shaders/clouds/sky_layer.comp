@@ -174,6 +174,7 @@ void main() {
         light_in += S.ambient_color.rgb * mix(0.35, 1.0, hf);
         for (int k = 0; k < 2; ++k) {
           float dens = k == 0 ? d0 : d1;
+          if (dens <= 0.0) continue;  // the pair's other sample holds the cloud
           float sigma_t = max(dens * S.march.x, 1e-7);
           float tr = exp(-sigma_t * dt);
           vec3 s_in = light_in * sigma_t;
