@@ -251,13 +251,27 @@ TextureHandle add_light_local_pass(CloudResources& res, RenderGraph& graph, cons
   const uint32_t n = uint32_t(in.instances.size());
   const uint32_t layers = res.desc.light_grid_size.z, levels = ge.height;
   const bool sweep = in.settings.light_grid_method == CloudLightGridMethod::Sweep;
-  // Per instance: first level, level count, first z layer, layer count (a count of 0: nothing this frame).
-  std::vector<glm::uvec4> regions(n, glm::uvec4(0u));
+  // Per instance and dispatch: the instance, first level, level count, first z layer, layer count. A partial sweep
+  // updated its levels in sweep order, from the top (the grid's levels H-1-k) for some channels and from the bottom
+  // (k) for others: both ranges.
+  std::vector<std::pair<uint32_t, glm::uvec4>> regions;
   for (uint32_t i = 0; i < n && i < work.grids.size(); ++i) {
     const LightGridWork::Grid& g = work.grids[i];
-    if (whole) regions[i] = {0u, levels, 0u, layers};
-    else if (g.layers > 0 && (!sweep || g.level_count > 0))
-      regions[i] = sweep ? glm::uvec4(g.level_first, g.level_count, g.first, g.layers) : glm::uvec4(0u, levels, g.first, g.layers);
+    if (whole) {
+      regions.push_back({i, {0u, levels, 0u, layers}});
+    } else if (g.layers > 0 && !sweep) {
+      regions.push_back({i, {0u, levels, g.first, g.layers}});
+    } else if (g.layers > 0 && g.level_count > 0) {
+      const uint32_t first = std::min(g.level_first, levels), count = std::min(g.level_count, levels - first);
+      const uint32_t mirrored = levels - first - count;
+      if (mirrored >= first + count || mirrored + count <= first) {
+        regions.push_back({i, {first, count, g.first, g.layers}});
+        regions.push_back({i, {mirrored, count, g.first, g.layers}});
+      } else {  // overlapping: their union
+        const uint32_t lo = std::min(first, mirrored), hi = std::max(first, mirrored) + count;
+        regions.push_back({i, {lo, hi - lo, g.first, g.layers}});
+      }
+    }
   }
   res.local_valid = true;
   res.local_shadows = shadows;
@@ -276,14 +290,14 @@ TextureHandle add_light_local_pass(CloudResources& res, RenderGraph& graph, cons
             .storage(CLOUD_BINDING_LOCAL_OUT, c.view(local))
             .push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(local);
-        for (uint32_t i = 0; i < regions.size(); ++i) {
-          if (regions[i].y == 0 || regions[i].w == 0) continue;
+        for (const auto& [i, region] : regions) {
+          if (region.y == 0 || region.w == 0) continue;
           shared::CloudLightGridPush pc{};
-          pc.region = glm::uvec4(i, regions[i].x, regions[i].y, regions[i].z);
-          pc.grid = glm::vec4(0.0f, 0.0f, float(layers), float(regions[i].w));
+          pc.region = glm::uvec4(i, region.x, region.y, region.z);
+          pc.grid = glm::vec4(0.0f, 0.0f, float(layers), float(region.w));
           pipe->push_constants(c.cmd(), pc);
           // One work group in z (light_grid_local.comp): levels x layers along y.
-          pipe->dispatch_threads(c.cmd(), e.width, regions[i].y * regions[i].w, 1);
+          pipe->dispatch_threads(c.cmd(), e.width, region.y * region.w, 1);
         }
       });
   return local;
