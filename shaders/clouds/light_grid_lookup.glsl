@@ -18,11 +18,12 @@ bool instance_slab_uvw(int i, vec3 asset_pos, int depth, out vec3 uvw) {
   uvw.z = (float(i) + clamp(uvw.z, 0.5 / layers, 1.0 - 0.5 / layers)) / float(P.frame.y);
   return true;
 }
-vec4 light_grid(int i, vec3 asset_pos) {
+// Instance i's texel (filtered) of an image stacked that way at an asset-space point; 0 outside its box.
+vec4 instance_slab_fetch(sampler3D tex, int i, vec3 asset_pos) {
   vec3 uvw;
-  return instance_slab_uvw(i, asset_pos, textureSize(light_grid_tex, 0).z, uvw) ? textureLod(light_grid_tex, uvw, 0.0)
-                                                                                 : vec4(0.0);
+  return instance_slab_uvw(i, asset_pos, textureSize(tex, 0).z, uvw) ? textureLod(tex, uvw, 0.0) : vec4(0.0);
 }
+vec4 light_grid(int i, vec3 asset_pos) { return instance_slab_fetch(light_grid_tex, i, asset_pos); }
 
 // The summed density x world metres that the other instances' clouds put between a world point and the sun (x)
 // and the sky straight up (y) (CloudParams::effects.y bit 0; issue 21): instance j's grid holds that sum from each

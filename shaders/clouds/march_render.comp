@@ -115,20 +115,14 @@ struct PixelData {
 // What the march reads of the light grids at the sample (light_grid_local.comp): x, y the other instances' summed
 // density toward the sun and the sky, z the own sky sum, w the own sum away from the sun; 0 outside the box.
 layout(set = 0, binding = CLOUD_BINDING_LIGHT_LOCAL) uniform sampler3D light_local_tex;
-vec4 light_local(int i, vec3 asset_pos) {
-  vec3 uvw;
-  return instance_slab_uvw(i, asset_pos, textureSize(light_local_tex, 0).z, uvw) ? textureLod(light_local_tex, uvw, 0.0) : vec4(0.0);
-}
+vec4 light_local(int i, vec3 asset_pos) { return instance_slab_fetch(light_local_tex, i, asset_pos); }
 
 // MS_FIELD 1 (CloudSettings::ms_solve): the sun's multiple scattering solved by diffusion on the light grid
 // (light_grid_diffusion.comp): the scattered light's fluence per unit sun irradiance at an asset-space point,
 // trilinear between voxels (outside the box: none), stacked per instance as the light grid is.
 #if MS_FIELD
 layout(set = 0, binding = CLOUD_BINDING_MS_FIELD) uniform sampler3D ms_field_tex;
-float solved_fluence(int i, vec3 asset_pos) {
-  vec3 uvw;
-  return instance_slab_uvw(i, asset_pos, textureSize(ms_field_tex, 0).z, uvw) ? textureLod(ms_field_tex, uvw, 0.0).w : 0.0;
-}
+float solved_fluence(int i, vec3 asset_pos) { return instance_slab_fetch(ms_field_tex, i, asset_pos).w; }
 #endif
 
 // The terrain between a cloud sample and the key light (issue 10: "the sun behind a mountain darkens

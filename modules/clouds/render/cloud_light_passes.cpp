@@ -52,6 +52,20 @@ struct AssetTextures {
   }
 };
 
+// A persistent image the light grid's size and format (what is derived from the grid: its local terms, the solved
+// field), made anew when the grid's size changed; true when it was (its content is undefined).
+bool match_grid_image(gpu::Context& ctx, VkExtent3D ge, const char* name, gpu::Image& image,
+                      cumulo::render::PersistentTexture& texture) {
+  if (image && image.extent().width == ge.width && image.extent().height == ge.height && image.extent().depth == ge.depth)
+    return false;
+  if (image) ctx.wait_idle();  // frames in flight may still sample the old image (rare: the grid changed size)
+  image = gpu::Image(ctx, gpu::ImageDesc::tex3d(ge.width, ge.height, ge.depth, kGridFormat,
+                                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1, name));
+  texture = {name, TextureDesc::absolute(kGridFormat, ge.width, ge.height, ge.depth), image.handle(), image.view(),
+             ResourceState::undefined()};
+  return true;
+}
+
 }  // namespace
 
 CloudLightOutputs import_cloud_assets(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in) {
@@ -231,16 +245,7 @@ TextureHandle add_light_local_pass(CloudResources& res, RenderGraph& graph, cons
                                    const LightGridWork& work, TextureHandle grid, VkBuffer ubo_handle) {
   gpu::Context& ctx = res.ctx;
   const VkExtent3D ge = res.grid_image.extent();
-  if (!res.local_image || res.local_image.extent().width != ge.width || res.local_image.extent().height != ge.height ||
-      res.local_image.extent().depth != ge.depth) {
-    if (res.local_image) ctx.wait_idle();  // frames in flight may still sample the old image (rare: the grid changed size)
-    res.local_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(ge.width, ge.height, ge.depth, kGridFormat,
-                                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
-                                                            "clouds.light_grid_local"));
-    res.local_texture = {"clouds.light_grid_local", TextureDesc::absolute(kGridFormat, ge.width, ge.height, ge.depth),
-                         res.local_image.handle(), res.local_image.view(), ResourceState::undefined()};
-    res.local_valid = false;
-  }
+  if (match_grid_image(ctx, ge, "clouds.light_grid_local", res.local_image, res.local_texture)) res.local_valid = false;
   TextureHandle local = graph.import_persistent(res.local_texture);
   const bool shadows = in.settings.instance_shadows;
   // A rebuilt grid (an instance moved, the sun turned) changes the other instances' shadow everywhere; a partial
@@ -312,16 +317,7 @@ TextureHandle add_ms_solve_pass(CloudResources& res, RenderGraph& graph, const C
   if (ge.height > kMaxSolveLevels)
     fail("clouds: the solve lighting (--cloud-lighting solve) takes a light grid of at most %u levels; this one has %u",
          kMaxSolveLevels, ge.height);
-  if (!res.ms_image || res.ms_image.extent().width != ge.width || res.ms_image.extent().height != ge.height ||
-      res.ms_image.extent().depth != ge.depth) {
-    if (res.ms_image) ctx.wait_idle();  // frames in flight may still sample the old field (rare: the grid changed size)
-    res.ms_image = gpu::Image(ctx, gpu::ImageDesc::tex3d(ge.width, ge.height, ge.depth, kGridFormat,
-                                                         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1,
-                                                         "clouds.ms_field"));
-    res.ms_texture = {"clouds.ms_field", TextureDesc::absolute(kGridFormat, ge.width, ge.height, ge.depth),
-                      res.ms_image.handle(), res.ms_image.view(), ResourceState::undefined()};
-    res.ms_valid = false;
-  }
+  if (match_grid_image(ctx, ge, "clouds.ms_field", res.ms_image, res.ms_texture)) res.ms_valid = false;
   TextureHandle ms = graph.import_persistent(res.ms_texture);
   // A new image's fluence starts at zero (its first setup writes it; later ones warm-start from the last solution).
   const bool fresh = !res.ms_valid;
