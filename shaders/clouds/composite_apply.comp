@@ -18,6 +18,7 @@
 // depth-aware against the scene's depth (depth_aware_upsample.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
@@ -89,9 +90,8 @@ void main() {
   if (any(greaterThanEqual(pixel, size))) return;
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec4 scene = imageLoad(hdr, pixel);
-  vec4 h = P.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
   vec3 ro = P.camera_pos.xyz;
-  vec3 dir = normalize(h.xyz / h.w - ro);
+  vec3 dir = view_ray_dir(P.inv_view_proj, uv * 2.0 - 1.0, ro);
 #if SKY_LAYER || UPSAMPLE
   float d = textureLod(scene_depth_tex, uv, 0.0).r;
   float t_scene = 1e30;

@@ -10,6 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 #include "engine/runtime_uniform.glsl"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = SHAFT_BINDING_PARAMS, std140) uniform ShaftBlock { CloudShaftParams S; };
@@ -19,8 +20,7 @@ layout(set = 0, binding = SHAFT_BINDING_SKY) uniform sampler2D sky_tex;
 layout(set = 0, binding = SHAFT_BINDING_OUT, r16f) uniform writeonly image2D shafts_out;
 
 vec3 view_dir(vec2 uv) {
-  vec4 h = S.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
-  return normalize(h.xyz / h.w - S.camera_pos.xyz);
+  return view_ray_dir(S.inv_view_proj, uv * 2.0 - 1.0, S.camera_pos.xyz);
 }
 
 // How much of the sun's highlight this screen point lets through.

@@ -10,6 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 #include "clouds/cloud_math.glsl"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = SHAFT_BINDING_PARAMS, std140) uniform ShaftBlock { CloudShaftParams S; };
@@ -36,8 +37,7 @@ void main() {
   if (any(greaterThanEqual(pixel, size))) return;
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec3 ro = S.camera_pos.xyz;
-  vec4 h = S.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
-  vec3 dir = normalize(h.xyz / h.w - ro);
+  vec3 dir = view_ray_dir(S.inv_view_proj, uv * 2.0 - 1.0, ro);
   float mu = dot(dir, S.sun_dir.xyz);
   float dist = S.misc.x;
   float d = texelFetch(scene_depth, pixel, 0).r;

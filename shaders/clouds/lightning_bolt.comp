@@ -8,6 +8,7 @@
 // Dispatched over the bolts' screen rectangle only (CloudEffectsPush::rect).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_FX_PARAMS, std140) uniform EffectsBlock { CloudEffectsParams F; };
@@ -23,9 +24,8 @@ void main() {
     return;
   vec2 uv = (vec2(pixel) + 0.5) * F.viewport.zw;
   vec2 ndc = uv * 2.0 - 1.0;
-  vec4 h = F.inv_view_proj * vec4(ndc, 0.5, 1.0);
   vec3 ro = F.camera_pos.xyz;
-  vec3 rd = normalize(h.xyz / h.w - ro);
+  vec3 rd = view_ray_dir(F.inv_view_proj, ndc, ro);
   float d = textureLod(scene_depth, uv, 0.0).r;
   float t_scene = 1e30;
   if (d > 0.0) {

@@ -111,6 +111,7 @@ struct PixelData {
 };
 
 #include "clouds/light_grid_lookup.glsl"
+#include "engine/view_ray.glsl"
 
 // What the march reads of the light grids at the sample (light_grid_local.comp): x, y the other instances' summed
 // density toward the sun and the sky, z the own sky sum, w the own sum away from the sun; 0 outside the box.
@@ -371,9 +372,8 @@ void main() {
   ivec2 pixel = min(block * B + ivec2(pc.sub.yz), size - 1);
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec2 ndc = uv * 2.0 - 1.0;
-  vec4 far_h = P.inv_view_proj * vec4(ndc, 0.5, 1.0);  // any depth on the ray (reversed-Z)
   vec3 ro = P.camera_pos.xyz;
-  vec3 rd = normalize(far_h.xyz / far_h.w - ro);
+  vec3 rd = view_ray_dir(P.inv_view_proj, ndc, ro);
 
   // Scene distance along the ray from the depth buffer; depth 0 is the cleared far plane (sky).
   float d = textureLod(scene_depth, uv, 0.0).r;

@@ -17,6 +17,7 @@
 #define CLIP_TO_SPLIT 0  // 1: the 40/60 Hz near segment (half resolution), whose rays end at the split distance
 #endif
 #include "engine/runtime_uniform.glsl"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
@@ -41,9 +42,8 @@ void main() {
 
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec2 ndc = uv * 2.0 - 1.0;
-  vec4 h = P.inv_view_proj * vec4(ndc, 0.5, 1.0);
   vec3 ro = P.camera_pos.xyz;
-  vec3 rd = normalize(h.xyz / h.w - ro);
+  vec3 rd = view_ray_dir(P.inv_view_proj, ndc, ro);
   float d = textureLod(scene_depth, uv, 0.0).r;
   float t_end = 1e30;
   if (d > 0.0) {

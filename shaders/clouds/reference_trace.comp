@@ -25,6 +25,7 @@
 #include "clouds/cloud_common.glsl"
 #include "shared/reference_params.h"
 #include "engine/atmosphere_common.glsl"
+#include "engine/view_ray.glsl"
 
 #ifndef MEDIUM
 #define MEDIUM 0
@@ -441,9 +442,8 @@ void main() {
   if (any(greaterThanEqual(pixel, size))) return;
   vec2 uv = (vec2(pixel) + 0.5) / vec2(size);
   vec2 ndc = uv * 2.0 - 1.0;
-  vec4 far_h = P.inv_view_proj * vec4(ndc, 0.5, 1.0);
   vec3 ro = P.camera_pos.xyz;
-  vec3 rd = normalize(far_h.xyz / far_h.w - ro);
+  vec3 rd = view_ray_dir(P.inv_view_proj, ndc, ro);
   float t_scene = 1e30;
   if (has_flag(REF_FLAG_SCENE_DEPTH)) {
     float depth = textureLod(scene_depth, uv, 0.0).r;

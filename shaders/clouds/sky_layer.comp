@@ -39,6 +39,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "clouds/sky_layer_density.glsl"
 #include "shared/cloud_params.h"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = SKY_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
@@ -115,9 +116,8 @@ void main() {
   ivec2 pixel = min(block * B + ivec2(pc.sub.yz), size - 1);
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec2 ndc = uv * 2.0 - 1.0;
-  vec4 h = S.inv_view_proj * vec4(ndc, 0.5, 1.0);
   vec3 ro = S.camera_pos.xyz;
-  vec3 rd = normalize(h.xyz / h.w - ro);
+  vec3 rd = view_ray_dir(S.inv_view_proj, ndc, ro);
   float d = textureLod(scene_depth, uv, 0.0).r;
   float t_max = S.shell.w;
   if (d > 0.0) {

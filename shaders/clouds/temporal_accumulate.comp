@@ -8,6 +8,7 @@
 // invalid (P.misc.w == 0: first frame, resize, camera cut) the current frame is taken as is.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
 layout(set = 0, binding = CLOUD_BINDING_PARAMS, std140) uniform CloudBlock { CloudParams P; };
@@ -34,9 +35,8 @@ void main() {
   vec4 result = cur;
   if (P.misc.w > 0.5) {
     vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
-    vec4 h = P.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
     vec3 ro = P.camera_pos.xyz;
-    vec3 rd = normalize(h.xyz / h.w - ro);
+    vec3 rd = view_ray_dir(P.inv_view_proj, uv * 2.0 - 1.0, ro);
     float depth = texelFetch(current_depth, pixel, 0).x;
     // "At infinity": a point far enough that the camera's translation does not matter.
     vec4 world = depth < 1e5 ? vec4(ro + rd * depth, 1.0) : vec4(rd, 0.0);

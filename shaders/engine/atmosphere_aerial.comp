@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "engine/atmosphere_common.glsl"
 #include "engine/runtime_uniform.glsl"
+#include "engine/view_ray.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = ATMOSPHERE_PARAMS_BINDING, std140) uniform AtmosphereBlock { AtmosphereGpuParams A; };
@@ -31,8 +32,7 @@ void main() {
   const int N = ATMOSPHERE_AERIAL_SIZE;
   if (any(greaterThanEqual(cell, ivec2(N)))) return;
   vec2 uv = (vec2(cell) + 0.5) / float(N);
-  vec4 h = pc.inv_view_proj * vec4(uv * 2.0 - 1.0, 0.5, 1.0);
-  vec3 dir = normalize(h.xyz / h.w - pc.camera.xyz);
+  vec3 dir = view_ray_dir(pc.inv_view_proj, uv * 2.0 - 1.0, pc.camera.xyz);
   // Values from the parameters alone, kept in variables: runtime_uniform.glsl says why they take a zero.
   float z = runtime_zero();
   float Rb = A.radii.x + z;

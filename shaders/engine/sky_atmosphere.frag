@@ -5,6 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "engine/atmosphere_common.glsl"
 #include "shared/frame_params.h"
+#include "engine/view_ray.glsl"
 
 layout(set = 0, binding = FRAME_PARAMS_BINDING, std140) uniform FrameBlock { FrameParams frame; };
 layout(set = 0, binding = SKY_ATMOSPHERE_PARAMS_BINDING, std140) uniform AtmosphereBlock { AtmosphereGpuParams A; };
@@ -25,9 +26,7 @@ vec3 disc(vec3 dir, vec3 light, float irradiance) {
 }
 
 void main() {
-  vec4 clip = vec4(in_uv * 2.0 - 1.0, 0.5, 1.0);  // any depth on the ray; 0.5 avoids the far plane
-  vec4 world = frame.inv_view_proj * clip;
-  vec3 dir = normalize(world.xyz / world.w - frame.camera_position);
+  vec3 dir = view_ray_dir(frame.inv_view_proj, in_uv * 2.0 - 1.0, frame.camera_position);
   vec3 sun = normalize(A.sun.xyz);
   vec3 L = textureLod(sky_view, atm_sky_view_uv(dir, sun), 0.0).rgb;
   L += disc(dir, sun, A.albedo.w * A.sun.w) + disc(dir, normalize(A.moon.xyz), A.albedo.w * A.moon.w);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "engine/app/headless_session.h"
@@ -10,6 +11,7 @@
 #include "engine/app/simulation.h"
 #include "engine/core/args.h"
 #include "engine/core/error.h"
+#include "engine/gpu/readback.h"
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/core/time.h"
@@ -88,6 +90,11 @@ void measure_run(app::HeadlessSession& session, render::CloudFeature& feature, c
     session.render(snapshot);
   }
   run.image = session.screenshot();
+  if (!o.images.empty()) {
+    const std::string path = o.images + "/" + run.view + "_" + render::ablation_name(run.ablation) + "_" +
+                             std::to_string(run.mode) + "hz.png";
+    gpu::write_png(path, run.image);
+  }
 }
 
 // GPU memory: the loaded set, and both format sets of the first cloudscape for the talk's budget.
@@ -202,6 +209,8 @@ void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds) 
                       .option("--warmup", "N", "frames rendered before measuring (default 3)", &o.warmup)
                       .option("--rounds", "N", "times the whole matrix is run in turn, samples pooled (default 3)", &o.rounds)
                       .option("--out", "FILE.json", "write the results as JSON", &o.out)
+                      .option("--images", "DIR", "write each run's converged image (what the split's PSNR compares) to DIR/VIEW_ABLATION_MODEhz.png",
+                              &o.images)
                       .option("--views", "A,B", "cameras (default ground,mixed,immersed)", &views)
                       .option("--ablations", "A,B", "ablation steps (default base,voxel-lighting,full)", &ablations)
                       .option("--modes", "30,60", "budget modes (default 30,60)", &modes)
@@ -214,6 +223,11 @@ void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds) 
                   if (o.frames < 1 || o.frames > 1000) fail("--frames: %u is outside 1..1000", o.frames);
                   if (o.warmup > 100) fail("--warmup: %u is outside 0..100", o.warmup);
                   if (o.rounds < 1 || o.rounds > 100) fail("--rounds: %u is outside 1..100", o.rounds);
+                  if (!o.images.empty()) {
+                    std::error_code ec;
+                    std::filesystem::create_directories(o.images, ec);
+                    if (ec) fail("--images: cannot create the folder %s: %s", o.images.c_str(), ec.message().c_str());
+                  }
                   if (!views.empty()) o.views = split_list(views);
                   if (o.views.empty()) fail("--views: no camera named");
                   if (!ablations.empty()) {

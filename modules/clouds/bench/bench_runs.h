@@ -25,6 +25,7 @@ struct BenchOptions {
   // drifts over a minute (other work, clocks), and interleaving keeps the ratios within one run fair.
   uint32_t rounds = 3;
   std::string out;
+  std::string images;  // --images: a folder for each run's converged image (the split PSNR's inputs)
   std::vector<std::string> views{"ground", "mixed", "immersed"};
   std::vector<CloudAblation> ablations{CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full};
   std::vector<int> modes{30, 60};
