@@ -51,6 +51,7 @@ nlohmann::ordered_json bench_json(const BenchOptions& o, const gpu::DeviceInfo& 
   j["device"] = {{"name", device.name}, {"driver", device.driver_name}, {"driver_info", device.driver_info}};
   j["size"] = {o.width, o.height};
   j["frames"] = o.frames;
+  j["frames_full_method"] = measured_frames(o, CloudAblation::Full);
   j["warmup_frames"] = o.warmup;
   j["rounds"] = o.rounds;
   j["memory"] = memory;

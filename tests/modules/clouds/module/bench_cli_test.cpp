@@ -14,8 +14,9 @@ namespace fs = std::filesystem;
 
 TEST(BenchCli, WritesTheTableAndTheJson) {
   fs::path out = cumulo::test::unique_temp_path("cumulo_bench") += ".json";
+  const fs::path images = cumulo::test::unique_temp_path("cumulo_bench_images");
   auto r = cumulo::test::run_cumulo("bench --size 64x36 --frames 1 --warmup 1 --rounds 2 --views ground --ablations base,full --out " +
-                                    out.string());
+                                    out.string() + " --images " + images.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| view | ablation | mode |"), std::string::npos) << r.output;
   // A progress line per run and round (the matrix, then full with the light grid updating every frame,
@@ -28,7 +29,12 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
   EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
   EXPECT_EQ(j["size"][0], 64);
   EXPECT_EQ(j["frames"], 1);
+  EXPECT_EQ(j["frames_full_method"], 4);  // a full run as long as a slower one (bench_runs.h)
   EXPECT_EQ(j["rounds"], 2);
+  // The converged images the split's PSNR compares, one per run of the matrix.
+  for (const char* name : {"ground_base_30hz.png", "ground_base_60hz.png", "ground_full_30hz.png", "ground_full_60hz.png"})
+    EXPECT_GT(fs::exists(images / name) ? fs::file_size(images / name) : 0u, 0u) << name;
+  fs::remove_all(images);
   EXPECT_GT(j["memory"]["cloudscape_compressed"].get<uint64_t>(), 0u);
   EXPECT_LE(j["memory"]["cloudscape_compressed"].get<uint64_t>(), 25200000u);  // the talk's budget per cloudscape
   ASSERT_EQ(j["runs"].size(), 4u);
