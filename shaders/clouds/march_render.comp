@@ -9,7 +9,8 @@
 //   step          = max(sdf_cloud_distance, adaptive_step)                (talk)
 //   (CloudSettings::step_growth > 1: the in-cloud step grows behind an optical depth and in thin cloud, below)
 //   sample at distance + jitter, jitter = hash * step * P.misc.x, hash animated per frame within
-//   P.steps.y (250 m, talk: "distance_from_camera < 250.0 ? animated_hash : static_hash"), static beyond.
+//   P.steps.y (the talk: 250 m, "distance_from_camera < 250.0 ? animated_hash : static_hash"; by default every
+//   distance, --cloud-jitter), static beyond.
 //   The talk's two listings disagree on where the jitter goes (the slide adds it to the step, the HLSL
 //   offsets only the sample position); we offset the sample position inside its step, which keeps the
 //   step placement of the SDF exact and spreads samples uniformly over the step.

@@ -17,6 +17,7 @@ constexpr std::array kReprojectionNames{EnumName<uint32_t>{0, "auto"}, EnumName<
 constexpr std::array kNearReprojectionNames{EnumName<uint32_t>{1, "1"}, EnumName<uint32_t>{2, "4"},
                                             EnumName<uint32_t>{4, "16"}};
 constexpr std::array kLightGridNames{EnumName<bool>{true, "talk"}, EnumName<bool>{false, "device"}};
+constexpr std::array kJitterNames{EnumName<bool>{false, "animated"}, EnumName<bool>{true, "talk"}};
 constexpr std::array kLightSampleNoiseNames{EnumName<bool>{true, "mean"}, EnumName<bool>{false, "sampled"}};
 
 void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
@@ -36,6 +37,10 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "the 40/60 Hz near segment (half resolution) marches 1 of N of its pixels per frame and reprojects the "
               "rest (with temporal on): 1 every pixel, 4, 16 (default)",
               &o.near_reprojection_block)
+      .choice("--cloud-jitter", kJitterNames,
+              "the march's jitter: animated every frame at every distance (default; the temporal accumulation averages "
+              "it), or as in the talk, animated within 250 m and static beyond",
+              &o.talk_jitter)
       .choice("--cloud-light-grid", kLightGridNames,
               "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",
               &o.talk_light_grid)

@@ -12,6 +12,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   s.light_grid_always_update = o.light_grid_always_update;
   s.reprojection_block = o.reprojection_block;
   s.near_reprojection_block = o.near_reprojection_block;
+  s.animated_jitter_distance_m = o.talk_jitter ? kTalkAnimatedJitterDistanceM : kJitterAnimatedEverywhereM;
   s.shadows = o.shadows;
   s.terrain_shadow = o.terrain_shadow;
   s.effects = o.effects;

@@ -119,6 +119,9 @@ inline constexpr uint32_t kMaxLightSamples = 8;
 // The most light-grid levels the multiple-scattering solve takes (its tiles' shared memory; the talk's grid has 32).
 inline constexpr uint32_t kMaxSolveLevels = 32;
 
+inline constexpr float kTalkAnimatedJitterDistanceM = 250.0f;
+inline constexpr float kJitterAnimatedEverywhereM = 1e30f;
+
 struct CloudSettings {
   CloudAblation ablation = CloudAblation::Full;
   CloudDebugView debug = CloudDebugView::None;
@@ -133,7 +136,11 @@ struct CloudSettings {
   // the camera (false: always run both, to measure them).
   bool skip_empty_near = true;
   float split_distance_m = 200.0f;          // talk: "< 200 Meters"
-  float animated_jitter_distance_m = 250.0f;  // talk: "distance_from_camera < 250.0 ? animated_hash : static_hash"
+  // Within this distance the march's jitter changes every frame, beyond it stays (talk: "distance_from_camera < 250.0 ?
+  // animated_hash : static_hash", kTalkAnimatedJitterDistanceM). Beyond 250 m a still camera kept one jitter's dither
+  // at every cloud edge for good (a cut-out, speckled rim at 640x360); the temporal accumulation averages an animated
+  // jitter at any distance, so the default animates it everywhere (--cloud-jitter animated|talk).
+  float animated_jitter_distance_m = kJitterAnimatedEverywhereM;
   float jitter_scale = 1.0f;                // sample offset = hash * step * jitter_scale
   uint32_t max_steps = 256;                 // loop bound of the full march (a uniform, so lavapipe can exit early)
   uint32_t base_max_steps = 2048;           // loop bound of the base / voxel-lighting uniform march
