@@ -2,7 +2,8 @@
 // Localized rain (issue 9): a column of rain under each precipitating cloud (Cloudscape "rain"), from the
 // cloud base down to the ground, drawn over the scene after the clouds. The column is a thin medium
 // (extinction intensity x 1.5 per km: heavy rain hides a mountain a few km off) whose density is
-// modulated by falling streaks: world-space columns of drops on a 1.5 m grid, each with its own phase,
+// modulated by the rain cells across it (value noise at 320 m and 120 m: heavier under some, a ragged edge) and by
+// falling streaks: world-space columns of drops on a 1.5 m grid, each with its own phase,
 // falling at 9 m/s, so nearby rays that share a drop column see a vertical streak and far ones average
 // to a grey curtain. Eight samples per ray through the column, jittered per pixel; clipped by the scene
 // depth; behind a cloud's half-opacity depth it is seen through the cloud's transmittance. Dispatched over
@@ -35,6 +36,17 @@ float streak(vec3 p, float time) {
   float phase = fract((p.y + time * 9.0 + h * 60.0) / 6.0);
   return lateral * smoothstep(0.0, 0.05, phase) * (1.0 - smoothstep(0.08, 0.14, phase));
 }
+
+// Smooth value noise on a unit lattice, 0..1.
+float value_noise(vec2 p) {
+  vec2 i = floor(p), f = fract(p);
+  f = f * f * (3.0 - 2.0 * f);
+  return mix(mix(hash12(i), hash12(i + vec2(1.0, 0.0)), f.x), mix(hash12(i + vec2(0.0, 1.0)), hash12(i + vec2(1.0)), f.x), f.y);
+}
+
+// The rain cells across a column, 0..1 (two octaves, 320 m and 120 m): a shower falls from the cloud's cells, heavier
+// under some than others, so the curtain varies across and its edge is ragged rather than a cylinder's straight side.
+float rain_cells(vec2 q) { return 0.65 * value_noise(q / 320.0) + 0.35 * value_noise(q / 120.0 + 17.0); }
 
 // Ray against the vertical cylinder (axis through c.xz, radius r) between y0 and y1: (t_in, t_out).
 vec2 ray_column(vec3 ro, vec3 rd, vec3 c, float r, float y0, float y1) {
@@ -90,9 +102,12 @@ void main() {
     float od = 0.0;
     for (int j = 0; j < 8; ++j) {
       vec3 p = ro + rd * (t0 + (float(j) + jitter) * dt);
-      // Thinner toward the column's edge (a soft curtain, not a hard cylinder).
-      float edge = 1.0 - smoothstep(0.6, 1.0, distance(p.xz, col.xz) / col.w);
-      od += sigma * edge * (0.35 + 2.5 * streak(p, time)) * dt;
+      // Thinner toward the column's edge, which the cells move in and out (a ragged curtain, not a hard cylinder),
+      // and denser under the heavier cells.
+      float cells = rain_cells(p.xz - col.xz + float(k) * 731.0);
+      float r = distance(p.xz, col.xz) / col.w + 0.45 * (0.5 - cells);
+      float edge = 1.0 - smoothstep(0.3, 0.95, r);
+      od += sigma * edge * mix(0.25, 1.75, cells) * (0.35 + 2.5 * streak(p, time)) * dt;
     }
     float tr = exp(-od);
     // Seen through the cloud's transmittance where the cloud stands in front of the column.
