@@ -11,10 +11,15 @@
 //   - off-screen, behind the camera or with no history: the bilinear upsample of this frame's samples.
 // Depth out: x, y of the block's marched pixel (y = steps: the cost of this frame), z recomputed per
 // pixel from the scene depth (the split merge's depth-aware upsample needs it per pixel).
+// MERGE_NEAR 1 (the 40/60 Hz far segment): the near layer is merged in here, as split_merge.comp does, and the pass
+// writes the far history and the merged colour and depth (no far depth: only the merge read it).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 #ifndef CLIP_TO_SPLIT
 #define CLIP_TO_SPLIT 0  // 1: the 40/60 Hz near segment (half resolution), whose rays end at the split distance
+#endif
+#ifndef MERGE_NEAR
+#define MERGE_NEAR 0  // 1: the 40/60 Hz far segment, merged with the near layer here (split_merge.comp's work, one pass less)
 #endif
 #include "engine/runtime_uniform.glsl"
 #include "engine/view_ray.glsl"
@@ -26,7 +31,15 @@ layout(set = 0, binding = CLOUD_BINDING_CURRENT_DEPTH) uniform sampler2D sub_dep
 layout(set = 0, binding = CLOUD_BINDING_HISTORY) uniform sampler2D history_tex;
 layout(set = 0, binding = CLOUD_BINDING_ACCUM_OUT, rgba16f) uniform writeonly image2D out_color;
 layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
+#if MERGE_NEAR
+#include "clouds/depth_aware_upsample.glsl"
+layout(set = 0, binding = CLOUD_BINDING_RECON_NEAR) uniform sampler2D near_tex;
+layout(set = 0, binding = CLOUD_BINDING_RECON_NEAR_DEPTH) uniform sampler2D near_depth;
+layout(set = 0, binding = CLOUD_BINDING_RECON_MERGED, rgba16f) uniform writeonly image2D merged;
+layout(set = 0, binding = CLOUD_BINDING_RECON_MERGED_DEPTH, rgba32f) uniform writeonly image2D merged_depth;
+#else
 layout(set = 0, binding = CLOUD_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
+#endif
 layout(push_constant) uniform Push { CloudMarchPush pc; };
 
 void main() {
@@ -96,5 +109,15 @@ void main() {
     }
   }
   imageStore(out_color, pixel, result);
-  imageStore(out_depth, pixel, vec4(own_d.x, own_d.y, min(t_end, 1e6), 0.0));
+  vec4 far_d = vec4(own_d.x, own_d.y, min(t_end, 1e6), 0.0);
+#if MERGE_NEAR
+  // split_merge.comp's merge (its debug views keep that pass): the near layer upsampled depth-aware against this
+  // pixel's near-segment end, composited in front of the far one.
+  vec4 near_c, near_dv;
+  depth_aware_upsample(near_tex, near_depth, pixel, size, min(P.steps.x, far_d.z), near_c, near_dv);
+  imageStore(merged, pixel, vec4(near_c.rgb + near_c.a * result.rgb, near_c.a * result.a));
+  imageStore(merged_depth, pixel, vec4(near_c.a < 0.5 ? near_dv.x : far_d.x, near_dv.y * 0.25 + far_d.y, far_d.z, 0.0));
+#else
+  imageStore(out_depth, pixel, far_d);
+#endif
 }

@@ -57,6 +57,11 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_HISTORY 3         // sampler2D: last frame's accumulated colour
 #define CLOUD_BINDING_ACCUM_OUT 4       // image2D rgba16f: accumulated colour
 // split_merge.comp
+// reconstruct.comp with MERGE_NEAR 1 (the far segment's reconstruction merges the near layer in, as split_merge.comp):
+#define CLOUD_BINDING_RECON_NEAR 8          // sampler2D: half-resolution near colour
+#define CLOUD_BINDING_RECON_NEAR_DEPTH 9    // sampler2D: half-resolution near depth
+#define CLOUD_BINDING_RECON_MERGED 10       // image2D rgba16f: near over far
+#define CLOUD_BINDING_RECON_MERGED_DEPTH 11 // image2D rgba32f
 #define CLOUD_BINDING_NEAR 1        // sampler2D: half-resolution near colour (< split distance)
 #define CLOUD_BINDING_NEAR_DEPTH 2  // sampler2D: half-resolution near depth
 #define CLOUD_BINDING_FAR 3         // sampler2D: full-resolution far colour

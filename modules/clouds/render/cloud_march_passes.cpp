@@ -90,9 +90,12 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
 }
 
 // The full-resolution march, sub-sampled and reconstructed when reprojection is on.
+// With `merged` (the 40/60 Hz far segment, reprojected): its reconstruction merges the near layer (`front`, `front_depth`)
+// in and writes `merged` instead of `cdepth`.
 void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, const CloudLightOutputs& light,
                         const Reprojection& rp, TextureHandle depth, VkBuffer ubo, const char* name, int segment,
-                        TextureHandle& color, TextureHandle& cdepth, TextureHandle front = {}) {
+                        TextureHandle& color, TextureHandle& cdepth, TextureHandle front = {},
+                        ReconstructMerged* merged = nullptr, TextureHandle front_depth = {}) {
   const uint32_t block = rp.block;
   if (block <= 1) return add_march(res, graph, in, light, depth, ubo, name, segment, color, cdepth, front);
   const VkExtent2D size = march_extent(graph, in);
@@ -101,10 +104,14 @@ void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFram
   TextureHandle sub_d = graph.create_texture("clouds.sub_depth", TextureDesc::absolute(kDepthFormat, sw, sh));
   add_march(res, graph, in, light, depth, ubo, name, segment, sub_c, sub_d, front, block, size, rp.sub_offset);
   TextureHandle next = rp.history.next;
-  add_reconstruct_pass(graph, res.ctx, "clouds.reconstruct",
-                       {res.recon_pipe, ubo, sub_c, sub_d, rp.history.prev, depth, block, rp.sub_offset, rp.history.valid,
-                        rp.settled},
-                       next, cdepth);
+  ReconstructInputs ri{res.recon_pipe, ubo, sub_c, sub_d, rp.history.prev, depth, block, rp.sub_offset, rp.history.valid,
+                       rp.settled};
+  if (merged) {
+    ri.pipe = res.recon_merge_pipe;
+    ri.near_color = front;
+    ri.near_depth = front_depth;
+  }
+  add_reconstruct_pass(graph, res.ctx, merged ? "clouds.reconstruct_merge" : "clouds.reconstruct", ri, next, cdepth, merged);
   color = next;
 }
 
@@ -219,10 +226,21 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
     TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f * rs));
     TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f * rs));
     TextureHandle far_c = graph.create_texture("clouds.far_color", TextureDesc::relative(kColorFormat, rs));
-    TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat, rs));
     add_near_march(res, graph, in, light, rp, depth, ubo, near_c, near_d);
-    add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
-    add_split_merge(res, graph, near_c, near_d, far_c, far_d, ubo, m.color, m.depth);
+    // A reprojected far segment merges the near layer in its reconstruction (one full-resolution pass less); the
+    // split and profile debug views keep the merge pass, which draws them.
+    if (rp.block > 1 && s.debug != CloudDebugView::Split && s.debug != CloudDebugView::Profile) {
+      ReconstructMerged merged{m.color, m.depth};
+      TextureHandle unused_depth;
+      add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, unused_depth,
+                         near_c, &merged, near_d);
+      m.color = merged.color;
+      m.depth = merged.depth;
+    } else {
+      TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat, rs));
+      add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
+      add_split_merge(res, graph, near_c, near_d, far_c, far_d, ubo, m.color, m.depth);
+    }
   }
   return m;
 }

@@ -92,6 +92,7 @@ struct CloudResources {
   uint32_t frames_settled = 0;
   uint32_t settled_rebuilds = 0;  // `rebuilds` when frames_settled last started
   gpu::Pipeline* recon_pipe = nullptr;
+  gpu::Pipeline* recon_merge_pipe = nullptr;  // the far segment's, merging the near layer in (MERGE_NEAR)
   // The same for the near segment of the 40/60 Hz split (half resolution; its ray ends at the split).
   cumulo::render::GpuHistory near_history{"clouds.reprojection_near", kColorFormat, 0.5f,
                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};

@@ -252,6 +252,8 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->grid_pipe = &res->grid(false);
   res->temporal_pipe = &library.compute({.shader = "clouds/temporal_accumulate.comp", .name = "clouds.temporal"});
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
+  res->recon_merge_pipe = &library.compute(
+      {.shader = "clouds/reconstruct.comp", .defines = {{"MERGE_NEAR", "1"}}, .name = "clouds.reconstruct (merge near)"});
   res->recon_near_pipe = &library.compute(
       {.shader = "clouds/reconstruct.comp", .defines = {{"CLIP_TO_SPLIT", "1"}}, .name = "clouds.reconstruct (near)"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});

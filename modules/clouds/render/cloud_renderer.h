@@ -40,7 +40,10 @@
 //   clouds.reconstruct compute  reprojection (CloudSettings::reprojection_block > 1, temporal on): the
 //                               sub-sampled full-resolution march (30 Hz march or 40/60 Hz far) + its own
 //                               history (import_history "clouds.reprojection") -> full-resolution colour/depth
-//   clouds.split_merge compute  depth-aware upsample of near, merged over far -> clouds.color/depth
+//   clouds.split_merge compute  depth-aware upsample of near, merged over far -> clouds.color/depth (when the far
+//                               segment is not reprojected, and for the split and profile debug views)
+//   clouds.reconstruct_merge    the far segment's reconstruction with the merge in it (reprojected 40/60 Hz):
+//                      compute  writes the far history and clouds.color/depth
 //   clouds.temporal    compute  reads clouds.color/depth + last frame's history (sampled); writes this
 //                               frame's history (import_history: render::GpuHistory "clouds.history")
 //   clouds.composite   compute  reads the cloud colour (and depth, light grid for debug views);

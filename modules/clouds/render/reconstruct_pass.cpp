@@ -31,10 +31,12 @@ glm::uvec2 reprojection_offset(uint32_t block, uint64_t frame_index) {
 }
 
 void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx, const char* name, const ReconstructInputs& in,
-                          TextureHandle& color, TextureHandle& depth) {
+                          TextureHandle& color, TextureHandle& depth, ReconstructMerged* merged) {
   const VkSampler nearest = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
   const VkSampler linear = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
   gpu::Context* c_ctx = &ctx;
+  const bool merge = merged && in.near_color.valid();
+  ReconstructMerged out = merge ? *merged : ReconstructMerged{};
   graph.add_pass(name, Queue::Compute,
       [&](PassBuilder& b) {
         b.read(in.sub_color, Usage::Sampled);
@@ -42,19 +44,32 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
         b.read(in.history, Usage::Sampled);
         b.read(in.scene_depth, Usage::Sampled);
         color = b.write(color, Usage::StorageWrite);
-        depth = b.write(depth, Usage::StorageWrite);
+        if (merge) {
+          b.read(in.near_color, Usage::Sampled);
+          b.read(in.near_depth, Usage::Sampled);
+          out.color = b.write(out.color, Usage::StorageWrite);
+          out.depth = b.write(out.depth, Usage::StorageWrite);
+        } else {
+          depth = b.write(depth, Usage::StorageWrite);
+        }
       },
-      [in, c_ctx, nearest, linear, color, depth](PassContext& c) {
+      [in, c_ctx, nearest, linear, color, depth, merge, out](PassContext& c) {
         in.pipe->bind(c.cmd());
-        gpu::DescriptorWriter()
-            .uniform_buffer(CLOUD_BINDING_PARAMS, in.camera_ubo, 0, sizeof(shared::CloudParams))
+        gpu::DescriptorWriter w;
+        w.uniform_buffer(CLOUD_BINDING_PARAMS, in.camera_ubo, 0, sizeof(shared::CloudParams))
             .sampled_image(CLOUD_BINDING_CURRENT, c.view(in.sub_color), nearest, c.layout(in.sub_color))
             .sampled_image(CLOUD_BINDING_CURRENT_DEPTH, c.view(in.sub_depth), nearest, c.layout(in.sub_depth))
             .sampled_image(CLOUD_BINDING_HISTORY, c.view(in.history), linear, c.layout(in.history))
             .sampled_image(CLOUD_BINDING_SCENE_DEPTH, c.view(in.scene_depth), nearest, c.layout(in.scene_depth))
-            .storage_image(CLOUD_BINDING_ACCUM_OUT, c.view(color))
-            .storage_image(CLOUD_BINDING_OUT_DEPTH, c.view(depth))
-            .push(*c_ctx, c.cmd(), *in.pipe);
+            .storage_image(CLOUD_BINDING_ACCUM_OUT, c.view(color));
+        if (merge)
+          w.sampled_image(CLOUD_BINDING_RECON_NEAR, c.view(in.near_color), nearest, c.layout(in.near_color))
+              .sampled_image(CLOUD_BINDING_RECON_NEAR_DEPTH, c.view(in.near_depth), nearest, c.layout(in.near_depth))
+              .storage_image(CLOUD_BINDING_RECON_MERGED, c.view(out.color))
+              .storage_image(CLOUD_BINDING_RECON_MERGED_DEPTH, c.view(out.depth));
+        else
+          w.storage_image(CLOUD_BINDING_OUT_DEPTH, c.view(depth));
+        w.push(*c_ctx, c.cmd(), *in.pipe);
         const VkExtent3D e = c.extent(color);
         shared::CloudMarchPush pc{};
         pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
@@ -62,6 +77,7 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
         in.pipe->push_constants(c.cmd(), pc);
         in.pipe->dispatch_threads(c.cmd(), e.width, e.height);
       });
+  if (merge) *merged = out;
 }
 
 }  // namespace cumulo::clouds::render

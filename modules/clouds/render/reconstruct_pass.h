@@ -33,10 +33,20 @@ struct ReconstructInputs {
   // no point light, no light-grid rebuild: CloudResources::frames_settled): a pixel whose history lands exactly on a
   // texel (a still camera) keeps it unclamped.
   bool settled = false;
+  // The 40/60 Hz far segment: the near layer (half resolution) merged in (reconstruct.comp's MERGE_NEAR; `pipe` is
+  // that variant). The pass then writes `merged_color` and `merged_depth` instead of `depth`.
+  cumulo::render::TextureHandle near_color, near_depth;
 };
 
-// Adds `name`: writes `color` (this frame's reconstruction, the next frame's history) and `depth`.
+// What a merging reconstruction writes besides the history.
+struct ReconstructMerged {
+  cumulo::render::TextureHandle color, depth;
+};
+
+// Adds `name`: writes `color` (this frame's reconstruction, the next frame's history) and `depth`; with the near layer
+// given (ReconstructInputs::near_color), `color` and `merged` (near over far) instead.
 void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx, const char* name, const ReconstructInputs& in,
-                          cumulo::render::TextureHandle& color, cumulo::render::TextureHandle& depth);
+                          cumulo::render::TextureHandle& color, cumulo::render::TextureHandle& depth,
+                          ReconstructMerged* merged = nullptr);
 
 }  // namespace cumulo::clouds::render

@@ -620,6 +620,38 @@ TEST_F(CloudRender, SplitSkipsAnEmptyNearSegment) {
   EXPECT_GT(pass_ms("clouds.march_near"), 0.0);
 }
 
+// A reprojected far segment merges the near layer in its reconstruction (reconstruct.comp MERGE_NEAR: the split's
+// merge pass left out): settled on a still camera, the picture is the one the merge pass draws over every pixel's far
+// march (the near segment marched every pixel in both).
+TEST_F(CloudRender, AReprojectedSplitMergesTheNearLayerInItsReconstruction) {
+  CloudFrameInputs in = inputs(asset(), camera());
+  in.settings.split = true;
+  in.settings.temporal = true;
+  in.settings.near_reprojection_block = 1;
+  ASSERT_LT(nearest_instance_distance(in), in.settings.split_distance_m);
+  auto run = [&](uint32_t block) {
+    CloudFrameInputs c = in;
+    c.settings.reprojection_block = block;
+    c.camera_cut = true;
+    Frame f;
+    for (int k = 0; k < 48; ++k) {
+      c.frame_index = 100 + k;
+      f = render(c);
+      c.camera_cut = false;
+    }
+    return f;
+  };
+  const Frame merged_pass = run(1);
+  EXPECT_GT(pass_ms("clouds.split_merge"), 0.0);
+  const Frame fused = run(4);
+  EXPECT_LT(pass_ms("clouds.split_merge"), 0.0);  // not in the graph
+  EXPECT_GT(pass_ms("clouds.reconstruct_merge"), 0.0);
+  EXPECT_GT(pass_ms("clouds.march_near"), 0.0);
+  const double p = psnr(fused.hdr, merged_pass.hdr);
+  std::printf("  far 1 of 16 merged in its reconstruction: %.1f dB from the merge pass over every pixel\n", p);
+  EXPECT_GT(p, 60.0);
+}
+
 // `n` points of `inst` (its asset baked in `folder`), a quarter anywhere in the box and the rest around
 // `centres` (asset space, within `radius` per axis), sampled by the GPU probe and the CPU query.
 DensityComparison CloudRender::compare_density(const CloudInstance& inst, const fs::path& folder,
