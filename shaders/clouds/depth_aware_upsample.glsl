@@ -28,3 +28,12 @@ void depth_aware_upsample(sampler2D color_tex, sampler2D depth_tex, ivec2 pixel,
   color /= wsum;
   depth /= wsum;
 }
+
+// The 40/60 Hz split's merge of the near layer (upsampled: near_c, near_d) in front of the far one (far_c, far_d):
+// radiance near + near transmittance x far, transmittance the product; depth x the near layer's opacity-0.5 distance
+// where it is opaque enough, else the far one's; y the steps of both (the near's at a quarter of the pixels); z the far
+// segment's end. split_merge.comp and reconstruct.comp (MERGE_NEAR) both merge with it.
+void merge_near_over_far(vec4 near_c, vec4 near_d, vec4 far_c, vec4 far_d, out vec4 color, out vec4 depth) {
+  color = vec4(near_c.rgb + near_c.a * far_c.rgb, near_c.a * far_c.a);
+  depth = vec4(near_c.a < 0.5 ? near_d.x : far_d.x, near_d.y * 0.25 + far_d.y, far_d.z, 0.0);
+}

@@ -113,10 +113,11 @@ void main() {
 #if MERGE_NEAR
   // split_merge.comp's merge (its debug views keep that pass): the near layer upsampled depth-aware against this
   // pixel's near-segment end, composited in front of the far one.
-  vec4 near_c, near_dv;
+  vec4 near_c, near_dv, color, depth;
   depth_aware_upsample(near_tex, near_depth, pixel, size, min(P.steps.x, far_d.z), near_c, near_dv);
-  imageStore(merged, pixel, vec4(near_c.rgb + near_c.a * result.rgb, near_c.a * result.a));
-  imageStore(merged_depth, pixel, vec4(near_c.a < 0.5 ? near_dv.x : far_d.x, near_dv.y * 0.25 + far_d.y, far_d.z, 0.0));
+  merge_near_over_far(near_c, near_dv, result, far_d, color, depth);
+  imageStore(merged, pixel, color);
+  imageStore(merged_depth, pixel, depth);
 #else
   imageStore(out_depth, pixel, far_d);
 #endif

@@ -32,8 +32,8 @@ void main() {
   vec4 near_c, near_dv;
   depth_aware_upsample(near_tex, near_depth, pixel, size, own_end, near_c, near_dv);
 
-  vec4 color = vec4(near_c.rgb + near_c.a * far_c.rgb, near_c.a * far_c.a);
-  float depth = near_c.a < 0.5 ? near_dv.x : far_d.x;
+  vec4 color, depth;
+  merge_near_over_far(near_c, near_dv, far_c, far_d, color, depth);
   if (P.frame.w == CLOUD_DEBUG_SPLIT) {
     // Opacity of each layer: near in orange, far in blue.
     color = vec4((1.0 - near_c.a) * vec3(1.0, 0.45, 0.1) + near_c.a * (1.0 - far_c.a) * vec3(0.1, 0.35, 1.0), 0.0);
@@ -41,5 +41,5 @@ void main() {
     color = vec4(1.0 - (1.0 - near_c.rgb) * (1.0 - far_c.rgb), 0.0);
   }
   imageStore(merged, pixel, color);
-  imageStore(merged_depth, pixel, vec4(depth, near_dv.y * 0.25 + far_d.y, far_d.z, 0.0));
+  imageStore(merged_depth, pixel, depth);
 }

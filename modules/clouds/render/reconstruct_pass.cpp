@@ -3,6 +3,7 @@
 #include "engine/gpu/context.h"
 #include "engine/gpu/descriptors.h"
 #include "engine/gpu/pipeline.h"
+#include "engine/core/error.h"
 #include "engine/gpu/sampler.h"
 #include "shaders/shared/cloud_params.h"
 
@@ -35,7 +36,8 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
   const VkSampler nearest = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
   const VkSampler linear = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
   gpu::Context* c_ctx = &ctx;
-  const bool merge = merged && in.near_color.valid();
+  const bool merge = merged != nullptr;
+  if (merge && !in.near_color.valid()) fail("%s: a merging reconstruction needs the near layer", name);
   ReconstructMerged out = merge ? *merged : ReconstructMerged{};
   graph.add_pass(name, Queue::Compute,
       [&](PassBuilder& b) {

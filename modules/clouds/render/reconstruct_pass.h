@@ -33,8 +33,8 @@ struct ReconstructInputs {
   // no point light, no light-grid rebuild: CloudResources::frames_settled): a pixel whose history lands exactly on a
   // texel (a still camera) keeps it unclamped.
   bool settled = false;
-  // The 40/60 Hz far segment: the near layer (half resolution) merged in (reconstruct.comp's MERGE_NEAR; `pipe` is
-  // that variant). The pass then writes `merged_color` and `merged_depth` instead of `depth`.
+  // The 40/60 Hz far segment's merge (add_reconstruct_pass with `merged`): the near layer at half resolution
+  // (reconstruct.comp's MERGE_NEAR; `pipe` is that variant).
   cumulo::render::TextureHandle near_color, near_depth;
 };
 
@@ -43,8 +43,8 @@ struct ReconstructMerged {
   cumulo::render::TextureHandle color, depth;
 };
 
-// Adds `name`: writes `color` (this frame's reconstruction, the next frame's history) and `depth`; with the near layer
-// given (ReconstructInputs::near_color), `color` and `merged` (near over far) instead.
+// Adds `name`: writes `color` (this frame's reconstruction, the next frame's history) and `depth`; with `merged`
+// (and ReconstructInputs::near_color, near_depth), `color` and `merged` (near over far) instead of `depth`.
 void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx, const char* name, const ReconstructInputs& in,
                           cumulo::render::TextureHandle& color, cumulo::render::TextureHandle& depth,
                           ReconstructMerged* merged = nullptr);

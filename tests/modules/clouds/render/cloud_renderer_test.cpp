@@ -313,19 +313,7 @@ TEST_F(CloudRender, TemporalAccumulationConvergesOnAStillCamera) {
 TEST_F(CloudRender, ReprojectionMatchesTheFullMarch) {
   CloudFrameInputs in = inputs(asset(), camera());
   in.settings.temporal = true;
-  auto run = [&](uint32_t block, int frames, Frame* first = nullptr) {
-    CloudFrameInputs c = in;
-    c.settings.reprojection_block = block;
-    c.camera_cut = true;  // a fresh history
-    Frame f;
-    for (int k = 0; k < frames; ++k) {
-      c.frame_index = 100 + k;
-      f = render(c);
-      c.camera_cut = false;
-      if (k == 0 && first) *first = f;
-    }
-    return f;
-  };
+  auto run = [&](uint32_t block, int frames, Frame* first = nullptr) { return render_settling(in, block, frames, first); };
   const Frame full = run(1, 16);
   for (uint32_t block : {2u, 4u}) {
     Frame first;
@@ -358,20 +346,8 @@ TEST_F(CloudRender, ASettledReprojectionHoldsFarFromTheOrigin) {
   CloudFrameInputs in = inputs(asset(), camera(glm::vec3(0.0f, 128.0f, 400.0f) + offset, kCloudCentre + offset));
   in.instances[0].position += offset;
   in.settings.temporal = true;
-  auto run = [&](uint32_t block, int frames) {
-    CloudFrameInputs c = in;
-    c.settings.reprojection_block = block;
-    c.camera_cut = true;
-    Frame f;
-    for (int k = 0; k < frames; ++k) {
-      c.frame_index = 100 + k;
-      f = render(c);
-      c.camera_cut = false;
-    }
-    return f;
-  };
-  const Frame full = run(1, 16);
-  const Frame settled = run(4, 48);
+  const Frame full = render_settling(in, 1, 16);
+  const Frame settled = render_settling(in, 4, 48);
   const double p = psnr(settled.hdr, full.hdr);
   std::printf("  6 km out, 1 of 16 after 48 frames: %.1f dB from every pixel marched\n", p);
   EXPECT_GT(p, 65.0);
@@ -629,21 +605,9 @@ TEST_F(CloudRender, AReprojectedSplitMergesTheNearLayerInItsReconstruction) {
   in.settings.temporal = true;
   in.settings.near_reprojection_block = 1;
   ASSERT_LT(nearest_instance_distance(in), in.settings.split_distance_m);
-  auto run = [&](uint32_t block) {
-    CloudFrameInputs c = in;
-    c.settings.reprojection_block = block;
-    c.camera_cut = true;
-    Frame f;
-    for (int k = 0; k < 48; ++k) {
-      c.frame_index = 100 + k;
-      f = render(c);
-      c.camera_cut = false;
-    }
-    return f;
-  };
-  const Frame merged_pass = run(1);
+  const Frame merged_pass = render_settling(in, 1, 48);
   EXPECT_GT(pass_ms("clouds.split_merge"), 0.0);
-  const Frame fused = run(4);
+  const Frame fused = render_settling(in, 4, 48);
   EXPECT_LT(pass_ms("clouds.split_merge"), 0.0);  // not in the graph
   EXPECT_GT(pass_ms("clouds.reconstruct_merge"), 0.0);
   EXPECT_GT(pass_ms("clouds.march_near"), 0.0);

@@ -262,6 +262,21 @@ class CloudRenderFixture : public gpu::test::GpuTest {
     return assets_->cloudscape(dir.empty() ? test_data().cloudscape : dir, f);
   }
 
+  // `frames` frames of a still camera from a fresh history (a camera cut, frame indices 100, 101, ...) with
+  // reprojection `block`; the last frame, and the first in `first` when given.
+  Frame render_settling(CloudFrameInputs in, uint32_t block, int frames, Frame* first = nullptr) {
+    in.settings.reprojection_block = block;
+    in.camera_cut = true;
+    Frame f;
+    for (int k = 0; k < frames; ++k) {
+      in.frame_index = 100 + k;
+      f = render(in);
+      in.camera_cut = false;
+      if (k == 0 && first) *first = f;
+    }
+    return f;
+  }
+
   // One frame: scene colour <- pattern, clouds, readbacks. Waits for the GPU.
   Frame render(const CloudFrameInputs& in) {
     using namespace cumulo::render;
