@@ -165,10 +165,14 @@ int run_bench(const BenchOptions& o, const CloudsRun& clouds) {
   // The matrix; moving: full runs with the light grid updating every frame. The sample level's sun is
   // still, so the light grid rests once built (light_grid_sweep.comp); these runs keep its updates going
   // (as a moving sun does) to measure what they cost.
+  // A view's modes run back to back for each ablation: the 60 Hz split's saving compares the two full runs of
+  // a round, and lavapipe's speed drifts by up to 1.4x over seconds to minutes (issue 23: with the slower
+  // ablations' runs between them, one round measured the immersed split's saving at 40 % where the others
+  // measured 53 and 54 %).
   std::vector<Run> runs, moving;
   for (const std::string& view : o.views)
-    for (int mode : o.modes)
-      for (CloudAblation ablation : o.ablations) runs.push_back(Run{view, ablation, mode});
+    for (CloudAblation ablation : o.ablations)
+      for (int mode : o.modes) runs.push_back(Run{view, ablation, mode});
   if (std::find(o.ablations.begin(), o.ablations.end(), CloudAblation::Full) != o.ablations.end())
     for (const std::string& view : o.views)
       for (int mode : o.modes) moving.push_back(Run{view, CloudAblation::Full, mode});

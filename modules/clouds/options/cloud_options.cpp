@@ -138,6 +138,11 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "transmittance T, and in thin cloud until a step spans an optical depth of 0.1 (default 4; 1: the talk's step)",
               &o.step_growth)
       .range(1.0, 16.0)
+      .option("--cloud-split-distance", "M",
+              "the 40/60 Hz split: the near segment, marched at half resolution, ends M metres from the camera "
+              "(default: the talk's 200 on a GPU, 400 on a CPU device)",
+              &o.split_distance_m)
+      .range(1.0, 100000.0)
       .option("--cloud-edge-depth", "X",
               "with the slab lighting, the dark edges from the optical depth to the nearest surface, 1 - exp(-X depth), "
               "overriding the preset's (0: the talks' profile)",

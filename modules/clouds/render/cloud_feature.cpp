@@ -60,7 +60,8 @@ uint64_t CloudFeature::asset_gpu_bytes() const { return cache_ ? cache_->gpu_byt
 CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame) {
   const cumulo::render::FrameSnapshot& s = f.snapshot;
   const CloudFormats formats = CloudFormats::from_set(options_.formats.value_or(default_format_set(ctx_->info())));
-  const CloudSettings settings = cloud_settings(options_);
+  CloudSettings settings = cloud_settings(options_);
+  settings.split_distance_m = split_distance_for_device(options_, ctx_->info().is_cpu());
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
   for (const CloudInstanceFrame& i : frame.instances) {

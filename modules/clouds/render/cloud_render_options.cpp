@@ -40,4 +40,9 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   return s;
 }
 
+float split_distance_for_device(const CloudRenderOptions& o, bool cpu_device) {
+  if (o.split_distance_m > 0.0f) return o.split_distance_m;
+  return cpu_device ? kCpuSplitDistanceM : CloudSettings{}.split_distance_m;
+}
+
 }  // namespace cumulo::clouds::render

@@ -7,6 +7,7 @@
 #include "engine/core/error.h"
 #include "engine/gpu/readback.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/render/cloud_render_options.h"
 #include "modules/clouds/volume/nvdf.h"
 #include "tests/modules/clouds/render/cloud_test_util.h"
 
@@ -79,6 +80,16 @@ TEST_F(CloudAssets, DefaultFormatSetFollowsTheDeviceType) {
   if (ctx().info().is_cpu()) {
     EXPECT_EQ(default_format_set(ctx().info()), CloudFormatSet::Uncompressed);
   }
+}
+
+TEST(CloudSplitDistance, TheTalksOnAGpuFartherOnACpuDeviceAndTheFlagWins) {
+  CloudRenderOptions o;
+  EXPECT_EQ(split_distance_for_device(o, false), 200.0f);  // talk: "< 200 Meters: 480px * 270px"
+  EXPECT_EQ(split_distance_for_device(o, true), kCpuSplitDistanceM);
+  EXPECT_GT(kCpuSplitDistanceM, 200.0f);
+  o.split_distance_m = 150.0f;  // --cloud-split-distance 150
+  EXPECT_EQ(split_distance_for_device(o, true), 150.0f);
+  EXPECT_EQ(split_distance_for_device(o, false), 150.0f);
 }
 
 TEST_F(CloudAssets, CacheKeepsOneCopyPerCanonicalPath) {
