@@ -13,6 +13,13 @@
 // pixel from the scene depth (the split merge's depth-aware upsample needs it per pixel).
 // MERGE_NEAR 1 (the 40/60 Hz far segment): the near layer is merged in here, as split_merge.comp does, and the pass
 // writes the far history and the merged colour and depth (no far depth: only the merge read it).
+// TEMPORAL 1 (the voxel clouds' reconstruction, temporal accumulation on): the pass also accumulates its result (the
+// merged one with MERGE_NEAR) as temporal_accumulate.comp does, one full-resolution pass less (issue 23): the history
+// reprojected with this frame's cloud depth, clamped to the min/max of the pixel's bilinear 2x2 of marched samples and
+// its own result (temporal_accumulate.comp takes the plus of its input, which this pass is still writing; the
+// reconstruction's wider box, with the own block's plus, let a moving camera smear: fly_out_of_flank frame 300 at 41.9
+// dB from the separate pass, 44.9 with this one), and blended with weight P.misc.y for the new frame; P.misc.w = 0: no
+// history.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/cloud_params.h"
 #ifndef CLIP_TO_SPLIT
@@ -20,6 +27,9 @@
 #endif
 #ifndef MERGE_NEAR
 #define MERGE_NEAR 0  // 1: the 40/60 Hz far segment, merged with the near layer here (split_merge.comp's work, one pass less)
+#endif
+#ifndef TEMPORAL
+#define TEMPORAL 0  // 1: the temporal accumulation of the result here (temporal_accumulate.comp's work, one pass less)
 #endif
 #include "engine/runtime_uniform.glsl"
 #include "engine/view_ray.glsl"
@@ -40,7 +50,29 @@ layout(set = 0, binding = CLOUD_BINDING_RECON_MERGED_DEPTH, rgba32f) uniform wri
 #else
 layout(set = 0, binding = CLOUD_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
 #endif
+#if TEMPORAL
+layout(set = 0, binding = CLOUD_BINDING_RECON_TEMPORAL_HISTORY) uniform sampler2D temporal_history;
+layout(set = 0, binding = CLOUD_BINDING_RECON_TEMPORAL_OUT, rgba16f) uniform writeonly image2D temporal_out;
+#endif
 layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+// Where a point at `depth` along this pixel's ray (>= 1e5: at infinity, the rotation alone) was last frame: the uv to fetch
+// a history at (snapped to the texel's centre when it lands on one up to float error: a still camera, where bilinear weights
+// of 0.999 / 0.001 would blur the history a little more every frame). False: off-screen or behind the camera.
+bool reproject(vec3 ro, vec3 rd, float depth, out vec2 fetch_uv, out bool on_texel) {
+  vec4 world = depth < 1e5 ? vec4(ro + rd * depth, 1.0) : vec4(rd, 0.0);
+  vec4 prev = P.prev_view_proj * world;
+  fetch_uv = vec2(0.0);
+  on_texel = false;
+  if (!(prev.w > 0.0)) return false;
+  vec2 prev_uv = prev.xy / prev.w * 0.5 + 0.5;
+  if (!(all(greaterThanEqual(prev_uv, vec2(0.0))) && all(lessThanEqual(prev_uv, vec2(1.0))))) return false;
+  vec2 prev_px = prev_uv * pc.target.xy - 0.5;
+  vec2 snapped = round(prev_px);
+  on_texel = all(lessThan(abs(prev_px - snapped), vec2(0.01)));
+  fetch_uv = on_texel ? (snapped + 0.5) * pc.target.zw : prev_uv;
+  return true;
+}
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -67,45 +99,37 @@ void main() {
   t_end = min(t_end, P.steps.x);  // the near segment's rays end at the split (the merge compares these ends)
 #endif
 
+  // Bilinear upsample of the marched samples (sample (i, j) sits at pixel (i, j) * B + offset; the marched pixel's own
+  // sample with weight 1), and the clamp box: the 4 bilinear samples (they include this pixel's own block) and the own
+  // block's 4 edge neighbours (a plus rather than the 3x3: fetches are this pass's cost on a CPU device).
+  vec2 sp = (vec2(pixel - offset)) / float(B);
+  ivec2 b0 = ivec2(floor(sp));
+  vec2 f = sp - vec2(b0);
+  vec4 s00 = texelFetch(sub_color, clamp(b0, ivec2(0), ss - 1), 0);
+  vec4 s10 = texelFetch(sub_color, clamp(b0 + ivec2(1, 0), ivec2(0), ss - 1), 0);
+  vec4 s01 = texelFetch(sub_color, clamp(b0 + ivec2(0, 1), ivec2(0), ss - 1), 0);
+  vec4 s11 = texelFetch(sub_color, clamp(b0 + ivec2(1, 1), ivec2(0), ss - 1), 0);
+  vec4 lo = min(min(s00, s10), min(s01, s11)), hi = max(max(s00, s10), max(s01, s11));
+#if TEMPORAL
+  vec4 t_lo = lo, t_hi = hi;  // the temporal accumulation's box: the bilinear samples around the pixel only
+#endif
+  const ivec2 kPlus[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+  for (int k = 0; k < 4; ++k) {
+    vec4 c = texelFetch(sub_color, clamp(block + kPlus[k], ivec2(0), ss - 1), 0);
+    lo = min(lo, c);
+    hi = max(hi, c);
+  }
   vec4 result = own;
   if (pixel - block * B != offset) {
-    // Bilinear upsample of the marched samples (sample (i, j) sits at pixel (i, j) * B + offset).
-    vec2 sp = (vec2(pixel - offset)) / float(B);
-    ivec2 b0 = ivec2(floor(sp));
-    vec2 f = sp - vec2(b0);
-    vec4 s00 = texelFetch(sub_color, clamp(b0, ivec2(0), ss - 1), 0);
-    vec4 s10 = texelFetch(sub_color, clamp(b0 + ivec2(1, 0), ivec2(0), ss - 1), 0);
-    vec4 s01 = texelFetch(sub_color, clamp(b0 + ivec2(0, 1), ivec2(0), ss - 1), 0);
-    vec4 s11 = texelFetch(sub_color, clamp(b0 + ivec2(1, 1), ivec2(0), ss - 1), 0);
-    vec4 up = mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
-    result = up;
-    if (pc.sub.w > 0.5) {  // history valid
-      // Clamp box: the 4 bilinear samples (they include this pixel's own block) and the own block's 4
-      // edge neighbours (a plus rather than the 3x3: fetches are this pass's cost on a CPU device).
-      vec4 lo = min(min(s00, s10), min(s01, s11)), hi = max(max(s00, s10), max(s01, s11));
-      const ivec2 kPlus[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
-      for (int k = 0; k < 4; ++k) {
-        vec4 c = texelFetch(sub_color, clamp(block + kPlus[k], ivec2(0), ss - 1), 0);
-        lo = min(lo, c);
-        hi = max(hi, c);
-      }
-      float depth = own_d.x;
-      vec4 world = depth < 1e5 ? vec4(ro + rd * depth, 1.0) : vec4(rd, 0.0);
-      vec4 prev = P.prev_view_proj * world;
-      if (prev.w > 0.0) {
-        vec2 prev_uv = prev.xy / prev.w * 0.5 + 0.5;
-        if (all(greaterThanEqual(prev_uv, vec2(0.0))) && all(lessThanEqual(prev_uv, vec2(1.0)))) {
-          vec2 prev_px = prev_uv * pc.target.xy - 0.5;
-          vec2 snapped = round(prev_px);
-          bool on_texel = all(lessThan(abs(prev_px - snapped), vec2(0.01)));
-          vec2 fetch_uv = on_texel ? (snapped + 0.5) * pc.target.zw : prev_uv;
-          vec4 hist = textureLod(history_tex, fetch_uv, 0.0);
-          // pc.sub.w = 2 (ReconstructInputs::settled): a history landing exactly on its texel (a still camera) is this
-          // pixel's own march in the same picture; the clamp to the marched neighbours 4 px away would only cut its
-          // detail (the 1-in-16 reprojection's picture was 31 dB from marching every pixel, now the same).
-          result = pc.sub.w > 1.5 && on_texel ? hist : clamp(hist, lo, hi);
-        }
-      }
+    result = mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+    vec2 fetch_uv;
+    bool on_texel;
+    if (pc.sub.w > 0.5 && reproject(ro, rd, own_d.x, fetch_uv, on_texel)) {  // history valid, and on screen
+      vec4 hist = textureLod(history_tex, fetch_uv, 0.0);
+      // pc.sub.w = 2 (ReconstructInputs::settled): a history landing exactly on its texel (a still camera) is this
+      // pixel's own march in the same picture; the clamp to the marched neighbours 4 px away would only cut its
+      // detail (the 1-in-16 reprojection's picture was 31 dB from marching every pixel, now the same).
+      result = pc.sub.w > 1.5 && on_texel ? hist : clamp(hist, lo, hi);
     }
   }
   imageStore(out_color, pixel, result);
@@ -118,7 +142,28 @@ void main() {
   merge_near_over_far(near_c, near_dv, result, far_d, color, depth);
   imageStore(merged, pixel, color);
   imageStore(merged_depth, pixel, depth);
+#if TEMPORAL
+  // The box merged as the colour is (near over each corner of the far one's).
+  vec4 cur = color;
+  float cur_depth = depth.x;
+  t_lo = vec4(near_c.rgb + near_c.a * t_lo.rgb, near_c.a * t_lo.a);
+  t_hi = vec4(near_c.rgb + near_c.a * t_hi.rgb, near_c.a * t_hi.a);
+#endif
 #else
   imageStore(out_depth, pixel, far_d);
+#if TEMPORAL
+  vec4 cur = result;
+  float cur_depth = own_d.x;
+#endif
+#endif
+#if TEMPORAL
+  vec4 accumulated = cur;
+  vec2 t_uv;
+  bool t_on_texel;
+  if (P.misc.w > 0.5 && reproject(ro, rd, cur_depth, t_uv, t_on_texel)) {
+    vec4 hist = textureLod(temporal_history, t_uv, 0.0);
+    accumulated = mix(clamp(hist, min(t_lo, cur), max(t_hi, cur)), cur, P.misc.y);
+  }
+  imageStore(temporal_out, pixel, accumulated);
 #endif
 }

@@ -62,6 +62,9 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_RECON_NEAR_DEPTH 9    // sampler2D: half-resolution near depth
 #define CLOUD_BINDING_RECON_MERGED 10       // image2D rgba16f: near over far
 #define CLOUD_BINDING_RECON_MERGED_DEPTH 11 // image2D rgba32f
+// reconstruct.comp with TEMPORAL 1 (the clouds' reconstruction accumulates as temporal_accumulate.comp does):
+#define CLOUD_BINDING_RECON_TEMPORAL_HISTORY 12  // sampler2D: last frame's accumulated colour
+#define CLOUD_BINDING_RECON_TEMPORAL_OUT 13      // image2D rgba16f: this frame's accumulated colour
 #define CLOUD_BINDING_NEAR 1        // sampler2D: half-resolution near colour (< split distance)
 #define CLOUD_BINDING_NEAR_DEPTH 2  // sampler2D: half-resolution near depth
 #define CLOUD_BINDING_FAR 3         // sampler2D: full-resolution far colour

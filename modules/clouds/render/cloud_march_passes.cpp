@@ -95,9 +95,13 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
 void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, const CloudLightOutputs& light,
                         const Reprojection& rp, TextureHandle depth, VkBuffer ubo, const char* name, int segment,
                         TextureHandle& color, TextureHandle& cdepth, TextureHandle front = {},
-                        ReconstructMerged* merged = nullptr, TextureHandle front_depth = {}) {
+                        ReconstructMerged* merged = nullptr, TextureHandle front_depth = {},
+                        ReconstructTemporal* temporal = nullptr) {
   const uint32_t block = rp.block;
-  if (block <= 1) return add_march(res, graph, in, light, depth, ubo, name, segment, color, cdepth, front);
+  if (block <= 1) {
+    if (temporal) *temporal = {};  // no reconstruction to accumulate in: the temporal pass does it
+    return add_march(res, graph, in, light, depth, ubo, name, segment, color, cdepth, front);
+  }
   const VkExtent2D size = march_extent(graph, in);
   const uint32_t sw = (size.width + block - 1) / block, sh = (size.height + block - 1) / block;
   TextureHandle sub_c = graph.create_texture("clouds.sub_color", TextureDesc::absolute(kColorFormat, sw, sh));
@@ -107,11 +111,14 @@ void add_full_res_march(CloudResources& res, RenderGraph& graph, const CloudFram
   ReconstructInputs ri{res.recon_pipe, ubo, sub_c, sub_d, rp.history.prev, depth, block, rp.sub_offset, rp.history.valid,
                        rp.settled};
   if (merged) {
-    ri.pipe = res.recon_merge_pipe;
+    ri.pipe = temporal ? res.recon_merge_temporal_pipe : res.recon_merge_pipe;
     ri.near_color = front;
     ri.near_depth = front_depth;
+  } else if (temporal) {
+    ri.pipe = res.recon_temporal_pipe;
   }
-  add_reconstruct_pass(graph, res.ctx, merged ? "clouds.reconstruct_merge" : "clouds.reconstruct", ri, next, cdepth, merged);
+  add_reconstruct_pass(graph, res.ctx, merged ? "clouds.reconstruct_merge" : "clouds.reconstruct", ri, next, cdepth, merged,
+                       temporal);
   color = next;
 }
 
@@ -211,17 +218,23 @@ Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const 
 }
 
 MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
-                              const CloudLightOutputs& light, const Reprojection& rp, TextureHandle depth, VkBuffer ubo) {
+                              const CloudLightOutputs& light, const Reprojection& rp, TextureHandle depth, VkBuffer ubo,
+                              const HistoryImports* temporal) {
   const CloudSettings& s = in.settings;
   MarchOutputs m;
+  // The accumulation joins the reconstruction that writes the march's final colour (not the split's merge pass).
+  ReconstructTemporal acc{temporal ? temporal->prev : TextureHandle{}, temporal ? temporal->next : TextureHandle{}};
+  ReconstructTemporal* fuse = temporal ? &acc : nullptr;
   const float rs = in.resolution_scale;
   m.color = graph.create_texture("clouds.color", TextureDesc::relative(kColorFormat, rs));
   m.depth = graph.create_texture("clouds.depth", TextureDesc::relative(kDepthFormat, rs));
   const bool near_empty = s.split && !rp.near_runs;
   if (!s.split) {
-    add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march", CLOUD_SEGMENT_ALL, m.color, m.depth);
+    add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march", CLOUD_SEGMENT_ALL, m.color, m.depth, {},
+                       nullptr, {}, fuse);
   } else if (near_empty) {
-    add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_ALL, m.color, m.depth);
+    add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_ALL, m.color, m.depth, {},
+                       nullptr, {}, fuse);
   } else {
     TextureHandle near_c = graph.create_texture("clouds.near_color", TextureDesc::relative(kColorFormat, 0.5f * rs));
     TextureHandle near_d = graph.create_texture("clouds.near_depth", TextureDesc::relative(kDepthFormat, 0.5f * rs));
@@ -233,15 +246,17 @@ MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const Clo
       ReconstructMerged merged{m.color, m.depth};
       TextureHandle unused_depth;
       add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, unused_depth,
-                         near_c, &merged, near_d);
+                         near_c, &merged, near_d, fuse);
       m.color = merged.color;
       m.depth = merged.depth;
     } else {
       TextureHandle far_d = graph.create_texture("clouds.far_depth", TextureDesc::relative(kDepthFormat, rs));
       add_full_res_march(res, graph, in, light, rp, depth, ubo, "clouds.march_far", CLOUD_SEGMENT_FAR, far_c, far_d, near_c);
       add_split_merge(res, graph, near_c, near_d, far_c, far_d, ubo, m.color, m.depth);
+      fuse = nullptr;
     }
   }
+  if (fuse) m.accumulated = acc.accumulated;
   return m;
 }
 

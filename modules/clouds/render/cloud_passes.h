@@ -93,6 +93,9 @@ struct CloudResources {
   uint32_t settled_rebuilds = 0;  // `rebuilds` when frames_settled last started
   gpu::Pipeline* recon_pipe = nullptr;
   gpu::Pipeline* recon_merge_pipe = nullptr;  // the far segment's, merging the near layer in (MERGE_NEAR)
+  // The same two accumulating their result as well (TEMPORAL: the temporal pass's work, one full-resolution pass less).
+  gpu::Pipeline* recon_temporal_pipe = nullptr;
+  gpu::Pipeline* recon_merge_temporal_pipe = nullptr;
   // The same for the near segment of the 40/60 Hz split (half resolution; its ray ends at the split).
   cumulo::render::GpuHistory near_history{"clouds.reprojection_near", kColorFormat, 0.5f,
                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
@@ -283,12 +286,16 @@ struct Reprojection {
 };
 Reprojection import_reprojection(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in);
 // 2. The march: its colour (rgb radiance, a transmittance) and depth at full resolution.
+// With `temporal` (the temporal accumulation's history pair) the reconstruction of a reprojected march accumulates
+// its result as well where it is the march's last pass (CloudSettings::fuse_temporal): `accumulated` is then
+// `temporal->next`, written, and step 3 is left out; otherwise it stays invalid.
 struct MarchOutputs {
   TextureHandle color, depth;
+  TextureHandle accumulated;
 };
 MarchOutputs add_march_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in,
                               const CloudLightOutputs& light, const Reprojection& rp, TextureHandle scene_depth,
-                              VkBuffer ubo);
+                              VkBuffer ubo, const HistoryImports* temporal = nullptr);
 
 // ---- cloud_resolve_passes.cpp ----
 // 3. Temporal accumulation into the history; returns the accumulated colour.

@@ -254,6 +254,11 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   res->recon_pipe = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.reconstruct"});
   res->recon_merge_pipe = &library.compute(
       {.shader = "clouds/reconstruct.comp", .defines = {{"MERGE_NEAR", "1"}}, .name = "clouds.reconstruct (merge near)"});
+  res->recon_temporal_pipe = &library.compute(
+      {.shader = "clouds/reconstruct.comp", .defines = {{"TEMPORAL", "1"}}, .name = "clouds.reconstruct (temporal)"});
+  res->recon_merge_temporal_pipe = &library.compute({.shader = "clouds/reconstruct.comp",
+                                                     .defines = {{"MERGE_NEAR", "1"}, {"TEMPORAL", "1"}},
+                                                     .name = "clouds.reconstruct (merge near, temporal)"});
   res->recon_near_pipe = &library.compute(
       {.shader = "clouds/reconstruct.comp", .defines = {{"CLIP_TO_SPLIT", "1"}}, .name = "clouds.reconstruct (near)"});
   res->merge_pipe = &library.compute({.shader = "clouds/split_merge.comp", .name = "clouds.split_merge"});
@@ -410,9 +415,11 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
   const Reprojection rp = import_reprojection(res, graph, in);
   const VkBuffer ubo = write_params(res, in, march_extent(graph, in), history.valid, light->slots);
   res.prev_view_proj = in.camera.view_proj;
-  const MarchOutputs march = add_march_passes(res, graph, in, *light, rp, depth, ubo);          // 2. the march
-  const TextureHandle color = s.temporal ? add_temporal_pass(res, graph, march, history, ubo)  // 3. temporal
-                                         : march.color;
+  const HistoryImports* fuse = s.temporal && s.fuse_temporal ? &history : nullptr;
+  const MarchOutputs march = add_march_passes(res, graph, in, *light, rp, depth, ubo, fuse);  // 2. the march
+  const TextureHandle color = march.accumulated.valid() ? march.accumulated                   // (3. inside it)
+                              : s.temporal ? add_temporal_pass(res, graph, march, history, ubo)  // 3. temporal
+                                           : march.color;
   const CloudPassOutputs voxel{color, march.depth};
   CloudFrameInputs with_sky;
   const CloudFrameInputs* composite_in = &in;

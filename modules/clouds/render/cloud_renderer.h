@@ -45,7 +45,9 @@
 //   clouds.reconstruct_merge    the far segment's reconstruction with the merge in it (reprojected 40/60 Hz):
 //                      compute  writes the far history and clouds.color/depth
 //   clouds.temporal    compute  reads clouds.color/depth + last frame's history (sampled); writes this
-//                               frame's history (import_history: render::GpuHistory "clouds.history")
+//                               frame's history (import_history: render::GpuHistory "clouds.history").
+//                               Left out where clouds.reconstruct or clouds.reconstruct_merge writes the
+//                               march's final colour: they accumulate it themselves (CloudSettings::fuse_temporal)
 //   clouds.composite   compute  reads the cloud colour (and depth, light grid for debug views);
 //                               read_write hdr (StorageWrite): hdr * transmittance + radiance
 //
@@ -130,6 +132,10 @@ struct CloudSettings {
   CloudDebugView debug = CloudDebugView::None;
   bool split = false;              // 40/60 Hz: near half-res + far full-res (talk: < 200 m / > 200 m)
   bool temporal = true;            // temporal accumulation of the jittered march
+  // With a reprojected march, its reconstruction accumulates as well (reconstruct.comp's TEMPORAL): one full-resolution
+  // pass less (issue 23: about 1 ms at 320x180 on lavapipe), the history clamped to the marched samples' box instead of
+  // the temporal pass's plus of its input. false: the separate clouds.temporal pass (tests compare the two).
+  bool fuse_temporal = true;
   bool distance_noise_mip = true;  // false: noise mip 0 everywhere (the talk's "fixed MIP level")
   // The two marched light samples of voxel-lighting / full: true samples the noise by its mean (a 24 m
   // light sample integrates far more than the 0.8 m noise texel; about 20 % of the march on lavapipe);

@@ -32,13 +32,16 @@ glm::uvec2 reprojection_offset(uint32_t block, uint64_t frame_index) {
 }
 
 void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx, const char* name, const ReconstructInputs& in,
-                          TextureHandle& color, TextureHandle& depth, ReconstructMerged* merged) {
+                          TextureHandle& color, TextureHandle& depth, ReconstructMerged* merged,
+                          ReconstructTemporal* temporal) {
   const VkSampler nearest = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
   const VkSampler linear = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
   gpu::Context* c_ctx = &ctx;
   const bool merge = merged != nullptr;
   if (merge && !in.near_color.valid()) fail("%s: a merging reconstruction needs the near layer", name);
   ReconstructMerged out = merge ? *merged : ReconstructMerged{};
+  const bool accumulate = temporal != nullptr;
+  ReconstructTemporal acc = accumulate ? *temporal : ReconstructTemporal{};
   graph.add_pass(name, Queue::Compute,
       [&](PassBuilder& b) {
         b.read(in.sub_color, Usage::Sampled);
@@ -54,8 +57,12 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
         } else {
           depth = b.write(depth, Usage::StorageWrite);
         }
+        if (accumulate) {
+          b.read(acc.history, Usage::Sampled);
+          acc.accumulated = b.write(acc.accumulated, Usage::StorageWrite);
+        }
       },
-      [in, c_ctx, nearest, linear, color, depth, merge, out](PassContext& c) {
+      [in, c_ctx, nearest, linear, color, depth, merge, out, accumulate, acc](PassContext& c) {
         in.pipe->bind(c.cmd());
         gpu::DescriptorWriter w;
         w.uniform_buffer(CLOUD_BINDING_PARAMS, in.camera_ubo, 0, sizeof(shared::CloudParams))
@@ -71,6 +78,9 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
               .storage_image(CLOUD_BINDING_RECON_MERGED_DEPTH, c.view(out.depth));
         else
           w.storage_image(CLOUD_BINDING_OUT_DEPTH, c.view(depth));
+        if (accumulate)
+          w.sampled_image(CLOUD_BINDING_RECON_TEMPORAL_HISTORY, c.view(acc.history), linear, c.layout(acc.history))
+              .storage_image(CLOUD_BINDING_RECON_TEMPORAL_OUT, c.view(acc.accumulated));
         w.push(*c_ctx, c.cmd(), *in.pipe);
         const VkExtent3D e = c.extent(color);
         shared::CloudMarchPush pc{};
@@ -80,6 +90,7 @@ void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx,
         in.pipe->dispatch_threads(c.cmd(), e.width, e.height);
       });
   if (merge) *merged = out;
+  if (accumulate) *temporal = acc;
 }
 
 }  // namespace cumulo::clouds::render

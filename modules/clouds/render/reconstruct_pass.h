@@ -43,10 +43,18 @@ struct ReconstructMerged {
   cumulo::render::TextureHandle color, depth;
 };
 
+// An accumulating reconstruction (reconstruct.comp's TEMPORAL; ReconstructInputs::pipe is that variant): the temporal
+// accumulation's last frame (`history`) and this frame's (`accumulated`, written). Its validity and blend weight are the
+// camera block's (CloudParams::misc).
+struct ReconstructTemporal {
+  cumulo::render::TextureHandle history, accumulated;
+};
+
 // Adds `name`: writes `color` (this frame's reconstruction, the next frame's history) and `depth`; with `merged`
-// (and ReconstructInputs::near_color, near_depth), `color` and `merged` (near over far) instead of `depth`.
+// (and ReconstructInputs::near_color, near_depth), `color` and `merged` (near over far) instead of `depth`; with
+// `temporal`, the accumulation of its result as well.
 void add_reconstruct_pass(cumulo::render::RenderGraph& graph, gpu::Context& ctx, const char* name, const ReconstructInputs& in,
                           cumulo::render::TextureHandle& color, cumulo::render::TextureHandle& depth,
-                          ReconstructMerged* merged = nullptr);
+                          ReconstructMerged* merged = nullptr, ReconstructTemporal* temporal = nullptr);
 
 }  // namespace cumulo::clouds::render

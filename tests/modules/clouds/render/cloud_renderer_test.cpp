@@ -616,6 +616,43 @@ TEST_F(CloudRender, AReprojectedSplitMergesTheNearLayerInItsReconstruction) {
   EXPECT_GT(p, 60.0);
 }
 
+// The reconstruction accumulates as the temporal pass does (CloudSettings::fuse_temporal; one full-resolution pass
+// less): the same cameras flying past the cloud (8 m and 1 degree of yaw per frame), at 30 Hz and with the 40/60 Hz
+// split merged in the far reconstruction, give the pictures of the separate clouds.temporal pass.
+TEST_F(CloudRender, TheReconstructionAccumulatesAsTheTemporalPassDoes) {
+  CloudFrameInputs in = inputs(asset(), camera());
+  in.settings.temporal = true;
+  auto camera_at = [&](int k) {
+    const glm::vec3 pos(-40.0f + 8.0f * k, 128.0f, 400.0f);
+    const float yaw = glm::radians(1.0f * k);
+    return camera(pos, pos + glm::vec3(-std::sin(yaw) * 400.0f + 40.0f - 8.0f * k, 0.0f, -std::cos(yaw) * 400.0f));
+  };
+  for (bool split : {false, true}) {
+    in.settings.split = split;
+    double worst = 99.0;
+    std::vector<Frame> separate;
+    for (bool fuse : {false, true}) {
+      in.settings.fuse_temporal = fuse;
+      in.camera_cut = true;
+      for (int k = 0; k < 12; ++k) {
+        in.camera = camera_at(k);
+        in.frame_index = 200 + k;
+        const Frame f = render(in);
+        in.camera_cut = false;
+        // Which passes ran: the temporal pass only without the fusion; the reconstruction either way.
+        EXPECT_EQ(pass_ms("clouds.temporal") > 0.0, !fuse) << "split " << split << " frame " << k;
+        EXPECT_GT(pass_ms(split ? "clouds.reconstruct_merge" : "clouds.reconstruct"), 0.0);
+        if (!fuse) separate.push_back(f);
+        else if (k >= 2) worst = std::min(worst, psnr(f.hdr, separate[size_t(k)].hdr));
+      }
+    }
+    std::printf("  %s: the fused accumulation's worst frame %.1f dB from the temporal pass's\n", split ? "60 Hz split" : "30 Hz",
+                worst);
+    EXPECT_GT(worst, 40.0);
+    EXPECT_LT(worst, 99.0);  // a box of its own: not the same pass under another name
+  }
+}
+
 // `n` points of `inst` (its asset baked in `folder`), a quarter anywhere in the box and the rest around
 // `centres` (asset space, within `radius` per axis), sampled by the GPU probe and the CPU query.
 DensityComparison CloudRender::compare_density(const CloudInstance& inst, const fs::path& folder,
