@@ -41,24 +41,27 @@ std::vector<std::string> split_list(const std::string& text) {
 constexpr uint32_t kConvergedFrames = 64;
 constexpr uint32_t kConvergedFramesSlow = 16;
 
-// One configuration for one round: warm-up frames, then the measured ones' pass timings and steps, and
-// the headless loop's wall clock: the CPU part (extraction, render graph, recording, up to the submit)
-// and the whole frame up to the GPU's finish.
-void measure_run(app::HeadlessSession& session, render::CloudFeature& feature, const BenchOptions& o, Run& run,
-                 bool sun_moving, bool keep_image) {
+// A run's samples in one round (the chunks of its measured frames pooled).
+struct RoundSamples {
+  std::vector<double> cloud, sky, geometry, whole, wall, cpu;
+};
+
+// One chunk of a configuration's round: `warmup` frames, then `frames` measured ones: their pass timings and steps,
+// and the headless loop's wall clock: the CPU part (extraction, render graph, recording, up to the submit) and the
+// whole frame up to the GPU's finish.
+void measure_chunk(app::HeadlessSession& session, render::CloudFeature& feature, Run& run, RoundSamples& round,
+                   bool sun_moving, uint32_t warmup, uint32_t frames) {
   feature.options().light_grid_always_update = sun_moving;
   feature.options().ablation = run.ablation;
   const ecs::Entity camera = session.sim().camera(run.view);
-  std::vector<double> cloud, sky, geometry, whole, wall, cpu;
-  const uint32_t frames = measured_frames(o, run.ablation);
-  for (uint32_t f = 0; f < o.warmup + frames; ++f) {
+  for (uint32_t f = 0; f < warmup + frames; ++f) {
     const Stopwatch frame;
     cumulo::render::FrameSnapshot snapshot = session.extract(camera, cumulo::render::BudgetMode(run.mode));
     session.submit(snapshot);
     const double cpu_ms = frame.ms();
     session.wait_frame();
     const double wall_ms = frame.ms();
-    if (f < o.warmup) continue;
+    if (f < warmup) continue;
     double c = 0, g = 0, w = 0, k = 0;
     for (auto& [name, ms] : session.pass_timings()) {
       if (name == render::CloudFeature::kStepsReadbackPass) continue;
@@ -68,25 +71,32 @@ void measure_run(app::HeadlessSession& session, render::CloudFeature& feature, c
       if (is_sky_pass(name)) k += ms;
       if (name == "geometry") g += ms;
     }
-    cloud.push_back(c);
-    sky.push_back(k);
-    geometry.push_back(g);
-    whole.push_back(w);
-    cpu.push_back(cpu_ms);
-    wall.push_back(wall_ms);
+    round.cloud.push_back(c);
+    round.sky.push_back(k);
+    round.geometry.push_back(g);
+    round.whole.push_back(w);
+    round.cpu.push_back(cpu_ms);
+    round.wall.push_back(wall_ms);
     run.steps.push_back(feature.read_steps_per_pixel());
   }
-  run.rounds.push_back({median(cloud), median(sky), median(geometry), median(whole), median(wall), median(cpu)});
+}
+
+// A round's medians into the run's figures, its samples into the pooled ones.
+void finish_round(Run& run, const RoundSamples& r) {
+  run.rounds.push_back({median(r.cloud), median(r.sky), median(r.geometry), median(r.whole), median(r.wall), median(r.cpu)});
   using Samples = std::vector<double>;
-  const std::pair<Samples*, const Samples*> pools[] = {{&run.cloud, &cloud}, {&run.sky, &sky}, {&run.geometry, &geometry},
-                                                       {&run.whole, &whole}, {&run.wall, &wall}, {&run.cpu, &cpu}};
+  const std::pair<Samples*, const Samples*> pools[] = {{&run.cloud, &r.cloud}, {&run.sky, &r.sky}, {&run.geometry, &r.geometry},
+                                                       {&run.whole, &r.whole}, {&run.wall, &r.wall}, {&run.cpu, &r.cpu}};
   for (auto [pooled, samples] : pools) pooled->insert(pooled->end(), samples->begin(), samples->end());
-  if (!keep_image) return;
-  // The image the 60 Hz split's PSNR compares: converged, as a still camera shows it once the reprojection
-  // has marched every pixel of its block once (B x B frames: 16 at 60 Hz); a run's measured frames may be
-  // fewer, and the bench's runs switch the block (a new history) as they switch modes.
+}
+
+// The image the 60 Hz split's PSNR compares: converged, as a still camera shows it once the reprojection has
+// marched every pixel of its block four times and the temporal accumulation has settled; rendered in one go after
+// the round's chunks (a switch of mode starts a new history).
+void keep_image(app::HeadlessSession& session, const BenchOptions& o, Run& run) {
+  const ecs::Entity camera = session.sim().camera(run.view);
   const uint32_t converged = run.ablation == CloudAblation::Full ? kConvergedFrames : kConvergedFramesSlow;
-  for (uint32_t f = o.warmup + frames; f < converged; ++f) {
+  for (uint32_t f = 0; f < converged; ++f) {
     cumulo::render::FrameSnapshot snapshot = session.extract(camera, cumulo::render::BudgetMode(run.mode));
     session.render(snapshot);
   }
@@ -165,29 +175,57 @@ int run_bench(const BenchOptions& o, const CloudsRun& clouds) {
   // The matrix; moving: full runs with the light grid updating every frame. The sample level's sun is
   // still, so the light grid rests once built (light_grid_sweep.comp); these runs keep its updates going
   // (as a moving sun does) to measure what they cost.
-  // A view's modes run back to back for each ablation: the 60 Hz split's saving compares the two full runs of
-  // a round, and lavapipe's speed drifts by up to 1.4x over seconds to minutes (issue 23: with the slower
-  // ablations' runs between them, one round measured the immersed split's saving at 40 % where the others
-  // measured 53 and 54 %).
+  // The matrix; moving: full runs with the light grid updating every frame. The sample level's sun is
+  // still, so the light grid rests once built (light_grid_sweep.comp); these runs keep its updates going
+  // (as a moving sun does) to measure what they cost. A view's modes take turns within a round for each
+  // ablation (kModeChunks): the split's saving compares them.
   std::vector<Run> runs, moving;
+  struct Group {
+    std::vector<Run>* list;
+    std::vector<size_t> index;  // the group's runs in `list`, one per mode
+    bool sun_moving;
+  };
+  std::vector<Group> groups;
   for (const std::string& view : o.views)
-    for (CloudAblation ablation : o.ablations)
-      for (int mode : o.modes) runs.push_back(Run{view, ablation, mode});
+    for (CloudAblation ablation : o.ablations) {
+      Group g{&runs, {}, false};
+      for (int mode : o.modes) {
+        g.index.push_back(runs.size());
+        runs.push_back(Run{view, ablation, mode});
+      }
+      groups.push_back(g);
+    }
   if (std::find(o.ablations.begin(), o.ablations.end(), CloudAblation::Full) != o.ablations.end())
-    for (const std::string& view : o.views)
-      for (int mode : o.modes) moving.push_back(Run{view, CloudAblation::Full, mode});
+    for (const std::string& view : o.views) {
+      Group g{&moving, {}, true};
+      for (int mode : o.modes) {
+        g.index.push_back(moving.size());
+        moving.push_back(Run{view, CloudAblation::Full, mode});
+      }
+      groups.push_back(g);
+    }
   const size_t total = (runs.size() + moving.size()) * o.rounds;
   size_t done = 0;
   for (uint32_t round = 0; round < o.rounds; ++round)
-    for (size_t index = 0; index < runs.size() + moving.size(); ++index) {
-      const bool sun_moving = index >= runs.size();
-      Run& run = sun_moving ? moving[index - runs.size()] : runs[index];
-      measure_run(session, feature, o, run, sun_moving, round + 1 == o.rounds && !sun_moving);
-      const RoundFigures& last = run.rounds.back();
-      std::fprintf(stderr, "cumulo bench: [%zu/%zu] %s %s%s %d Hz: clouds %.2f ms, GPU sum %.2f ms, wall %.2f ms (CPU %.2f), %.1f steps/px\n",
-                   ++done, total, run.view.c_str(), render::ablation_name(run.ablation),
-                   sun_moving ? " (light grid updating)" : "", run.mode, last.cloud_ms, last.frame_ms, last.wall_ms,
-                   last.cpu_ms, median(run.steps));
+    for (const Group& g : groups) {
+      std::vector<RoundSamples> samples(g.index.size());
+      for (uint32_t chunk = 0; chunk < kModeChunks; ++chunk)
+        for (size_t k = 0; k < g.index.size(); ++k) {
+          Run& run = (*g.list)[g.index[k]];
+          const uint32_t frames = chunk_frames(measured_frames(o, run.ablation), chunk);
+          if (frames == 0) continue;
+          measure_chunk(session, feature, run, samples[k], g.sun_moving, chunk == 0 ? o.warmup : kChunkWarmup, frames);
+        }
+      for (size_t k = 0; k < g.index.size(); ++k) {
+        Run& run = (*g.list)[g.index[k]];
+        finish_round(run, samples[k]);
+        if (round + 1 == o.rounds && !g.sun_moving) keep_image(session, o, run);
+        const RoundFigures& last = run.rounds.back();
+        std::fprintf(stderr, "cumulo bench: [%zu/%zu] %s %s%s %d Hz: clouds %.2f ms, GPU sum %.2f ms, wall %.2f ms (CPU %.2f), %.1f steps/px\n",
+                     ++done, total, run.view.c_str(), render::ablation_name(run.ablation),
+                     g.sun_moving ? " (light grid updating)" : "", run.mode, last.cloud_ms, last.frame_ms, last.wall_ms,
+                     last.cpu_ms, median(run.steps));
+      }
     }
   feature.options().light_grid_always_update = false;
   feature.set_measure_steps(false);

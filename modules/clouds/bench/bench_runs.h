@@ -43,6 +43,17 @@ inline uint32_t measured_frames(const BenchOptions& o, CloudAblation a) {
   return a == CloudAblation::Full ? o.frames * kFullMethodFrameFactor : o.frames;
 }
 
+// A configuration's modes (30 and 60 Hz) take turns within a round, this many chunks of its measured frames each
+// (after the warm-up before the first chunk, and kChunkWarmup frames after each switch): the 60 Hz split's saving
+// compares the two, and lavapipe's speed drifts by up to 1.4-2x over seconds (issue 23: the ground's split saved
+// 39 % in a round whose 60 Hz run caught such a dip and 59-61 % in the others, with the two runs back to back).
+constexpr uint32_t kModeChunks = 4;
+constexpr uint32_t kChunkWarmup = 1;
+// The measured frames of chunk `chunk` (of kModeChunks) of a run measuring `frames` in all.
+inline uint32_t chunk_frames(uint32_t frames, uint32_t chunk) {
+  return frames / kModeChunks + (chunk < frames % kModeChunks ? 1u : 0u);
+}
+
 // One round's medians of a run (the JSON keeps them so "in every round" can be checked, not only the
 // pooled median).
 struct RoundFigures {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "modules/clouds/bench/bench_runs.h"
 #include "tests/engine/app/cli_test_util.h"
 #include "tests/support/temp_dir.h"
 
@@ -89,6 +90,19 @@ TEST(BenchCli, WritesTheTableAndTheJson) {
   ASSERT_EQ(j["runs"][2]["ablation"], "full");
   EXPECT_LT(j["runs"][2]["steps_per_pixel"].get<double>(), j["runs"][0]["steps_per_pixel"].get<double>());
   fs::remove(out);
+}
+
+// A run's measured frames split into the chunks its modes take turns in: every frame measured once.
+TEST(BenchCli, ARunsFramesSplitIntoTheChunksItsModesTakeTurnsIn) {
+  using namespace cumulo::clouds::bench;
+  for (uint32_t frames : {1u, 3u, 8u, 32u, 33u}) {
+    uint32_t sum = 0;
+    for (uint32_t c = 0; c < kModeChunks; ++c) {
+      sum += chunk_frames(frames, c);
+      EXPECT_LE(chunk_frames(frames, c), frames / kModeChunks + 1);
+    }
+    EXPECT_EQ(sum, frames);
+  }
 }
 
 TEST(BenchCli, BadMatrixIsRefused) {
