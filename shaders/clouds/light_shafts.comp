@@ -24,12 +24,20 @@ vec3 view_dir(vec2 uv) {
 }
 
 // How much of the sun's highlight this screen point lets through.
-float unoccluded(vec2 uv) {
-  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;  // off screen: assume open sky
+float unoccluded_on_screen(vec2 uv) {
   // Terrain shadows the air toward the sun only where it rises to the sun's height in the view (a ridge
   // against a low sun); the ground and the sea below the horizon do not stand in the sun's light.
   if (textureLod(scene_depth, uv, 0.0).r > 0.0) return view_dir(uv).y >= S.sun_dir.y - 0.02 ? 0.0 : 1.0;
   return textureLod(clouds_tex, uv, 0.0).a * textureLod(sky_tex, uv, 0.0).a;
+}
+// Off screen nothing is known: the border's value, fading to open sky over kOffScreenFade of the screen (uv). Taken
+// as open sky at once, a sun off to the side drew a straight edge down the picture where the pixels' rays toward it
+// left the screen (the immersed view's ocean: a lighter strip along the left border and a dark box beside it);
+// the border's value carried on for good, a cloud at the border hid the sun's glow across the whole side of the sky.
+const float kOffScreenFade = 0.25;
+float unoccluded(vec2 uv) {
+  vec2 inside = clamp(uv, vec2(0.0), vec2(1.0));
+  return mix(unoccluded_on_screen(inside), 1.0, smoothstep(0.0, kOffScreenFade, length(uv - inside)));
 }
 
 void main() {

@@ -129,6 +129,34 @@ TEST_F(CloudsRun, LightShaftsDarkenTheHazeBehindACloudInFrontOfTheSun) {
   EXPECT_GT(beside_ratio, 0.995);
 }
 
+// With the sun off screen the shafts' samples toward it leave the picture: there they take the border's value, fading
+// to open sky. Taken as open sky at once, the sample level's immersed view (sun off to the upper left) had a straight
+// lighter strip down its ocean along the left border, the shafts' darkening ramping from 1.0 at the border to 0.79 by
+// 12 px (160x90); now it is even across the border.
+TEST_F(CloudsRun, LightShaftsStayEvenAtTheBorderOfTheScreenWithTheSunOffIt) {
+  const fs::path sample = "content/levels/sample/level.json";
+  ASSERT_EQ(run(sample, "on.png", {"--camera", "immersed"}, 8), 0);
+  ASSERT_EQ(run(sample, "off.png", {"--camera", "immersed", "--cloud-light-shafts", "off"}, 8), 0);
+  const Png on = load_png(dir_ / "on.png"), off = load_png(dir_ / "off.png");
+  // The shafts' darkening (on / off) over the open ocean at the left border: its spread across the first 16 columns.
+  double spread = 0, darkening = 0;
+  int rows = 0;
+  for (int y = 64; y < 80; ++y, ++rows) {  // below the horizon, between two small clouds at the border
+    double lo = 1e9, hi = -1e9;
+    for (int x = 0; x < 16; ++x) {
+      const double r = luminance(on, x, y) / std::max(1.0, luminance(off, x, y));
+      lo = std::min(lo, r), hi = std::max(hi, r);
+      darkening += 1.0 - r;
+    }
+    spread += hi - lo;
+  }
+  spread /= rows;
+  darkening /= rows * 16.0;
+  std::printf("  immersed, ocean at the left border: the shafts' darkening %.3f, its spread across 16 px %.3f\n", darkening, spread);
+  EXPECT_GT(darkening, 0.05);  // the shafts do shade that air (cloud toward the sun)
+  EXPECT_LT(spread, 0.08);
+}
+
 // The terrain's shadow on the clouds (issue 10: "the sun behind a mountain darkens the cloud base near
 // it"): the test cloud just behind the main island's peak from a 17:36 sun, its sun ray through the
 // mountain, is darker than with --cloud-terrain-shadow off; lifted above the peak's shadow, the same.
