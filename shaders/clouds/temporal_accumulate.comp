@@ -17,6 +17,7 @@ layout(set = 0, binding = CLOUD_BINDING_CURRENT_DEPTH) uniform sampler2D current
 layout(set = 0, binding = CLOUD_BINDING_HISTORY) uniform sampler2D history_tex;
 layout(set = 0, binding = CLOUD_BINDING_ACCUM_OUT, rgba16f) uniform writeonly image2D accum_out;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
+#include "clouds/reproject_history.glsl"
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -38,23 +39,9 @@ void main() {
     vec3 ro = P.camera_pos.xyz;
     vec3 rd = view_ray_dir(P.inv_view_proj, uv * 2.0 - 1.0, ro);
     float depth = texelFetch(current_depth, pixel, 0).x;
-    // "At infinity": a point far enough that the camera's translation does not matter.
-    vec4 world = depth < 1e5 ? vec4(ro + rd * depth, 1.0) : vec4(rd, 0.0);
-    vec4 prev = P.prev_view_proj * world;
-    if (prev.w > 0.0) {
-      vec2 prev_uv = prev.xy / prev.w * 0.5 + 0.5;
-      if (all(greaterThanEqual(prev_uv, vec2(0.0))) && all(lessThanEqual(prev_uv, vec2(1.0)))) {
-        // A still camera reprojects onto texel centres up to float error: fetch that texel, since
-        // bilinear weights of 0.999/0.001 would blur the history a little more every frame.
-        // (One bilinear fetch at the snapped texel centre: its weights are exactly one texel's.)
-        vec2 prev_px = prev_uv * pc.target.xy - 0.5;
-        vec2 snapped = round(prev_px);
-        vec2 fetch_uv = all(lessThan(abs(prev_px - snapped), vec2(0.01))) ? (snapped + 0.5) * pc.target.zw : prev_uv;
-        vec4 hist = textureLod(history_tex, fetch_uv, 0.0);
-        hist = clamp(hist, lo, hi);
-        result = mix(hist, cur, P.misc.y);
-      }
-    }
+    vec2 fetch_uv;
+    bool on_texel;
+    if (reproject(ro, rd, depth, fetch_uv, on_texel)) result = mix(clamp(textureLod(history_tex, fetch_uv, 0.0), lo, hi), cur, P.misc.y);
   }
   imageStore(accum_out, pixel, result);
 }

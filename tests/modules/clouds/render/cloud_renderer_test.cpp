@@ -358,16 +358,11 @@ TEST_F(CloudRender, ASettledReprojectionHoldsFarFromTheOrigin) {
 // trail), much closer than blending the history without reprojection would be.
 TEST_F(CloudRender, TemporalAccumulationDoesNotGhostOnAMovingCamera) {
   CloudFrameInputs in = inputs(asset(), camera());
-  auto camera_at = [&](int k) {
-    const glm::vec3 pos(-40.0f + 8.0f * k, 128.0f, 400.0f);
-    const float yaw = glm::radians(1.0f * k);
-    return camera(pos, pos + glm::vec3(-std::sin(yaw) * 400.0f + 40.0f - 8.0f * k, 0.0f, -std::cos(yaw) * 400.0f));
-  };
   constexpr int kFrames = 10;
   std::vector<Frame> accumulated;
   in.settings.temporal = true;
   for (int k = 0; k < kFrames; ++k) {
-    in.camera = camera_at(k);
+    in.camera = flying_camera(k);
     in.frame_index = k;
     accumulated.push_back(render(in));
   }
@@ -375,7 +370,7 @@ TEST_F(CloudRender, TemporalAccumulationDoesNotGhostOnAMovingCamera) {
   double worst = 99.0;
   Frame fresh;
   for (int k = 2; k < kFrames; ++k) {
-    in.camera = camera_at(k);
+    in.camera = flying_camera(k);
     in.frame_index = k;
     fresh = render(in);
     worst = std::min(worst, psnr(accumulated[k].hdr, fresh.hdr));
@@ -622,11 +617,6 @@ TEST_F(CloudRender, AReprojectedSplitMergesTheNearLayerInItsReconstruction) {
 TEST_F(CloudRender, TheReconstructionAccumulatesAsTheTemporalPassDoes) {
   CloudFrameInputs in = inputs(asset(), camera());
   in.settings.temporal = true;
-  auto camera_at = [&](int k) {
-    const glm::vec3 pos(-40.0f + 8.0f * k, 128.0f, 400.0f);
-    const float yaw = glm::radians(1.0f * k);
-    return camera(pos, pos + glm::vec3(-std::sin(yaw) * 400.0f + 40.0f - 8.0f * k, 0.0f, -std::cos(yaw) * 400.0f));
-  };
   for (bool split : {false, true}) {
     in.settings.split = split;
     double worst = 99.0;
@@ -635,7 +625,7 @@ TEST_F(CloudRender, TheReconstructionAccumulatesAsTheTemporalPassDoes) {
       in.settings.fuse_temporal = fuse;
       in.camera_cut = true;
       for (int k = 0; k < 12; ++k) {
-        in.camera = camera_at(k);
+        in.camera = flying_camera(k);
         in.frame_index = 200 + k;
         const Frame f = render(in);
         in.camera_cut = false;

@@ -232,6 +232,12 @@ class CloudRenderFixture : public gpu::test::GpuTest {
     cam.fov_y_deg = fov_deg;
     return scene::make_camera_view(scene::Transform::look_at(pos, target), cam, float(width_) / float(height_));
   }
+  // Frame `k` of a camera flying sideways past the cloud: 8 m and 1 degree of yaw per frame.
+  scene::CameraView flying_camera(int k) const {
+    const glm::vec3 pos(-40.0f + 8.0f * k, 128.0f, 400.0f);
+    const float yaw = glm::radians(1.0f * k);
+    return camera(pos, pos + glm::vec3(-std::sin(yaw) * 400.0f + 40.0f - 8.0f * k, 0.0f, -std::cos(yaw) * 400.0f));
+  }
   // A wall across the pixels selected by `where`, at `distance` m along each pixel's ray.
   template <class F>
   std::vector<float> wall_depth(const scene::CameraView& cam, float distance, F where) const {
