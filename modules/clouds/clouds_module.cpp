@@ -5,6 +5,7 @@
 #include "modules/clouds/bake/bake_command.h"
 #include "modules/clouds/bake/grow/grow_command.h"
 #include "modules/clouds/bench/bench_command.h"
+#include "modules/clouds/envelope/orographic_clouds.h"
 #include "modules/clouds/frame/cloud_extraction.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
@@ -38,6 +39,7 @@ void CloudsModule::register_run_commands(CommandRegistry& registry, const app::M
 
 void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
   register_cloudscape_component(registry);
+  envelope::register_orographic_clouds_component(registry);
   gameplay::register_stormbird_component(registry);
   gameplay::register_lightning_component(registry);
   gameplay::register_trigger_component(registry);
@@ -69,7 +71,12 @@ void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
   bool scheduler = false;
   static_cast<const ecs::World&>(world).view<const weather::WeatherScheduler>().each(
       [&](const weather::WeatherScheduler&) { scheduler = true; });
-  feature_.on_level_loaded(any, scheduler);
+  bool orographic = false;
+  world.view<envelope::OrographicClouds>().each([&](ecs::Entity, envelope::OrographicClouds& c) {
+    envelope::resolve_orographic_clouds(c, level.directory);
+    orographic = true;
+  });
+  feature_.on_level_loaded(any, scheduler, orographic);
 }
 
 void CloudsModule::extract(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) {

@@ -14,6 +14,9 @@
 // hazed at its own half-opacity depth, the nearer one over the farther (the voxel clouds stand in front
 // of the shell's clouds from the ground; from above, the shell's may be nearer). Where the scene's
 // geometry is nearer than the sky's depth, the upsampled sky is dropped (no halo around terrain).
+// ENVELOPE 1: the Envelope method's orographic clouds (envelope_march.comp; at most the output's size, upsampled
+// depth-aware against the scene's depth) are a third layer: the three are composited farthest first by their
+// half-opacity depths.
 // UPSAMPLE 1: the voxel clouds were marched below the output's size (dynamic resolution): upsampled
 // depth-aware against the scene's depth (depth_aware_upsample.glsl).
 #extension GL_GOOGLE_include_directive : require
@@ -47,10 +50,24 @@ layout(set = 0, binding = CLOUD_BINDING_AERIAL) uniform sampler3D aerial_tex;
 layout(set = 0, binding = CLOUD_BINDING_SKY_COLOR) uniform sampler2D sky_tex;
 layout(set = 0, binding = CLOUD_BINDING_SKY_DEPTH) uniform sampler2D sky_depth_tex;
 #endif
-#if SKY_LAYER || UPSAMPLE
+#ifndef ENVELOPE
+#define ENVELOPE 0
+#endif
+#if ENVELOPE
+layout(set = 0, binding = CLOUD_BINDING_ENVELOPE_COLOR) uniform sampler2D envelope_tex;
+layout(set = 0, binding = CLOUD_BINDING_ENVELOPE_DEPTH) uniform sampler2D envelope_depth_tex;
+#endif
+#ifndef ENVELOPE_SPLIT
+#define ENVELOPE_SPLIT 0  // 1: the envelope's near pass (half its resolution) merges over its far pass here
+#endif
+#if ENVELOPE_SPLIT
+layout(set = 0, binding = CLOUD_BINDING_ENVELOPE_NEAR_COLOR) uniform sampler2D envelope_near_tex;
+layout(set = 0, binding = CLOUD_BINDING_ENVELOPE_NEAR_DEPTH) uniform sampler2D envelope_near_depth_tex;
+#endif
+#if SKY_LAYER || UPSAMPLE || ENVELOPE
 layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH_COMPOSITE) uniform sampler2D scene_depth_tex;
 #endif
-#if UPSAMPLE
+#if UPSAMPLE || ENVELOPE
 #include "clouds/depth_aware_upsample.glsl"
 #endif
 
@@ -92,7 +109,7 @@ void main() {
   vec4 scene = imageLoad(hdr, pixel);
   vec3 ro = P.camera_pos.xyz;
   vec3 dir = view_ray_dir(P.inv_view_proj, uv * 2.0 - 1.0, ro);
-#if SKY_LAYER || UPSAMPLE
+#if SKY_LAYER || UPSAMPLE || ENVELOPE
   float d = textureLod(scene_depth_tex, uv, 0.0).r;
   float t_scene = 1e30;
   if (d > 0.0) {
@@ -110,6 +127,44 @@ void main() {
   float depth50 = cd.x;
   // Each layer as (radiance after haze, transmittance), hazed at its own depth.
   vec3 voxel_rgb = hazed(c, depth50, ro, dir, uv);
+#if ENVELOPE
+  // Up to three layers (radiance after haze, transmittance, depth), composited farthest first; on a tie the layer
+  // added later lies behind.
+  vec4 lay_rgb_t[3];
+  float lay_depth[3];
+  int n = 0;
+  lay_rgb_t[0] = vec4(voxel_rgb, c.a);
+  lay_depth[0] = depth50;
+  n = 1;
+#if SKY_LAYER
+  vec4 s = textureLod(sky_tex, uv, 0.0);
+  float sky50 = textureLod(sky_depth_tex, uv, 0.0).x;
+  if (s.a < 1.0 && sky50 < t_scene) {
+    lay_rgb_t[n] = vec4(hazed(s, min(sky50, 9e4), ro, dir, uv), s.a);
+    lay_depth[n] = sky50;
+    ++n;
+  }
+#endif
+  vec4 e, ed;
+  depth_aware_upsample(envelope_tex, envelope_depth_tex, pixel, size, min(t_scene, 1e6), e, ed);
+#if ENVELOPE_SPLIT
+  vec4 en, end_;
+  depth_aware_upsample(envelope_near_tex, envelope_near_depth_tex, pixel, size, min(t_scene, 1e6), en, end_);
+  merge_near_over_far(en, end_, e, ed, e, ed);
+#endif
+  if (e.a < 1.0) {
+    lay_rgb_t[n] = vec4(hazed(e, min(ed.x, 9e4), ro, dir, uv), e.a);
+    lay_depth[n] = ed.x;
+    ++n;
+  }
+  for (int i = 1; i < n; ++i)  // insertion sort, farthest first, ties keep their order
+    for (int j = i; j > 0 && lay_depth[j] > lay_depth[j - 1]; --j) {
+      vec4 a = lay_rgb_t[j]; lay_rgb_t[j] = lay_rgb_t[j - 1]; lay_rgb_t[j - 1] = a;
+      float b = lay_depth[j]; lay_depth[j] = lay_depth[j - 1]; lay_depth[j - 1] = b;
+    }
+  vec3 rgb = scene.rgb;
+  for (int i = 0; i < n; ++i) rgb = rgb * lay_rgb_t[i].a + lay_rgb_t[i].rgb;
+#else
   vec3 rgb = scene.rgb * c.a + voxel_rgb;
 #if SKY_LAYER
   vec4 s = textureLod(sky_tex, uv, 0.0);
@@ -119,6 +174,7 @@ void main() {
     if (sky50 >= depth50) rgb = (scene.rgb * s.a + sky_rgb) * c.a + voxel_rgb;  // the shell behind the voxel clouds
     else rgb = (scene.rgb * c.a + voxel_rgb) * s.a + sky_rgb;
   }
+#endif
 #endif
 #if DEBUG_VIEWS
   uint view = P.frame.w;

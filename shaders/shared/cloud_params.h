@@ -80,6 +80,10 @@ CUMULO_SHARED_BEGIN
 #define CLOUD_BINDING_SKY_DEPTH 6   // sampler2D (SKY_LAYER 1): its depth (x opacity-0.5 distance)
 #define CLOUD_BINDING_SCENE_DEPTH_COMPOSITE 7  // sampler2D (SKY_LAYER 1): the scene depth (the upsample stops at geometry)
 #define CLOUD_BINDING_AERIAL 8      // sampler3D (AERIAL 1): the atmosphere's aerial-perspective froxels
+#define CLOUD_BINDING_ENVELOPE_COLOR 9   // sampler2D (ENVELOPE 1): the orographic clouds (rgb radiance, a transmittance)
+#define CLOUD_BINDING_ENVELOPE_DEPTH 10  // sampler2D (ENVELOPE 1): their depth (x opacity-0.5 distance, z the ray's end)
+#define CLOUD_BINDING_ENVELOPE_NEAR_COLOR 11  // sampler2D (ENVELOPE_SPLIT 1): their near pass (half resolution)
+#define CLOUD_BINDING_ENVELOPE_NEAR_DEPTH 12
 
 // Debug views (CloudParams::frame.w).
 #define CLOUD_DEBUG_NONE 0

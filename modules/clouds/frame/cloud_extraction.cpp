@@ -85,6 +85,16 @@ void extract_cloud_frame(const ecs::World& world, cumulo::render::FrameSnapshot&
     i.rain = c.rain;
     frame.instances.push_back(std::move(i));
   });
+  world.view<const envelope::OrographicClouds>().each([&](ecs::Entity, const envelope::OrographicClouds& c) {
+    EnvelopeFrame e;
+    e.spec = std::make_shared<const envelope::OrographicClouds>(c);
+    e.bake_key = envelope::orographic_clouds_to_json(c).dump();
+    e.density = c.density;
+    e.edge_m = c.edge_m;
+    e.wind_direction = c.wind_direction;
+    e.wind_speed = c.wind_speed;
+    frame.envelopes.push_back(std::move(e));
+  });
   extract_lightning(world, frame, snapshot.lighting);
   frame.weather = weather::weather_drawn(world);
   if (frame.weather) {

@@ -4,11 +4,14 @@
 // only this; the simulation (weather/, gameplay/) never sees it. Plain data: no GPU types.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "modules/clouds/envelope/orographic_clouds.h"
 #include "modules/clouds/scene/density_query.h"
 #include "modules/clouds/weather/weather_state.h"
 
@@ -73,6 +76,18 @@ struct SkyLayerFrame {
   float extinction_scale = 0.4f; // x the voxel clouds' extinction: the shell's densities are per 10 m, not per 1 m of voxel
 };
 
+// The Envelope method's orographic clouds of an OrographicClouds component (render/envelope_layer.h): its spec, which the
+// renderer bakes into maps over the terrain (again when bake_key changes), and what may change every frame.
+struct EnvelopeFrame {
+  std::shared_ptr<const envelope::OrographicClouds> spec;
+  std::string bake_key;  // the spec's JSON (orographic_clouds_to_json)
+  float density = 1.0f;  // the component's
+  float coverage = 1.0f; // 0..1 x the baked coverage
+  float edge_m = 35.0f;
+  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
+  float wind_speed = 0.0f;
+};
+
 // The snapshot extension of the clouds module.
 struct CloudFrame {
   std::vector<CloudInstanceFrame> instances;
@@ -83,6 +98,7 @@ struct CloudFrame {
   std::optional<weather::WeatherState> weather;
   std::optional<CloudWeatherLighting> weather_lighting;  // from `weather`
   SkyLayerFrame sky;  // the 2.5D sky's parameters (drawn with --cloud-sky; driven by `weather`)
+  std::vector<EnvelopeFrame> envelopes;  // the level's OrographicClouds (the renderer draws the first)
 };
 
 }  // namespace cumulo::clouds

@@ -18,6 +18,7 @@ constexpr std::array kNearReprojectionNames{EnumName<uint32_t>{1, "1"}, EnumName
                                             EnumName<uint32_t>{4, "16"}};
 constexpr std::array kLightGridNames{EnumName<bool>{true, "talk"}, EnumName<bool>{false, "device"}};
 constexpr std::array kJitterNames{EnumName<bool>{false, "animated"}, EnumName<bool>{true, "talk"}};
+constexpr std::array kEnvelopeSteppingNames{EnumName<bool>{true, "cone"}, EnumName<bool>{false, "fixed"}};
 constexpr std::array kLightSampleNoiseNames{EnumName<bool>{true, "mean"}, EnumName<bool>{false, "sampled"}};
 
 void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
@@ -63,6 +64,12 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
       .choice("--cloud-sky", kOnOffNames, "auto",
               "the weather-driven 2.5D sky beyond and above the voxel cloudscape (default auto: on with a WeatherScheduler)",
               &o.sky)
+      .choice("--envelope", kOnOffNames, "auto",
+              "the Envelope method's orographic clouds (default auto: on in a level with OrographicClouds)", &o.envelope)
+      .choice("--envelope-stepping", kEnvelopeSteppingNames,
+              "the envelope clouds' sample placement: cone and distance step mapping (default), or fixed steps (the "
+              "talk's before)",
+              &o.envelope_cone_stepping)
       .on_off("--cloud-sky-occlusion",
               "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",
               &o.sky_occlusion)

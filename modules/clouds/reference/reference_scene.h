@@ -9,23 +9,9 @@
 #include <glm/glm.hpp>
 
 #include "engine/render/frame_snapshot.h"
+#include "modules/clouds/render/terrain_heightfield.h"
 
 namespace cumulo::clouds::render {
-
-// Texel (i, j) covers world x in origin.x + [i, i + 1) * size.x / resolution (z likewise with j); x: the
-// highest surface's height (world y), yzw: its albedo (the material's base colour factor x the texture's
-// mean, linear). Texels no triangle covers hold kNoTerrain.
-struct TerrainHeightfield {
-  static constexpr float kNoTerrain = -1.0e4f;
-  uint32_t resolution = 0;
-  glm::vec2 origin{0.0f}, size{1.0f};
-  float min_height = 0.0f, max_height = 0.0f;  // over covered texels
-  std::vector<glm::vec4> texels;               // resolution^2, row j = z
-  bool empty() const { return texels.empty(); }
-};
-// Every triangle of every model draw (its world transform and mesh instances applied), rasterized at
-// texel centres into a square grid over the models' xz bounds. Empty without triangles.
-TerrainHeightfield rasterize_heightfield(const std::vector<cumulo::render::ModelDraw>& models, uint32_t resolution = 512);
 
 // Radiance (renderer units) arriving from direction (cos(e) cos(a), sin(e), cos(e) sin(a)) in texel
 // (u, v) = ((a / 2 pi + 0.5) * width, (0.5 - e / pi) * height): row 0 is the zenith.

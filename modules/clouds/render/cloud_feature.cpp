@@ -19,9 +19,10 @@ constexpr float kCameraCutMetres = 200.0f;
 
 }  // namespace
 
-void CloudFeature::on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler) {
+void CloudFeature::on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler, bool has_orographic_clouds) {
   if (has_cloudscapes && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
   level_.has_weather_scheduler = has_weather_scheduler;
+  level_.has_orographic_clouds = has_orographic_clouds;
 }
 
 void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
@@ -124,6 +125,8 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     for (CloudFramePass* p : drawn_passes_) p->add_before_composite(f, *frame, voxel, composite_in);
     in.sky_color = composite_in.sky_color;
     in.sky_depth = composite_in.sky_depth;
+    in.envelope_color = composite_in.envelope_color;
+    in.envelope_depth = composite_in.envelope_depth;
   };
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_, before_composite);
   light_ = {};

@@ -42,7 +42,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   const CloudRenderOptions& options() const { return options_; }
   // The level has loaded (its Cloudscapes' assets resolved): the noise it needs, and what the frame passes
   // need to know of it (the 2.5D sky: --cloud-sky auto draws it with a WeatherScheduler). Before create_gpu.
-  void on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler);
+  void on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler, bool has_orographic_clouds = false);
 
   void create_gpu(cumulo::render::GpuServices& g) override;
   void destroy_gpu() override;

@@ -17,6 +17,7 @@ namespace cumulo::clouds::render {
 // What the loaded level says about the passes it needs.
 struct CloudLevelFacts {
   bool has_weather_scheduler = false;  // --cloud-sky auto draws the 2.5D sky then
+  bool has_orographic_clouds = false;  // --envelope auto draws the Envelope method's clouds then
 };
 
 struct CloudFramePassContext {

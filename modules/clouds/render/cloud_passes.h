@@ -108,7 +108,8 @@ struct CloudResources {
   // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)][clouds below the output's size (UPSAMPLE),
   // made on first use][a debug view that replaces the picture (DEBUG_VIEWS: steps, light grid; made on first
   // use): on a CPU device an unused branch still costs, the light grid's fetch a third of the pass]
-  gpu::Pipeline* composite_pipes[2][2][2][2] = {};
+  // [the Envelope method's clouds (ENVELOPE: 0 none, 1 one pass, 2 the split's near and far passes)]
+  gpu::Pipeline* composite_pipes[2][2][2][2][3] = {};
   gpu::Pipeline* shadow_pipe = nullptr;
   // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
   gpu::Image shadow_image;
@@ -150,17 +151,26 @@ struct CloudResources {
     march_pipes[key] = &p;
     return p;
   }
-  gpu::Pipeline& composite(bool sky, bool aerial, bool upsample, bool debug_views = false) {
-    gpu::Pipeline*& p = composite_pipes[sky][aerial][upsample][debug_views];
-    if (!p)
-      p = &library.compute({.shader = "clouds/composite_apply.comp",
-                            .defines = {{"SKY_LAYER", sky ? "1" : "0"},
-                                        {"AERIAL", aerial ? "1" : "0"},
-                                        {"UPSAMPLE", upsample ? "1" : "0"},
-                                        {"DEBUG_VIEWS", debug_views ? "1" : "0"}},
-                            .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") +
-                                    (aerial ? " (aerial froxels)" : "") + (upsample ? " (upsampled)" : "") +
-                                    (debug_views ? " (debug views)" : "")});
+  gpu::Pipeline& composite(bool sky, bool aerial, bool upsample, bool debug_views = false, int envelope = 0) {
+    gpu::Pipeline*& p = composite_pipes[sky][aerial][upsample][debug_views][envelope];
+    if (!p) {
+      gpu::ComputePipelineDesc d{.shader = "clouds/composite_apply.comp",
+                                 .defines = {{"SKY_LAYER", sky ? "1" : "0"},
+                                             {"AERIAL", aerial ? "1" : "0"},
+                                             {"UPSAMPLE", upsample ? "1" : "0"},
+                                             {"DEBUG_VIEWS", debug_views ? "1" : "0"}},
+                                 .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") +
+                                         (aerial ? " (aerial froxels)" : "") + (upsample ? " (upsampled)" : "") +
+                                         (debug_views ? " (debug views)" : "") +
+                                         (envelope == 1 ? " (envelope)" : envelope == 2 ? " (envelope, split)" : "")};
+      // Only a composite with the envelope's layer names its defines: the others' sources, and so their cached and
+      // compiled code, stay what they were.
+      if (envelope > 0) {
+        d.defines.push_back({"ENVELOPE", "1"});
+        d.defines.push_back({"ENVELOPE_SPLIT", envelope == 2 ? "1" : "0"});
+      }
+      p = &library.compute(d);
+    }
     return *p;
   }
   // The light grid's shaders (the sweep, the talk's rays, the solve) sample the density: one pipeline per SDF form

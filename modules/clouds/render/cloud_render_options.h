@@ -27,6 +27,8 @@ struct CloudRenderOptions {
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler
   bool sky_occlusion = true;  // --cloud-sky-occlusion: the 2.5D sky is not marched where the voxel clouds hide it
+  std::optional<bool> envelope;  // --envelope on|off; none (auto): on when the level has OrographicClouds
+  bool envelope_cone_stepping = true;  // --envelope-stepping cone|fixed
   bool light_shafts = true;  // --cloud-light-shafts
   bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds

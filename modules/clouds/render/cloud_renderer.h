@@ -334,6 +334,9 @@ struct CloudFrameInputs {
   // The 2.5D sky's half-resolution result (SkyLayer::add_passes), composited with the voxel clouds in
   // the order of their depths; invalid: no 2.5D sky.
   TextureHandle sky_color, sky_depth;
+  // The Envelope method's orographic clouds (EnvelopeLayer::add_passes): a third layer in the composite; with the
+  // 40/60 Hz split also their near pass (half their resolution), merged over the far one. Invalid: none.
+  TextureHandle envelope_color, envelope_depth, envelope_near_color, envelope_near_depth;
   // The atmosphere's aerial-perspective froxels (render::AerialPerspective, a stage resource): the composite
   // hazes each layer with them at its depth; invalid: the height fog (haze_*).
   TextureHandle aerial;

@@ -40,12 +40,17 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
   // Clouds below the output's size (dynamic resolution): upsampled depth-aware against the scene's depth.
   const VkExtent2D out = graph.output_size(), clouds = march_extent(graph, in);
   const bool upsample = clouds.width != out.width || clouds.height != out.height;
-  const bool scene_depth = sky || upsample;
+  const int envelope = !(in.envelope_color.valid() && in.envelope_depth.valid()) ? 0
+                       : in.envelope_near_color.valid() && in.envelope_near_depth.valid() ? 2 : 1;
+  const bool scene_depth = sky || upsample || envelope > 0;
   const CloudDebugView view = in.settings.debug;
-  gpu::Pipeline* comp = &res.composite(sky, aerial, upsample, view == CloudDebugView::Steps || view == CloudDebugView::LightGrid);
+  gpu::Pipeline* comp =
+      &res.composite(sky, aerial, upsample, view == CloudDebugView::Steps || view == CloudDebugView::LightGrid, envelope);
   CloudResources* r = &res;
   const TextureHandle grid = light.grid;
   const TextureHandle sky_color = in.sky_color, sky_depth = in.sky_depth, aerial_tex = in.aerial;
+  const TextureHandle env_c = in.envelope_color, env_d = in.envelope_depth, env_nc = in.envelope_near_color,
+                      env_nd = in.envelope_near_depth;
   graph.add_pass("clouds.composite", Queue::Compute,
       [&](PassBuilder& b) {
         b.read(final_color, Usage::Sampled);
@@ -57,10 +62,18 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
         }
         if (scene_depth) b.read(depth, Usage::Sampled);
         if (aerial) b.read(aerial_tex, Usage::Sampled);
+        if (envelope > 0) {
+          b.read(env_c, Usage::Sampled);
+          b.read(env_d, Usage::Sampled);
+        }
+        if (envelope == 2) {
+          b.read(env_nc, Usage::Sampled);
+          b.read(env_nd, Usage::Sampled);
+        }
         hdr = b.read_write(hdr, Usage::StorageWrite);
       },
       [r, comp, final_color, cdepth, grid, hdr, ubo_handle, sky, sky_color, sky_depth, depth, scene_depth, aerial,
-       aerial_tex](PassContext& c) {
+       aerial_tex, envelope, env_c, env_d, env_nc, env_nd](PassContext& c) {
         Bindings bind(*comp);
         bind.ubo(CLOUD_BINDING_PARAMS, ubo_handle, kParamsSize)
             .sampled(CLOUD_BINDING_CLOUDS, c.view(final_color), r->nearest_clamp, c.layout(final_color))
@@ -73,6 +86,12 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
         if (scene_depth)
           bind.sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
         if (aerial) bind.sampled(CLOUD_BINDING_AERIAL, c.view(aerial_tex), r->linear_clamp, c.layout(aerial_tex));
+        if (envelope > 0)
+          bind.sampled(CLOUD_BINDING_ENVELOPE_COLOR, c.view(env_c), r->nearest_clamp, c.layout(env_c))
+              .sampled(CLOUD_BINDING_ENVELOPE_DEPTH, c.view(env_d), r->nearest_clamp, c.layout(env_d));
+        if (envelope == 2)
+          bind.sampled(CLOUD_BINDING_ENVELOPE_NEAR_COLOR, c.view(env_nc), r->nearest_clamp, c.layout(env_nc))
+              .sampled(CLOUD_BINDING_ENVELOPE_NEAR_DEPTH, c.view(env_nd), r->nearest_clamp, c.layout(env_nd));
         bind.push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(hdr);
         comp->push_constants(c.cmd(), target_push(e));

@@ -1,0 +1,289 @@
+#include "modules/clouds/render/envelope_layer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "engine/core/error.h"
+#include "engine/gpu/barrier.h"
+#include "engine/gpu/buffer.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/descriptors.h"
+#include "engine/gpu/frames.h"
+#include "engine/gpu/image.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/gpu/pipeline_library.h"
+#include "engine/gpu/sampler.h"
+#include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/volume/volume_file.h"
+#include "shaders/shared/cloud_params.h"
+#include "shaders/shared/envelope_params.h"
+
+namespace cumulo::clouds::render {
+namespace fs = std::filesystem;
+using cumulo::render::PassBuilder;
+using cumulo::render::PassContext;
+using cumulo::render::Queue;
+using cumulo::render::TextureDesc;
+using cumulo::render::TextureHandle;
+using cumulo::render::Usage;
+
+namespace {
+
+TextureDesc texture_desc(const gpu::Image& img) {
+  const VkExtent3D e = img.extent();
+  TextureDesc d = TextureDesc::absolute(img.format(), e.width, e.height, e.depth);
+  if (e.depth > 1) d.type = cumulo::render::ImageType::Image3D;
+  d.mips = img.mips();
+  return d;
+}
+
+// The ambient at the envelope's bottom, as a share of the top's (the 2.5D sky's 0.35: bases see less sky).
+constexpr float kAmbientBottom = 0.35f;
+// The voxel clouds' boxes: the envelope fades out over this distance before one.
+constexpr float kYieldFadeM = 60.0f;
+
+}  // namespace
+
+struct EnvelopeLayer::Impl {
+  gpu::Context& ctx;
+  gpu::PipelineLibrary& library;
+  gpu::Image base, detail;
+  gpu::Image shape, steps, aux;
+  std::shared_ptr<const envelope::EnvelopeMaps> maps;
+  std::vector<std::pair<uint64_t, gpu::Image>> retired;  // (frame replaced, image)
+  gpu::Pipeline* march_cone = nullptr;
+  gpu::Pipeline* march_fixed = nullptr;
+  gpu::Pipeline* probe = nullptr;  // built on first use
+  gpu::Buffer ubo[gpu::kFramesInFlight][2];  // [slot][near, far]
+  VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
+
+  Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
+
+  gpu::Image load(const fs::path& file) {
+    const Volume v = load_volume(file);
+    if (v.encoding != VolumeEncoding::RGBA8)
+      fail("%s: encoding %s; the envelope clouds sample RGBA8 noise", file.string().c_str(), encoding_name(v.encoding));
+    return upload_volume(ctx, v, VK_FORMAT_R8G8B8A8_UNORM, file);
+  }
+
+  shared::EnvelopeParams params(const EnvelopeDraw& draw, const EnvelopeMarchSettings& m, const CloudFrameInputs& in,
+                                float segment_start, float segment_end) const {
+    const envelope::EnvelopeMaps& e = *maps;
+    const CloudSettings& s = in.settings;
+    shared::EnvelopeParams p{};
+    p.inv_view_proj = in.camera.inv_view_proj;
+    p.camera_pos = glm::vec4(in.camera.position, float(in.time));
+    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
+    p.sun_color = glm::vec4(in.sun_color, 0.0f);
+    p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
+    p.map = glm::vec4(e.origin, e.texel_m, float(e.resolution));
+    p.heights = glm::vec4(e.min_bottom, e.max_top, std::max(draw.edge_m, 1e-3f), std::max(draw.density, 0.0f));
+    p.noise = glm::vec4(std::max(m.noise_tile_m, 1.0f), std::max(m.detail_tile_m, 1.0f),
+                        std::clamp(m.detail_erosion, 0.0f, 1.0f), std::clamp(draw.coverage, 0.0f, 1.0f));
+    const float wl = glm::length(draw.wind_direction);
+    const glm::vec3 wind = wl > 0.0f ? draw.wind_direction / wl : glm::vec3(1.0f, 0.0f, 0.0f);
+    // The scroll wraps at a multiple of the noise's tile, so float precision holds over hours.
+    const float scroll = float(std::fmod(double(draw.wind_speed) * in.time, double(m.noise_tile_m) * 64.0));
+    p.wind = glm::vec4(wind * scroll, s.extinction);
+    p.march = glm::vec4(std::max(m.step_m, 0.5f), std::max(m.step_growth, 0.0f), float(std::max(m.max_steps, 1u)),
+                        std::max(m.light_step_m, 1.0f));
+    p.stepping = glm::vec4(m.cone_stepping ? 1.0f : 0.0f, m.draw_distance_m, 0.5f * std::max(m.step_m, 0.5f), segment_start);
+    p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
+    uint32_t boxes = 0;
+    for (const CloudInstance& inst : in.instances) {
+      if (boxes == ENV_MAX_YIELD_BOXES) break;
+      glm::vec3 lo, hi;
+      instance_world_bounds(inst, lo, hi);
+      p.yield_min[boxes] = glm::vec4(lo, 0.0f);
+      p.yield_max[boxes] = glm::vec4(hi, 0.0f);
+      ++boxes;
+    }
+    p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), kYieldFadeM);
+    return p;
+  }
+
+  TextureHandle import(cumulo::render::RenderGraph& g, const char* name, const gpu::Image& img) const {
+    return g.import_texture(name, texture_desc(img), img.handle(), img.view(), cumulo::render::ResourceState::shader_read_only());
+  }
+};
+
+EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const fs::path& dir)
+    : impl_(std::make_unique<Impl>(ctx, library)) {
+  Impl& m = *impl_;
+  m.base = m.load(dir / "sky_noise_base.nvdf");
+  m.detail = m.load(dir / "sky_noise_detail.nvdf");
+  m.march_cone = &library.compute({.shader = "clouds/envelope_march.comp",
+                                   .defines = {{"CONE_STEPPING", "1"}},
+                                   .name = "clouds.envelope (cone stepping)"});
+  m.march_fixed = &library.compute({.shader = "clouds/envelope_march.comp",
+                                    .defines = {{"CONE_STEPPING", "0"}},
+                                    .name = "clouds.envelope (fixed steps)"});
+  for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
+    for (uint32_t k = 0; k < 2; ++k)
+      m.ubo[i][k] = gpu::Buffer(ctx, {sizeof(shared::EnvelopeParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                      gpu::MemoryUsage::Dynamic, "clouds.envelope.params"});
+  m.linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
+  m.linear_repeat = ctx.samplers().get(gpu::SamplerDesc::linear_repeat());
+  m.nearest_clamp = ctx.samplers().get(gpu::SamplerDesc::nearest_clamp());
+}
+
+EnvelopeLayer::~EnvelopeLayer() {
+  if (impl_) impl_->ctx.wait_idle();
+}
+
+bool EnvelopeLayer::has_maps() const { return impl_->maps && !impl_->maps->empty(); }
+
+void EnvelopeLayer::set_maps(std::shared_ptr<const envelope::EnvelopeMaps> maps, uint64_t frame_index) {
+  Impl& m = *impl_;
+  while (!m.retired.empty() && m.retired.front().first + gpu::kFramesInFlight + 1 <= frame_index)
+    m.retired.erase(m.retired.begin());
+  if (!maps || maps->empty()) fail("envelope clouds: no baked maps to upload");
+  const envelope::EnvelopeMaps& e = *maps;
+  const size_t n = size_t(e.resolution) * e.resolution;
+  if (e.shape.size() != n || e.steps.size() != n || e.distance_m.size() != n || e.edge_m.size() != n || e.apex.size() != n)
+    fail("envelope clouds: the baked maps disagree on their size (%u texels a side)", e.resolution);
+  if (m.shape) {
+    if (frame_index > 0) {
+      m.retired.emplace_back(frame_index, std::move(m.shape));
+      m.retired.emplace_back(frame_index, std::move(m.steps));
+      m.retired.emplace_back(frame_index, std::move(m.aux));
+    } else {
+      m.ctx.wait_idle();
+    }
+  }
+  auto make = [&](VkFormat f, const char* name, const void* data, size_t bytes) {
+    gpu::Image img(m.ctx, gpu::ImageDesc::tex2d(e.resolution, e.resolution, f, VK_IMAGE_USAGE_SAMPLED_BIT, 1, name));
+    img.upload({{data, bytes}});
+    return img;
+  };
+  m.shape = make(VK_FORMAT_R32G32B32A32_SFLOAT, "clouds.envelope.shape", e.shape.data(), n * sizeof(glm::vec4));
+  m.steps = make(VK_FORMAT_R32G32B32A32_SFLOAT, "clouds.envelope.steps", e.steps.data(), n * sizeof(glm::vec4));
+  std::vector<glm::vec4> aux(n);
+  for (size_t i = 0; i < n; ++i) aux[i] = glm::vec4(e.distance_m[i], e.edge_m[i], e.apex[i]);
+  m.aux = make(VK_FORMAT_R32G32B32A32_SFLOAT, "clouds.envelope.aux", aux.data(), n * sizeof(glm::vec4));
+  m.maps = std::move(maps);
+}
+
+uint64_t EnvelopeLayer::gpu_bytes() const {
+  const Impl& m = *impl_;
+  auto bytes = [](const gpu::Image& i, uint64_t texel) {
+    return i ? uint64_t(i.extent().width) * i.extent().height * i.extent().depth * texel : 0ull;
+  };
+  return bytes(m.base, 4) + bytes(m.detail, 4) + bytes(m.shape, 16) + bytes(m.steps, 16) + bytes(m.aux, 16);
+}
+
+std::vector<glm::vec4> EnvelopeLayer::probe(const EnvelopeDraw& draw, const EnvelopeMarchSettings& march,
+                                            const CloudFrameInputs& in, const std::vector<glm::vec3>& points) {
+  Impl& m = *impl_;
+  if (points.empty()) return {};
+  if (draw.maps && draw.maps != m.maps) set_maps(draw.maps, 0);
+  if (!has_maps()) fail("envelope clouds: probe without baked maps");
+  if (!m.probe) m.probe = &m.library.compute({.shader = "clouds/envelope_probe.comp", .name = "clouds.envelope_probe"});
+  const shared::EnvelopeParams p = m.params(draw, march, in, 0.0f, 1e9f);
+  const uint32_t n = uint32_t(points.size());
+  gpu::Buffer ubo(m.ctx, {sizeof p, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic, "envelope probe params"});
+  std::memcpy(ubo.mapped(), &p, sizeof p);
+  gpu::Buffer in_buf(m.ctx, {n * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
+                             "envelope probe points"});
+  std::vector<glm::vec4> pts(n);
+  for (uint32_t i = 0; i < n; ++i) pts[i] = glm::vec4(points[i], 1.0f);
+  std::memcpy(in_buf.mapped(), pts.data(), n * sizeof(glm::vec4));
+  gpu::Buffer out_buf(m.ctx, {n * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Readback,
+                              "envelope probe out"});
+  m.ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+    m.probe->bind(cmd);
+    gpu::DescriptorWriter()
+        .uniform_buffer(ENV_BINDING_PARAMS, ubo.handle(), 0, sizeof p)
+        .sampled_image(ENV_BINDING_SHAPE, m.shape.view(), m.linear_clamp)
+        .sampled_image(ENV_BINDING_STEPS, m.steps.view(), m.nearest_clamp)
+        .sampled_image(ENV_BINDING_AUX, m.aux.view(), m.linear_clamp)
+        .sampled_image(ENV_BINDING_BASE_NOISE, m.base.view(), m.linear_repeat)
+        .sampled_image(ENV_BINDING_DETAIL_NOISE, m.detail.view(), m.linear_repeat)
+        .storage_buffer(ENV_BINDING_PROBE_POINTS, in_buf.handle())
+        .storage_buffer(ENV_BINDING_PROBE_OUT, out_buf.handle())
+        .push(m.ctx, cmd, *m.probe);
+    const glm::uvec4 count(n, 0, 0, 0);
+    m.probe->push_constants(cmd, count);
+    m.probe->dispatch_threads(cmd, n, 1, 1);
+    gpu::cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                            VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  });
+  std::vector<glm::vec4> out(n);
+  out_buf.download(out.data(), n * sizeof(glm::vec4));
+  return out;
+}
+
+EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw,
+                                                 const EnvelopeMarchSettings& march, const CloudFrameInputs& in,
+                                                 TextureHandle scene_depth) {
+  Impl& m = *impl_;
+  if (draw.maps && draw.maps != m.maps) set_maps(draw.maps, in.frame_index + 1);
+  if (!has_maps()) return {};
+  const float scale = std::clamp(march.resolution_scale, 0.125f, 1.0f) * in.resolution_scale;
+  const bool split = march.split_m > 0.0f;
+  TextureHandle shape = m.import(graph, "clouds.envelope.shape", m.shape);
+  TextureHandle steps = m.import(graph, "clouds.envelope.steps", m.steps);
+  TextureHandle aux = m.import(graph, "clouds.envelope.aux", m.aux);
+  TextureHandle base = m.import(graph, "clouds.envelope.base_noise", m.base);
+  TextureHandle detail = m.import(graph, "clouds.envelope.detail_noise", m.detail);
+  gpu::Pipeline* pipe = march.cone_stepping ? m.march_cone : m.march_fixed;
+  Impl* mp = &m;
+
+  // One segment of the rays [start, end) at `seg_scale` of the output.
+  auto add_segment = [&](const char* pass, const char* color_name, const char* depth_name, uint32_t k, float seg_scale,
+                         float start, float end) {
+    const shared::EnvelopeParams p = m.params(draw, march, in, start, end);
+    const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight][k];
+    std::memcpy(ubo.mapped(), &p, sizeof p);
+    TextureHandle color = graph.create_texture(color_name, TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, seg_scale));
+    TextureHandle depth = graph.create_texture(depth_name, TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, seg_scale));
+    const VkBuffer ubo_h = ubo.handle();
+    graph.add_pass(
+        pass, Queue::Compute,
+        [&](PassBuilder& b) {
+          b.read(shape, Usage::Sampled);
+          b.read(steps, Usage::Sampled);
+          b.read(aux, Usage::Sampled);
+          b.read(base, Usage::Sampled);
+          b.read(detail, Usage::Sampled);
+          b.read(scene_depth, Usage::Sampled);
+          color = b.write(color, Usage::StorageWrite);
+          depth = b.write(depth, Usage::StorageWrite);
+        },
+        [mp, pipe, ubo_h, shape, steps, aux, base, detail, scene_depth, color, depth](PassContext& c) {
+          pipe->bind(c.cmd());
+          gpu::DescriptorWriter()
+              .uniform_buffer(ENV_BINDING_PARAMS, ubo_h, 0, sizeof(shared::EnvelopeParams))
+              .sampled_image(ENV_BINDING_SHAPE, c.view(shape), mp->linear_clamp, c.layout(shape))
+              .sampled_image(ENV_BINDING_STEPS, c.view(steps), mp->nearest_clamp, c.layout(steps))
+              .sampled_image(ENV_BINDING_AUX, c.view(aux), mp->linear_clamp, c.layout(aux))
+              .sampled_image(ENV_BINDING_BASE_NOISE, c.view(base), mp->linear_repeat, c.layout(base))
+              .sampled_image(ENV_BINDING_DETAIL_NOISE, c.view(detail), mp->linear_repeat, c.layout(detail))
+              .sampled_image(ENV_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
+              .storage_image(ENV_BINDING_OUT_COLOR, c.view(color))
+              .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth))
+              .push(mp->ctx, c.cmd(), *pipe);
+          const VkExtent3D e = c.extent(color);
+          shared::CloudMarchPush pc{};
+          pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
+          pc.sub = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+          pipe->push_constants(c.cmd(), pc);
+          pipe->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+    return std::make_pair(color, depth);
+  };
+
+  Outputs o;
+  if (split) {
+    const auto near = add_segment("clouds.envelope_near", "clouds.envelope.near_color", "clouds.envelope.near_depth", 0,
+                                  0.5f * scale, 0.0f, march.split_m);
+    o.near_color = near.first, o.near_depth = near.second;
+  }
+  const auto far = add_segment(split ? "clouds.envelope_far" : "clouds.envelope", "clouds.envelope.color",
+                               "clouds.envelope.depth", 1, scale, split ? march.split_m : 0.0f, 1e9f);
+  o.color = far.first, o.depth = far.second;
+  return o;
+}
+
+}  // namespace cumulo::clouds::render

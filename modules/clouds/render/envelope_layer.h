@@ -1,0 +1,90 @@
+#pragma once
+// The Envelope method's orographic clouds on the GPU (issue 24; the 2023 talk's "Envelope Method", seed 000): the
+// baked 2D maps (modules/clouds/envelope/envelope_maps.h) as textures, and the march (shaders/clouds/envelope_march.comp,
+// cone + distance step mapping, or fixed steps) into a colour and depth layer that the clouds' composite orders
+// against the voxel clouds and the 2.5D sky by depth.
+//
+//   EnvelopeLayer env(ctx, library, prepare_sky_noise());
+//   env.set_maps(maps);                                    // when the bake changes
+//   EnvelopeLayer::Outputs o = env.add_passes(graph, draw, march, cloud_inputs, scene_depth);
+//   cloud_inputs.envelope_color = o.color; cloud_inputs.envelope_depth = o.depth;
+//
+// Resolution: the talk "did away with temporal upscaling and split the render into two passes: lower resolution near
+// camera ..., and higher farther away". With `split_m` > 0 the stretch of each ray before it is marched at half the
+// layer's resolution and the rest at the layer's, and the composite merges the two; with 0 one pass.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/render/graph/render_graph.h"
+#include "modules/clouds/envelope/envelope_maps.h"
+#include "modules/clouds/render/cloud_renderer.h"
+
+namespace cumulo::gpu {
+class Context;
+class PipelineLibrary;
+}  // namespace cumulo::gpu
+
+namespace cumulo::clouds::render {
+
+// What the level and the weather set for this frame (frame/cloud_frame.h EnvelopeFrame turned into render terms).
+struct EnvelopeDraw {
+  std::shared_ptr<const envelope::EnvelopeMaps> maps;
+  float density = 1.0f;   // x the density (the component's, times the weather's)
+  float coverage = 1.0f;  // x the maps' coverage
+  float edge_m = 35.0f;   // the edge gradient's width (the talk's 35)
+  glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
+  float wind_speed = 0.0f;  // m/s: the noise scrolls (pseudomotion)
+};
+
+// How it is marched (cumulo run --envelope-*).
+struct EnvelopeMarchSettings {
+  bool cone_stepping = true;   // --envelope-stepping cone|fixed
+  float step_m = 8.0f;         // the small step inside the envelope, at the camera
+  float step_growth = 0.004f;  // ... growing by this many metres per metre of distance
+  uint32_t max_steps = 384;
+  float light_step_m = 24.0f;  // the first light sample's length (then x2, x4, x8)
+  float draw_distance_m = 24000.0f;
+  float resolution_scale = 1.0f;  // of the output (times the frame's dynamic scale)
+  float split_m = 0.0f;           // > 0: near (half the layer's resolution) and far passes split at this distance
+  float noise_tile_m = 1200.0f, detail_tile_m = 140.0f;
+  float detail_erosion = 0.6f;  // 0: the talk's up-rez alone
+};
+
+class EnvelopeLayer {
+ public:
+  // `noise_dir`: prepare_sky_noise()'s folder (the Nubis noise of the envelope's generation). Throws cumulo::Error for a
+  // missing or malformed noise file.
+  EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, const std::filesystem::path& noise_dir);
+  ~EnvelopeLayer();
+  EnvelopeLayer(const EnvelopeLayer&) = delete;
+  EnvelopeLayer& operator=(const EnvelopeLayer&) = delete;
+
+  // Uploads the maps (a new bake); the old textures are kept until the frames in flight are done with them.
+  void set_maps(std::shared_ptr<const envelope::EnvelopeMaps> maps, uint64_t frame_index);
+  bool has_maps() const;
+
+  struct Outputs {
+    cumulo::render::TextureHandle color;       // RGBA16F: rgb radiance, a transmittance
+    cumulo::render::TextureHandle depth;       // RGBA32F: x opacity-0.5 distance (1e6: none), y density samples, z the ray's end, w steps
+    cumulo::render::TextureHandle near_color;  // the split's near pass (invalid without the split)
+    cumulo::render::TextureHandle near_depth;
+  };
+  Outputs add_passes(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw, const EnvelopeMarchSettings& march,
+                     const CloudFrameInputs& in, cumulo::render::TextureHandle scene_depth);
+
+  // The density (with the near detail), profile, height fraction and edge gradient at world points
+  // (envelope_probe.comp): for tests; waits for the device.
+  std::vector<glm::vec4> probe(const EnvelopeDraw& draw, const EnvelopeMarchSettings& march, const CloudFrameInputs& in,
+                               const std::vector<glm::vec3>& points);
+  uint64_t gpu_bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,99 @@
+// The Envelope method's orographic clouds (envelope_layer.h) as a frame pass (cloud_frame_pass.h): the level's
+// OrographicClouds baked on the CPU over the terrain the frame draws (again when the component changes), then marched
+// after the voxel clouds into a layer the composite orders against them and the 2.5D sky. Drawn with --envelope on,
+// or auto in a level with an OrographicClouds component.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "engine/core/error.h"
+#include "modules/clouds/envelope/envelope_bake.h"
+#include "modules/clouds/render/cloud_frame_pass.h"
+#include "modules/clouds/render/envelope_layer.h"
+#include "modules/clouds/render/terrain_heightfield.h"
+#include "modules/clouds/scene/cloudscape_assets.h"
+
+namespace cumulo::clouds::render {
+namespace {
+
+// The terrain under the envelope is rasterized at this many texels a side over the maps' square (finer than the
+// maps, so a map texel's height is the terrain's, not a neighbour's).
+constexpr uint32_t kTerrainTexels = 1024;
+
+class EnvelopePass final : public CloudFramePass {
+ public:
+  bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options, const CloudLevelFacts& level) override {
+    if (!options.envelope.value_or(level.has_orographic_clouds)) return false;
+    layer_ = std::make_unique<EnvelopeLayer>(g.ctx, g.library, prepare_sky_noise());
+    options_ = &options;
+    return true;
+  }
+  void destroy_gpu() override {
+    layer_.reset();
+    maps_.reset();
+    bake_key_.clear();
+  }
+
+  void add_before_composite(cumulo::render::StageContext& stage, const CloudFrame& frame, const CloudPassOutputs&,
+                            CloudFrameInputs& in) override {
+    if (options_->reference_comparable || frame.envelopes.empty()) return;
+    const EnvelopeFrame& e = frame.envelopes.front();
+    if (!ensure_baked(stage.snapshot, e)) return;
+    EnvelopeDraw draw;
+    draw.maps = maps_;
+    draw.density = e.density;
+    draw.coverage = e.coverage;
+    draw.edge_m = e.edge_m;
+    draw.wind_direction = e.wind_direction;
+    draw.wind_speed = e.wind_speed;
+    EnvelopeMarchSettings march;
+    march.cone_stepping = options_->envelope_cone_stepping;
+    march.split_m = in.settings.split ? in.settings.split_distance_m : 0.0f;
+    const EnvelopeLayer::Outputs o = layer_->add_passes(stage.graph, draw, march, in, stage.depth);
+    in.envelope_color = o.color;
+    in.envelope_depth = o.depth;
+    in.envelope_near_color = o.near_color;
+    in.envelope_near_depth = o.near_depth;
+  }
+  cumulo::render::TextureHandle add_passes(const CloudFramePassContext& c) override { return c.stage.hdr; }
+
+ private:
+  // The maps of `e`'s component, baked over the snapshot's terrain when its spec changed. A bake that fails the first
+  // time stops the run (the error names the file and the place); later (an edit) it keeps the last good maps.
+  bool ensure_baked(const cumulo::render::FrameSnapshot& snapshot, const EnvelopeFrame& e) {
+    if (!e.spec) return false;
+    if (maps_ && e.bake_key == bake_key_) return true;
+    if (failed_key_ == e.bake_key) return bool(maps_);
+    try {
+      const auto start = std::chrono::steady_clock::now();
+      const envelope::OrographicClouds& spec = *e.spec;
+      const glm::vec2 lo = spec.extent_min, hi = spec.extent_max;
+      const float side = std::max(hi.x - lo.x, hi.y - lo.y);
+      const TerrainHeightfield terrain = rasterize_heightfield(snapshot.models, kTerrainTexels, lo, side);
+      auto height = [&terrain](float x, float z) { return std::max(terrain.height_at(x, z, 0.0f), 0.0f); };
+      auto maps = std::make_shared<envelope::EnvelopeMaps>(envelope::bake_envelope_maps(spec, height));
+      maps_ = std::move(maps);
+      bake_key_ = e.bake_key;
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::fprintf(stderr, "cumulo: envelope clouds (%s): baked %ux%u maps over the terrain in %.2f s\n",
+                   spec.where.c_str(), maps_->resolution, maps_->resolution, s);
+      return true;
+    } catch (const Error& err) {
+      if (!maps_) throw;
+      std::fprintf(stderr, "cumulo: the envelope clouds keep their last maps: %s\n", err.what());
+      failed_key_ = e.bake_key;
+      return true;
+    }
+  }
+
+  std::unique_ptr<EnvelopeLayer> layer_;
+  const CloudRenderOptions* options_ = nullptr;
+  std::shared_ptr<const envelope::EnvelopeMaps> maps_;
+  std::string bake_key_, failed_key_;
+};
+
+}  // namespace
+
+std::unique_ptr<CloudFramePass> make_envelope_pass() { return std::make_unique<EnvelopePass>(); }
+
+}  // namespace cumulo::clouds::render

@@ -1,0 +1,126 @@
+#version 450
+// The Envelope method's ray-march (issue 24; seed 000 "Cone Step Mapping + Distance Step Mapping"): orographic
+// clouds from 2D data (envelope_density.glsl), flight-capable, so samples must gather around the clouds near the
+// camera rather than fill the empty air.
+//
+// CONE_STEPPING 1 (the talk's): outside the envelope a sample never reads the density. At a point above the
+// conservative top of its texel's 3x3 (the cone's apex, envelope_maps.h), the upward cone rooted there (the baked
+// ratio: horizontal distance per metre of height, Dummer 2006) holds no cloud, so the ray may go to where it leaves it:
+//   t = ratio * h / (|d.xz| - ratio * d.y)   (h: height above the top; never leaves when the denominator <= 0)
+// and the same under the bottom with the downward cone. The distance map adds the horizontal distance to the
+// footprint (t = distance / |d.xz|). The largest of the three is safe (each keeps the ray out of a set that holds the
+// envelope). Inside a texel's column between the bottom and the top the march takes the small step and samples.
+// CONE_STEPPING 0: the small step everywhere in the envelope's box (the talk's "before").
+//
+// Lighting, a term of its own (not the voxel clouds' light grid: these clouds span the islands, far beyond any
+// cloudscape's grid, and change only by the noise's scroll): Beer-Lambert over four light samples toward the sun
+// (lengths 1, 2, 4, 8 x E.march.w, through the density without the high-frequency erosion) times the voxel clouds'
+// dual-lobe phase; a multiple-scattering term (the 2.5D sky's: exp(-od / 4) x strength / 4 pi); the sky ambient,
+// growing with the height in the envelope. Integrated the energy-conserving way (Hillaire 2016).
+// No temporal reprojection (the talk: "we did away with temporal upscaling" for these clouds): the jitter is fixed
+// per pixel. SEGMENT: the stretch of the ray [E.stepping.w, E.misc.x) (the 40/60 Hz split's near and far passes).
+#extension GL_GOOGLE_include_directive : require
+#include "clouds/envelope_density.glsl"
+#include "shared/cloud_params.h"
+#include "engine/view_ray.glsl"
+#include "engine/runtime_uniform.glsl"
+
+#ifndef CONE_STEPPING
+#define CONE_STEPPING 1
+#endif
+
+layout(local_size_x = CLOUD_LOCAL_SIZE, local_size_y = CLOUD_LOCAL_SIZE) in;
+layout(set = 0, binding = ENV_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
+layout(set = 0, binding = ENV_BINDING_OUT_COLOR, rgba16f) uniform writeonly image2D out_color;
+layout(set = 0, binding = ENV_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
+layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+// The ray's stretch inside the envelope's box ([map extent] x [lowest bottom, highest top]); x >= y: none.
+vec2 box_segment(vec3 ro, vec3 rd) {
+  vec3 lo = vec3(E.map.x, E.heights.x, E.map.y);
+  vec3 hi = vec3(E.map.x + E.map.z * E.map.w, E.heights.y, E.map.y + E.map.z * E.map.w);
+  vec3 inv = 1.0 / rd;
+  vec3 a = (lo - ro) * inv, b = (hi - ro) * inv;
+  vec3 tmin = min(a, b), tmax = max(a, b);
+  return vec2(max(max(tmin.x, tmin.y), max(tmin.z, 0.0)), min(min(tmax.x, tmax.y), tmax.z));
+}
+
+// Where the ray leaves the cone of `ratio` rooted `h` metres below (above) it; `up`: the ray's vertical component away
+// from the root (d.y above a top, -d.y under a bottom).
+float cone_step(float h, float ratio, float horizontal, float up) {
+  float denom = horizontal - ratio * up;
+  return denom > 1e-6 ? ratio * h / denom : 1e9;
+}
+
+float light_optical_depth(vec3 p, vec3 l) {
+  float od = 0.0, t = 0.0, len = E.march.w;
+  for (int k = 0; k < 4; ++k) {
+    od += envelope_sample(p + l * (t + 0.5 * len), false).density * len;
+    t += len;
+    len *= 2.0;
+  }
+  return od * E.wind.w;
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(pc.target.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
+  vec2 ndc = uv * 2.0 - 1.0;
+  vec3 ro = E.camera_pos.xyz;
+  vec3 rd = view_ray_dir(E.inv_view_proj, ndc, ro);
+  float d = textureLod(scene_depth, uv, 0.0).r;
+  float t_scene = 1e6;
+  if (d > 0.0) {
+    vec4 w = E.inv_view_proj * vec4(ndc, d, 1.0);
+    t_scene = min(distance(w.xyz / w.w, ro), 1e6);
+  }
+  vec2 seg = box_segment(ro, rd);
+  seg.x = max(seg.x, E.stepping.w);
+  seg.y = min(min(seg.y, t_scene), min(E.misc.x, E.stepping.y));
+
+  vec3 radiance = vec3(0.0);
+  float transmittance = 1.0, depth50 = 1e6, samples = 0.0, steps = 0.0;
+  vec3 l = normalize(E.sun_dir.xyz);
+  float mu = dot(rd, l);
+  float phase = mix(henyey_greenstein(mu, E.phase.y), henyey_greenstein(mu, E.phase.x), E.phase.z);
+  float horizontal = length(rd.xz);
+  int max_steps = runtime_int(E.march.z);
+  float t = seg.x + E.march.x * pixel_hash(vec2(pixel), 0u);
+  for (int i = 0; i < max_steps && t < seg.y && transmittance > 0.01; ++i) {
+    steps += 1.0;
+    vec3 p = ro + rd * t;
+    float dt = E.march.x + E.march.y * t;  // the small step, growing with the distance
+#if CONE_STEPPING
+    vec4 s = texelFetch(steps_tex, env_texel(p.xz), 0);
+    if (p.y > s.x || p.y < s.y) {
+      vec4 a = texelFetch(aux_tex, env_texel(p.xz), 0);
+      float jump = 0.0;
+      if (p.y > a.z) jump = cone_step(p.y - a.z, s.z, horizontal, rd.y);
+      if (p.y < a.w) jump = max(jump, cone_step(a.w - p.y, s.w, horizontal, -rd.y));
+      if (horizontal > 1e-4) jump = max(jump, a.x / horizontal);
+      t += max(jump, dt);  // never shorter than the small step: never more steps than the fixed march
+      continue;
+    }
+#endif
+    EnvelopeSample es = envelope_sample(p, true);
+    samples += 1.0;
+    if (es.density > 0.0) {
+      float od = light_optical_depth(p, l);
+      vec3 light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.25) / (4.0 * kPi));
+      light_in += E.ambient_color.rgb * mix(E.misc.y, 1.0, es.hf);
+      float sigma_t = max(es.density * E.wind.w, 1e-7);
+      float tr = exp(-sigma_t * dt);
+      vec3 s_in = light_in * sigma_t;
+      radiance += transmittance * (s_in - s_in * tr) / sigma_t;
+      float before = transmittance;
+      transmittance *= tr;
+      if (before >= 0.5 && transmittance < 0.5) depth50 = t;
+    }
+    t += dt;
+  }
+  if (depth50 > 1e5 && transmittance < 0.98) depth50 = t;
+  imageStore(out_color, pixel, vec4(radiance, transmittance));
+  imageStore(out_depth, pixel, vec4(depth50, samples, t_scene, steps));
+}
