@@ -146,10 +146,16 @@ void main() {
   }
 #endif
   vec4 e, ed;
-  depth_aware_upsample(envelope_tex, envelope_depth_tex, pixel, size, min(t_scene, 1e6), e, ed);
+  if (textureSize(envelope_tex, 0) == size) {  // at the output's size (a reprojected far pass): no upsample
+    e = texelFetch(envelope_tex, pixel, 0);
+    ed = texelFetch(envelope_depth_tex, pixel, 0);
+  } else {
+    depth_aware_upsample(envelope_tex, envelope_depth_tex, pixel, size, min(t_scene, 1e6), e, ed);
+  }
 #if ENVELOPE_SPLIT
   vec4 en, end_;
-  depth_aware_upsample(envelope_near_tex, envelope_near_depth_tex, pixel, size, min(t_scene, 1e6), en, end_);
+  // The near pass's rays end at the split (the voxel clouds' distance, P.steps.x, which the envelope shares).
+  depth_aware_upsample(envelope_near_tex, envelope_near_depth_tex, pixel, size, min(t_scene, P.steps.x), en, end_);
   merge_near_over_far(en, end_, e, ed, e, ed);
 #endif
   if (e.a < 1.0) {

@@ -15,10 +15,13 @@
 // Lighting, a term of its own (not the voxel clouds' light grid: these clouds span the islands, far beyond any
 // cloudscape's grid, and change only by the noise's scroll): Beer-Lambert over four light samples toward the sun
 // (lengths 1, 2, 4, 8 x E.march.w, through the density without the high-frequency erosion) times the voxel clouds'
-// dual-lobe phase; a multiple-scattering term (the 2.5D sky's: exp(-od / 4) x strength / 4 pi); the sky ambient,
+// dual-lobe phase; a multiple-scattering term (exp(-od / 2) x strength x 0.5 / 4 pi: the 2.5D sky's exp(-od / 4) left
+// the thick envelope clouds evenly white); the sky ambient,
 // growing with the height in the envelope. Integrated the energy-conserving way (Hillaire 2016).
-// No temporal reprojection (the talk: "we did away with temporal upscaling" for these clouds): the jitter is fixed
-// per pixel. SEGMENT: the stretch of the ray [E.stepping.w, E.misc.x) (the 40/60 Hz split's near and far passes).
+// The talk "did away with temporal upscaling" for these clouds: on a GPU every pixel is marched every frame and the
+// jitter is fixed per pixel. On a CPU device the far pass marches one pixel of each BxB block a frame (CloudMarchPush
+// sub) and reconstruct.comp reprojects the rest, as the voxel clouds' far segment does (EnvelopeMarchSettings).
+// The stretch of the ray marched: [E.stepping.w, E.misc.x) (the 40/60 Hz split's near and far passes).
 #extension GL_GOOGLE_include_directive : require
 #include "clouds/envelope_density.glsl"
 #include "shared/cloud_params.h"
@@ -63,9 +66,13 @@ float light_optical_depth(vec3 p, vec3 l) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // pc.sub.x = B > 1: one pixel of each BxB block (at sub.yz in it), written at the block's texel (reconstruct.comp
+  // rebuilds the rest from the last frame's).
+  ivec2 block = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(pc.target.xy);
-  if (any(greaterThanEqual(pixel, size))) return;
+  int B = max(runtime_int(pc.sub.x), 1);
+  if (any(greaterThanEqual(block * B, size))) return;
+  ivec2 pixel = min(block * B + runtime_ivec2(pc.sub.yz), size - 1);
   vec2 uv = (vec2(pixel) + 0.5) * pc.target.zw;
   vec2 ndc = uv * 2.0 - 1.0;
   vec3 ro = E.camera_pos.xyz;
@@ -108,7 +115,7 @@ void main() {
     samples += 1.0;
     if (es.density > 0.0) {
       float od = light_optical_depth(p, l);
-      vec3 light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.25) / (4.0 * kPi));
+      vec3 light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi));
       light_in += E.ambient_color.rgb * mix(E.misc.y, 1.0, es.hf);
       float sigma_t = max(es.density * E.wind.w, 1e-7);
       float tr = exp(-sigma_t * dt);
@@ -121,6 +128,7 @@ void main() {
     t += dt;
   }
   if (depth50 > 1e5 && transmittance < 0.98) depth50 = t;
-  imageStore(out_color, pixel, vec4(radiance, transmittance));
-  imageStore(out_depth, pixel, vec4(depth50, samples, t_scene, steps));
+  imageStore(out_color, block, vec4(radiance, transmittance));
+  // z: the ray's end (the scene, or the segment's: the split's near pass), which the depth-aware upsample compares.
+  imageStore(out_depth, block, vec4(depth50, samples, min(t_scene, E.misc.x), steps));
 }

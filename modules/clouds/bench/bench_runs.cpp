@@ -35,8 +35,10 @@ double median(std::vector<double> v) {
 bool is_sky_layer_pass(const std::string& name) { return name.rfind("clouds.sky_layer", 0) == 0; }
 bool is_shafts_pass(const std::string& name) { return name.rfind("clouds.light_shafts", 0) == 0; }
 bool is_sky_pass(const std::string& name) { return is_sky_layer_pass(name) || is_shafts_pass(name); }
+bool is_envelope_pass(const std::string& name) { return name.rfind("clouds.envelope", 0) == 0; }
 bool is_cloud_pass(const std::string& name) {
-  return name.rfind("clouds.", 0) == 0 && name != render::CloudFeature::kStepsReadbackPass && !is_sky_pass(name);
+  return name.rfind("clouds.", 0) == 0 && name != render::CloudFeature::kStepsReadbackPass && !is_sky_pass(name) &&
+         !is_envelope_pass(name);
 }
 
 void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving) {
@@ -53,6 +55,7 @@ void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving) {
       for (auto& [name, ms] : run.passes) {
         if (is_sky_layer_pass(name)) run.sky_layer_ms += ms;
         if (is_shafts_pass(name)) run.shafts_ms += ms;
+        if (is_envelope_pass(name)) run.envelope_ms += ms;
       }
     }
   for (Run& run : runs)

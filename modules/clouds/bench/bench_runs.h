@@ -67,6 +67,7 @@ struct Run {
   double cloud_ms = 0, geometry_ms = 0, frame_ms = 0, steps_per_pixel = 0;
   double sky_ms = 0;  // the 2.5D sky and the light shafts (is_sky_pass)
   double sky_layer_ms = 0, shafts_ms = 0;  // apart: the sum of their passes' medians
+  double envelope_ms = 0;  // the Envelope method's clouds (is_envelope_pass): their own line, not in cloud_ms
   // The headless loop's wall-clock ms per frame (CPU and GPU together: on lavapipe they share the cores),
   // and its CPU part before the submit (extraction, the render graph, command recording).
   double wall_ms = 0, cpu_ms = 0;
@@ -103,7 +104,8 @@ double median(std::vector<double> v);
 bool is_sky_pass(const std::string& name);
 bool is_sky_layer_pass(const std::string& name);  // the 2.5D sky's passes of is_sky_pass
 bool is_shafts_pass(const std::string& name);     // the light shafts' passes of is_sky_pass
-bool is_cloud_pass(const std::string& name);
+bool is_envelope_pass(const std::string& name);  // the Envelope method's clouds ("clouds.envelope...")
+bool is_cloud_pass(const std::string& name);       // the voxel clouds' (neither of the above)
 // The medians of every run's samples, and the 60 Hz runs' PSNR against their 30 Hz run.
 void finish_runs(std::vector<Run>& runs, std::vector<Run>& moving);
 std::vector<Summary> summarize(const std::vector<Run>& runs, const std::vector<Run>& moving,

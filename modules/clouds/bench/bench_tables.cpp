@@ -8,20 +8,20 @@ namespace cumulo::clouds::bench {
 
 std::string runs_markdown(const std::vector<Run>& runs) {
   std::string t =
-      "| view | ablation | mode | cloud ms | vs base | geometry ms | 2.5D sky ms | shafts ms | GPU sum ms | wall ms | CPU ms | steps/px | cloud passes (median ms) |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "| view | ablation | mode | cloud ms | vs base | geometry ms | 2.5D sky ms | shafts ms | envelope ms | GPU sum ms | wall ms | CPU ms | steps/px | cloud passes (median ms) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Run& r : runs) {
     double base = 0;
     for (const Run& b : runs)
       if (b.view == r.view && b.mode == r.mode && b.ablation == CloudAblation::Base) base = b.cloud_ms;
     std::string passes;
     for (auto& [name, ms] : r.passes)
-      if (is_cloud_pass(name) || is_sky_pass(name))
+      if (is_cloud_pass(name) || is_sky_pass(name) || is_envelope_pass(name))
         passes += strf("%s%s %.2f", passes.empty() ? "" : ", ", name.c_str() + 7, ms);
-    t += strf("| %s | %s | %d Hz | %.2f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %s |\n", r.view.c_str(),
+    t += strf("| %s | %s | %d Hz | %.2f | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %s |\n", r.view.c_str(),
               render::ablation_name(r.ablation), r.mode, r.cloud_ms,
               base > 0 && r.cloud_ms > 0 ? strf("%.2fx faster", base / r.cloud_ms).c_str() : "-", r.geometry_ms,
-              r.sky_layer_ms, r.shafts_ms, r.frame_ms, r.wall_ms, r.cpu_ms, r.steps_per_pixel, passes.c_str());
+              r.sky_layer_ms, r.shafts_ms, r.envelope_ms, r.frame_ms, r.wall_ms, r.cpu_ms, r.steps_per_pixel, passes.c_str());
   }
   return t;
 }
@@ -66,6 +66,7 @@ nlohmann::ordered_json bench_json(const BenchOptions& o, const gpu::DeviceInfo& 
                     {"geometry_ms", r.geometry_ms},
                     {"sky_layer_and_shafts_ms", r.sky_ms},
                     {"sky_layer_ms", r.sky_layer_ms},
+                    {"envelope_ms", r.envelope_ms},
                     {"light_shafts_ms", r.shafts_ms},
                     {"frame_ms", r.frame_ms},
                     {"wall_ms", r.wall_ms},

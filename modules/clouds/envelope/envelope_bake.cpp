@@ -24,16 +24,24 @@ float region_weight(const std::optional<EnvelopeRegion>& r, glm::vec2 p) {
   return 1.0f - smoothstep(0.8f * r->radius_m, r->radius_m, glm::distance(p, r->center));
 }
 
-// One texel's union of everything that covers it.
+// One texel's union of everything that covers it: the highest coverage, and heights and detail type weighted by
+// each contribution's coverage, so where a rule fades out its heights fade with it (a minimum and a maximum would jump
+// to a rule's heights where its coverage starts, standing a wall of cloud on the texel where two rules meet).
 struct Union {
-  float coverage = 0.0f, bottom = 0.0f, top = 0.0f, detail_sum = 0.0f, weight = 0.0f;
+  float coverage = 0.0f, bottom_sum = 0.0f, top_sum = 0.0f, detail_sum = 0.0f, weight = 0.0f;
+  float bottom = 0.0f, top = 0.0f;  // resolve()'s
   void add(float c, float b, float t, float detail) {
     if (!(c > 0.0f) || !(t - b >= kMinThicknessM)) return;
-    bottom = weight > 0.0f ? std::min(bottom, b) : b;
-    top = weight > 0.0f ? std::max(top, t) : t;
     coverage = std::max(coverage, c);
+    bottom_sum += c * b;
+    top_sum += c * t;
     detail_sum += c * detail;
     weight += c;
+  }
+  void resolve() {
+    if (!(weight > 0.0f)) return;
+    bottom = bottom_sum / weight;
+    top = top_sum / weight;
   }
 };
 
@@ -52,7 +60,9 @@ TerrainSamples sample_terrain(const OrographicClouds& spec, const EnvelopeMaps& 
   t.height.resize(size_t(n) * n);
   if (banks) t.gradient.resize(size_t(n) * n);
   float peak = -std::numeric_limits<float>::infinity();
-  const float e = 0.5f * m.texel_m;
+  // The slope a bank reads is the terrain's over kBankSlopeSpanM: at a texel's scale the ground's roughness turned the
+  // bank's weight on and off from one texel to the next, standing columns of cloud on the slopes.
+  const float e = std::max(0.5f * m.texel_m, 0.5f * kBankSlopeSpanM);
   auto height_at = [&](float x, float z) {
     const float h = terrain(x, z);
     if (!std::isfinite(h))
@@ -109,7 +119,7 @@ void add_rule(const EnvelopeRule& r, size_t index, float global_coverage, glm::v
               top, u);
   } else if (const auto* bank = std::get_if<BankRule>(&r.kind)) {
     const glm::vec2 downwind = -glm::normalize(glm::vec2(bank->wind_from.x, bank->wind_from.z));
-    const float lo = bank->terrain_m.x, hi = bank->terrain_m.y, band = 0.1f * (hi - lo);
+    const float lo = bank->terrain_m.x, hi = bank->terrain_m.y, band = 0.25f * (hi - lo);
     const float w = smoothstep(0.0f, kBankFullSlope, glm::dot(gradient, downwind)) * smoothstep(lo, lo + band, ground) *
                     (1.0f - smoothstep(hi - band, hi, ground)) * region_weight(r.region, p);
     const float bottom = ground + bank->base_above_terrain_m;
@@ -174,6 +184,7 @@ EnvelopeMaps bake_envelope_maps(const OrographicClouds& spec, const HeightField&
       if (painted) add_painted(*painted, *spec.maps, spec, p, h, u);
       for (size_t ri = 0; ri < spec.rules.size(); ++ri)
         add_rule(spec.rules[ri], ri, spec.coverage, p, h, gradient, terrain.peak, u);
+      u.resolve();
       if (ceiling) {
         const float limit = ceiling(p.x, p.y) - kCeilingGapM;
         if (limit < u.top) u.top = limit;

@@ -12,8 +12,7 @@
 //     "edge_m": 35,           // the edge gradient's width, 0.1..10000 m (the talk: remap(sample_height, 0, 35, 1, 0))
 //     "wind": {"direction": [1, 0, 0.3], "speed": 4},   // the noise's scroll (pseudomotion), m/s 0..200
 //     "rules": [              // after the painted maps, in order; a texel takes the union of everything covering it:
-//                             // the highest coverage, the lowest bottom, the highest top, the coverage-weighted
-//                             // detail type. Every rule: "coverage" 0..1 (default 1), "detail_type" 0 wispy ..
+//                             // the highest coverage, and the bottom, top and detail type weighted by coverage. Every rule: "coverage" 0..1 (default 1), "detail_type" 0 wispy ..
 //                             // 1 billowy (default 0.5), "variation" 0..1 (default 0) and "variation_m" (default
 //                             // 200): the top's and the coverage's roughness (EnvelopeRule)
 //       {"type": "cap", "center": [0, 368] | "peak", "radius_m": 350, "base_m": 180, "top_m": 520},
@@ -22,7 +21,7 @@
 //       {"type": "bank", "wind_from": [-1, 0, -0.3], "terrain_m": [20, 260], "base_above_terrain_m": 40,
 //        "thickness_m": 220, "region": {"center": [-29, 267], "radius_m": 900}},
 //           // on the windward slopes: where the ground (terrain, or sea level where higher) lies within terrain_m
-//           // (fading over a tenth of the range at both ends) and rises along the wind (full weight from a rise of
+//           // (fading over a quarter of the range at both ends) and rises along the wind (full weight from a rise of
 //           // kBankFullSlope per metre), inside the optional region (fading over its outer fifth); heights above
 //           // the ground; base_above_terrain_m defaults to 0
 //       {"type": "layer", "top_m": 60, "base_above_terrain_m": 0, "below_terrain_m": 80, "region": {...}}
@@ -57,6 +56,7 @@ namespace cumulo::clouds::envelope {
 
 inline constexpr float kMinThicknessM = 10.0f;
 inline constexpr float kBankFullSlope = 0.1f;  // a 10 % rise along the wind lifts air enough for a bank
+inline constexpr float kBankSlopeSpanM = 80.0f;  // ... measured over this distance (the slope, not the ground's roughness)
 inline constexpr float kLayerFadeM = 20.0f;
 
 struct CapRule {

@@ -70,6 +70,10 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "the envelope clouds' sample placement: cone and distance step mapping (default), or fixed steps (the "
               "talk's before)",
               &o.envelope_cone_stepping)
+      .choice("--envelope-reprojection", kReprojectionNames,
+              "the envelope clouds' far pass marches 1 of N pixels per frame and reprojects the rest: 1 every pixel (the "
+              "talk's way), 4, 16, auto (default: 1 on a GPU; on a CPU device 4 at 30 Hz, 16 for the 40/60 Hz far pass)",
+              &o.envelope_block)
       .on_off("--cloud-sky-occlusion",
               "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",
               &o.sky_occlusion)

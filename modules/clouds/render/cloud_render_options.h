@@ -29,6 +29,7 @@ struct CloudRenderOptions {
   bool sky_occlusion = true;  // --cloud-sky-occlusion: the 2.5D sky is not marched where the voxel clouds hide it
   std::optional<bool> envelope;  // --envelope on|off; none (auto): on when the level has OrographicClouds
   bool envelope_cone_stepping = true;  // --envelope-stepping cone|fixed
+  uint32_t envelope_block = 0;  // --envelope-reprojection: EnvelopeMarchSettings::far_block (0: by device)
   bool light_shafts = true;  // --cloud-light-shafts
   bool rain = true;          // --cloud-rain
   bool terrain_shadow = true;  // --cloud-terrain-shadow: the terrain's shadow on the clouds

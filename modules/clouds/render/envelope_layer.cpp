@@ -14,7 +14,9 @@
 #include "engine/gpu/pipeline.h"
 #include "engine/gpu/pipeline_library.h"
 #include "engine/gpu/sampler.h"
+#include "engine/render/history.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/render/reconstruct_pass.h"
 #include "modules/clouds/volume/volume_file.h"
 #include "shaders/shared/cloud_params.h"
 #include "shaders/shared/envelope_params.h"
@@ -45,6 +47,24 @@ constexpr float kYieldFadeM = 60.0f;
 
 }  // namespace
 
+uint32_t envelope_block_for_device(bool cpu_device, bool split) { return cpu_device ? (split ? 4u : 2u) : 1u; }
+
+bool envelope_within(const envelope::EnvelopeMaps& e, glm::vec3 p, float distance) {
+  const float d2 = distance * distance;
+  for (uint32_t j = 0; j < e.resolution; ++j) {
+    const float z0 = e.origin.y + float(j) * e.texel_m, dz = std::max({z0 - p.z, p.z - (z0 + e.texel_m), 0.0f});
+    if (dz * dz >= d2) continue;
+    for (uint32_t i = 0; i < e.resolution; ++i) {
+      const glm::vec4& s = e.steps[size_t(j) * e.resolution + i];
+      if (!(s.x > envelope::kEmptyTop)) continue;  // no envelope in this texel's column
+      const float x0 = e.origin.x + float(i) * e.texel_m;
+      const float dx = std::max({x0 - p.x, p.x - (x0 + e.texel_m), 0.0f}), dy = std::max({s.y - p.y, p.y - s.x, 0.0f});
+      if (dx * dx + dy * dy + dz * dz < d2) return true;
+    }
+  }
+  return false;
+}
+
 struct EnvelopeLayer::Impl {
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
@@ -56,6 +76,13 @@ struct EnvelopeLayer::Impl {
   gpu::Pipeline* march_fixed = nullptr;
   gpu::Pipeline* probe = nullptr;  // built on first use
   gpu::Buffer ubo[gpu::kFramesInFlight][2];  // [slot][near, far]
+  // The sub-sampled far pass's reprojection (EnvelopeMarchSettings::far_block > 1).
+  gpu::Pipeline* reconstruct = nullptr;
+  gpu::Pipeline* reconstruct_merge = nullptr;  // MERGE_NEAR: the split's near pass merged in
+  gpu::Buffer recon_ubo[gpu::kFramesInFlight];  // reconstruct.comp reads CloudParams' camera fields
+  cumulo::render::GpuHistory history{"clouds.envelope.history", VK_FORMAT_R16G16B16A16_SFLOAT, 1.0f,
+                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
+  glm::mat4 prev_view_proj{1.0f};
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
 
   Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
@@ -78,7 +105,8 @@ struct EnvelopeLayer::Impl {
     p.sun_color = glm::vec4(in.sun_color, 0.0f);
     p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
     p.map = glm::vec4(e.origin, e.texel_m, float(e.resolution));
-    p.heights = glm::vec4(e.min_bottom, e.max_top, std::max(draw.edge_m, 1e-3f), std::max(draw.density, 0.0f));
+    p.heights = glm::vec4(e.min_bottom, e.max_top, std::max(draw.edge_m, 1e-3f),
+                          std::max(draw.density, 0.0f) * std::max(m.density_scale, 0.0f));
     p.noise = glm::vec4(std::max(m.noise_tile_m, 1.0f), std::max(m.detail_tile_m, 1.0f),
                         std::clamp(m.detail_erosion, 0.0f, 1.0f), std::clamp(draw.coverage, 0.0f, 1.0f));
     const float wl = glm::length(draw.wind_direction);
@@ -119,6 +147,13 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
   m.march_fixed = &library.compute({.shader = "clouds/envelope_march.comp",
                                     .defines = {{"CONE_STEPPING", "0"}},
                                     .name = "clouds.envelope (fixed steps)"});
+  m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.envelope_reconstruct"});
+  m.reconstruct_merge = &library.compute({.shader = "clouds/reconstruct.comp",
+                                          .defines = {{"MERGE_NEAR", "1"}},
+                                          .name = "clouds.envelope_reconstruct (merge near)"});
+  for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
+    m.recon_ubo[i] = gpu::Buffer(ctx, {sizeof(shared::CloudParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                       gpu::MemoryUsage::Dynamic, "clouds.envelope.camera"});
   for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
     for (uint32_t k = 0; k < 2; ++k)
       m.ubo[i][k] = gpu::Buffer(ctx, {sizeof(shared::EnvelopeParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -221,7 +256,9 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   if (draw.maps && draw.maps != m.maps) set_maps(draw.maps, in.frame_index + 1);
   if (!has_maps()) return {};
   const float scale = std::clamp(march.resolution_scale, 0.125f, 1.0f) * in.resolution_scale;
-  const bool split = march.split_m > 0.0f;
+  // The split's near pass only where the envelope comes within the split distance of the camera (as the voxel clouds
+  // leave out theirs): from afar the far pass marches the whole ray.
+  const bool split = march.split_m > 0.0f && envelope_within(*m.maps, in.camera.position, march.split_m);
   TextureHandle shape = m.import(graph, "clouds.envelope.shape", m.shape);
   TextureHandle steps = m.import(graph, "clouds.envelope.steps", m.steps);
   TextureHandle aux = m.import(graph, "clouds.envelope.aux", m.aux);
@@ -230,15 +267,19 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   gpu::Pipeline* pipe = march.cone_stepping ? m.march_cone : m.march_fixed;
   Impl* mp = &m;
 
-  // One segment of the rays [start, end) at `seg_scale` of the output.
+  // One segment of the rays [start, end) at `seg_scale` of the output, one pixel of each `block` x `block` a frame (at
+  // `offset` in it) written at the block's texel.
   auto add_segment = [&](const char* pass, const char* color_name, const char* depth_name, uint32_t k, float seg_scale,
-                         float start, float end) {
+                         float start, float end, uint32_t block, glm::uvec2 offset) {
     const shared::EnvelopeParams p = m.params(draw, march, in, start, end);
     const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight][k];
     std::memcpy(ubo.mapped(), &p, sizeof p);
-    TextureHandle color = graph.create_texture(color_name, TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, seg_scale));
-    TextureHandle depth = graph.create_texture(depth_name, TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, seg_scale));
+    const VkExtent2D full = cumulo::render::relative_extent(graph.output_size(), seg_scale);
+    const uint32_t bw = (full.width + block - 1) / block, bh = (full.height + block - 1) / block;
+    TextureHandle color = graph.create_texture(color_name, TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, bw, bh));
+    TextureHandle depth = graph.create_texture(depth_name, TextureDesc::absolute(VK_FORMAT_R32G32B32A32_SFLOAT, bw, bh));
     const VkBuffer ubo_h = ubo.handle();
+    const uint32_t fw = full.width, fh = full.height;
     graph.add_pass(
         pass, Queue::Compute,
         [&](PassBuilder& b) {
@@ -251,7 +292,7 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
           color = b.write(color, Usage::StorageWrite);
           depth = b.write(depth, Usage::StorageWrite);
         },
-        [mp, pipe, ubo_h, shape, steps, aux, base, detail, scene_depth, color, depth](PassContext& c) {
+        [mp, pipe, ubo_h, shape, steps, aux, base, detail, scene_depth, color, depth, fw, fh, block, offset](PassContext& c) {
           pipe->bind(c.cmd());
           gpu::DescriptorWriter()
               .uniform_buffer(ENV_BINDING_PARAMS, ubo_h, 0, sizeof(shared::EnvelopeParams))
@@ -264,11 +305,11 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
               .storage_image(ENV_BINDING_OUT_COLOR, c.view(color))
               .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth))
               .push(mp->ctx, c.cmd(), *pipe);
-          const VkExtent3D e = c.extent(color);
           shared::CloudMarchPush pc{};
-          pc.target = glm::vec4(float(e.width), float(e.height), 1.0f / float(e.width), 1.0f / float(e.height));
-          pc.sub = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+          pc.target = glm::vec4(float(fw), float(fh), 1.0f / float(fw), 1.0f / float(fh));
+          pc.sub = glm::vec4(float(block), float(offset.x), float(offset.y), 0.0f);
           pipe->push_constants(c.cmd(), pc);
+          const VkExtent3D e = c.extent(color);
           pipe->dispatch_threads(c.cmd(), e.width, e.height);
         });
     return std::make_pair(color, depth);
@@ -277,12 +318,54 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   Outputs o;
   if (split) {
     const auto near = add_segment("clouds.envelope_near", "clouds.envelope.near_color", "clouds.envelope.near_depth", 0,
-                                  0.5f * scale, 0.0f, march.split_m);
+                                  0.5f * scale, 0.0f, march.split_m, 1, glm::uvec2(0));
     o.near_color = near.first, o.near_depth = near.second;
   }
-  const auto far = add_segment(split ? "clouds.envelope_far" : "clouds.envelope", "clouds.envelope.color",
-                               "clouds.envelope.depth", 1, scale, split ? march.split_m : 0.0f, 1e9f);
-  o.color = far.first, o.depth = far.second;
+  const uint32_t block = std::clamp(march.far_block, 1u, 4u);
+  const float far_start = split ? march.split_m : 0.0f;
+  if (block == 1) {
+    const auto far = add_segment(split ? "clouds.envelope_far" : "clouds.envelope", "clouds.envelope.color",
+                                 "clouds.envelope.depth", 1, scale, far_start, 1e9f, 1, glm::uvec2(0));
+    o.color = far.first, o.depth = far.second;
+    m.history.invalidate();
+    m.prev_view_proj = in.camera.view_proj;
+    return o;
+  }
+  // Sub-sampled and reprojected (a CPU device): the far pass's history at the layer's scale; the split's near pass is
+  // merged in by the reconstruction.
+  if (in.camera_cut) m.history.invalidate();
+  m.history.set_scale(scale);
+  const cumulo::render::HistoryHandles h = m.history.import(m.ctx, graph);
+  const glm::uvec2 offset = reprojection_offset(block, in.frame_index);
+  const auto sub = add_segment(split ? "clouds.envelope_far" : "clouds.envelope", "clouds.envelope.sub_color",
+                               "clouds.envelope.sub_depth", 1, scale, far_start, 1e9f, block, offset);
+  shared::CloudParams cp{};
+  cp.inv_view_proj = in.camera.inv_view_proj;
+  cp.view_proj = in.camera.view_proj;
+  cp.prev_view_proj = m.prev_view_proj;
+  cp.camera_pos = glm::vec4(in.camera.position, float(in.time));
+  cp.steps = glm::vec4(split ? march.split_m : 1e9f, 0.0f, 0.0f, 0.0f);  // MERGE_NEAR: where the near pass ends
+  const gpu::Buffer& recon_ubo = m.recon_ubo[in.slot % gpu::kFramesInFlight];
+  std::memcpy(recon_ubo.mapped(), &cp, sizeof cp);
+  m.prev_view_proj = in.camera.view_proj;
+  ReconstructInputs ri{split ? m.reconstruct_merge : m.reconstruct, recon_ubo.handle(), sub.first, sub.second,
+                       h.previous, scene_depth, block, offset, h.valid};
+  TextureHandle next = h.current;
+  if (split) {
+    ri.near_color = o.near_color, ri.near_depth = o.near_depth;
+    TextureHandle unused_depth;
+    ReconstructMerged merged{graph.create_texture("clouds.envelope.merged_color",
+                                                  TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, scale)),
+                             graph.create_texture("clouds.envelope.merged_depth",
+                                                  TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, scale))};
+    add_reconstruct_pass(graph, m.ctx, "clouds.envelope_reconstruct", ri, next, unused_depth, &merged);
+    o.color = merged.color, o.depth = merged.depth;
+    o.near_color = {}, o.near_depth = {};
+  } else {
+    TextureHandle out_d = graph.create_texture("clouds.envelope.depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, scale));
+    add_reconstruct_pass(graph, m.ctx, "clouds.envelope_reconstruct", ri, next, out_d);
+    o.color = next, o.depth = out_d;
+  }
   return o;
 }
 

@@ -50,9 +50,23 @@ struct EnvelopeMarchSettings {
   float draw_distance_m = 24000.0f;
   float resolution_scale = 1.0f;  // of the output (times the frame's dynamic scale)
   float split_m = 0.0f;           // > 0: near (half the layer's resolution) and far passes split at this distance
-  float noise_tile_m = 1200.0f, detail_tile_m = 140.0f;
+  // The far (or only) pass marches one pixel of each BxB block a frame and reprojects the rest (reconstruct.comp); 1:
+  // every pixel, the talk's way ("we did away with temporal upscaling"), the default on a GPU. On a CPU device the
+  // envelope marched in full at 320x180 cost 26-39 ms of the mixed view's 60 Hz frame (the voxel clouds' far segment
+  // 20 ms at 1 of 16): envelope_block_for_device.
+  uint32_t far_block = 1;
+  float noise_tile_m = 600.0f, detail_tile_m = 80.0f;
   float detail_erosion = 0.6f;  // 0: the talk's up-rez alone
+  // Not in the talk: its erosion, saturate(noise - (1 - profile)), leaves densities of 0.1-0.3 where the voxel up-rez
+  // (sharpened by its pow) leaves 0.5-1, so at the voxel clouds' extinction the envelope's clouds were a thin haze.
+  float density_scale = 4.0f;
 };
+
+// The far pass's block on a device: 1 on a GPU; on a CPU device the voxel clouds' own (2 at 30 Hz, 4 for the 40/60 Hz
+// far segment).
+uint32_t envelope_block_for_device(bool cpu_device, bool split);
+// Whether any texel column of the envelope (its conservative bottom to top) comes within `distance` of `p`.
+bool envelope_within(const envelope::EnvelopeMaps& maps, glm::vec3 p, float distance);
 
 class EnvelopeLayer {
  public:
@@ -70,7 +84,7 @@ class EnvelopeLayer {
   struct Outputs {
     cumulo::render::TextureHandle color;       // RGBA16F: rgb radiance, a transmittance
     cumulo::render::TextureHandle depth;       // RGBA32F: x opacity-0.5 distance (1e6: none), y density samples, z the ray's end, w steps
-    cumulo::render::TextureHandle near_color;  // the split's near pass (invalid without the split)
+    cumulo::render::TextureHandle near_color;  // the split's near pass (invalid without the split or when merged)
     cumulo::render::TextureHandle near_depth;
   };
   Outputs add_passes(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw, const EnvelopeMarchSettings& march,

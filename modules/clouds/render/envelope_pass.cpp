@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "engine/core/error.h"
+#include "engine/gpu/context.h"
 #include "modules/clouds/envelope/envelope_bake.h"
 #include "modules/clouds/render/cloud_frame_pass.h"
 #include "modules/clouds/render/envelope_layer.h"
@@ -25,6 +26,7 @@ class EnvelopePass final : public CloudFramePass {
   bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options, const CloudLevelFacts& level) override {
     if (!options.envelope.value_or(level.has_orographic_clouds)) return false;
     layer_ = std::make_unique<EnvelopeLayer>(g.ctx, g.library, prepare_sky_noise());
+    cpu_device_ = g.ctx.info().is_cpu();
     options_ = &options;
     return true;
   }
@@ -49,6 +51,8 @@ class EnvelopePass final : public CloudFramePass {
     EnvelopeMarchSettings march;
     march.cone_stepping = options_->envelope_cone_stepping;
     march.split_m = in.settings.split ? in.settings.split_distance_m : 0.0f;
+    march.far_block = options_->envelope_block > 0 ? options_->envelope_block
+                                                   : envelope_block_for_device(cpu_device_, march.split_m > 0.0f);
     const EnvelopeLayer::Outputs o = layer_->add_passes(stage.graph, draw, march, in, stage.depth);
     in.envelope_color = o.color;
     in.envelope_depth = o.depth;
@@ -88,6 +92,7 @@ class EnvelopePass final : public CloudFramePass {
 
   std::unique_ptr<EnvelopeLayer> layer_;
   const CloudRenderOptions* options_ = nullptr;
+  bool cpu_device_ = false;
   std::shared_ptr<const envelope::EnvelopeMaps> maps_;
   std::string bake_key_, failed_key_;
 };

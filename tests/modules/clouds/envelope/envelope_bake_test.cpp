@@ -146,7 +146,8 @@ TEST(EnvelopeBake, BankHugsTheWindwardSlope) {
   const EnvelopeMaps m = bake_envelope_maps(spec_with({r}), gaussian_terrain);
   const glm::vec2 windward = kPeak - glm::vec2(250.0f, 0.0f), lee = kPeak + glm::vec2(250.0f, 0.0f);
   const glm::vec4 w = m.shape[texel_at(m, windward)];
-  EXPECT_NEAR(w.z, 0.9f, 1e-4f);
+  EXPECT_GT(w.z, 0.6f);  // within the band's fading quarter there: not all of the rule's 0.9
+  EXPECT_LE(w.z, 0.9f + 1e-6f);
   const glm::vec2 c = centre(m, texel_at(m, windward));
   EXPECT_NEAR(w.x, gaussian_terrain(c.x, c.y) + 20.0f, 1e-3f);
   EXPECT_NEAR(w.y, gaussian_terrain(c.x, c.y) + 170.0f, 1e-3f);
@@ -192,8 +193,8 @@ TEST(EnvelopeBake, RulesUniteAndTheCoverageScalesThem) {
   OrographicClouds spec = spec_with({a, b});
   const EnvelopeMaps both = bake_envelope_maps(spec, gaussian_terrain);
   const glm::vec4 s = both.shape[texel_at(both, kPeak)];
-  EXPECT_FLOAT_EQ(s.x, 100.0f);
-  EXPECT_FLOAT_EQ(s.y, 500.0f);
+  EXPECT_NEAR(s.x, (0.5f * 100.0f + 0.9f * 200.0f) / 1.4f, 1e-3f);  // coverage-weighted heights
+  EXPECT_NEAR(s.y, (0.5f * 300.0f + 0.9f * 500.0f) / 1.4f, 1e-3f);
   EXPECT_FLOAT_EQ(s.z, 0.9f);
   EXPECT_NEAR(s.w, 0.9f / 1.4f, 1e-5f);  // coverage-weighted
   spec.coverage = 0.5f;
