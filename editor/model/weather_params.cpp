@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "engine/core/error.h"
+#include "modules/clouds/weather/weather_state.h"
 
 namespace cumulo::editor {
 namespace {
@@ -45,7 +46,8 @@ const std::vector<ParamInfo>& weather_params() {
       for (const clouds::weather::WeatherField& f : clouds::weather::weather_fields())
         if (f.group == group)
           out.push_back({std::string(f.key), std::string(f.label), std::string(f.help), f.type(), f.min, f.max,
-                         std::string(f.group)});
+                         std::string(f.group),
+                         f.rule == clouds::weather::FieldRule::Optional ? clouds::weather::field_json(f, {}) : Json()});
     return out;
   }();
   return params;

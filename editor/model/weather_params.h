@@ -26,6 +26,9 @@ struct ParamInfo {
   ParamKind kind = ParamKind::Float;
   double min = 0.0, max = 1.0;  // the loader's range (Vec3: per component, a UI range only; Text: unused)
   std::string group;            // "Clouds", "Wind", "Cloud map", "Lighting", "Weather"
+  // An optional key (a state may leave it out; the loader then takes the default): its default, which the panel
+  // shows and edits from when the state has none. Null for required keys.
+  Json default_value;
 };
 
 // In the order the UI shows them (grouped).

@@ -9,6 +9,7 @@ std::vector<PanelInfo>& panels() {
       {"Scheduler & zones", draw_scheduler_panel, true, {950, 20}, {330, 230}},
       {"Time of day", draw_time_panel, true, {950, 252}, {330, 96}},
       {"Cloudscapes", draw_cloudscape_panel, true, {950, 350}, {330, 190}},
+      {"Orographic clouds", draw_envelope_panel, false, {620, 20}, {328, 300}},
       {"Cloud map", draw_paint_panel, true, {0, 542}, {330, 150}},
       {"Events & triggers", draw_events_panel, true, {950, 542}, {330, 150}},
       {"Performance", draw_performance_panel, true, {332, 542}, {616, 150}},

@@ -7,6 +7,7 @@
 //   Scheduler & zones  current / next state, progress, force a transition, the camera's zone, schedules
 //   Time of day        hours, speed, pause
 //   Cloudscapes        transforms, asset, density, dissipation, rain, renderer debug views
+//   Orographic clouds  the Envelope method's components: density, coverage, edge, wind, each rule's heights
 //   Cloud map          a top-down view of the state's map and a brush painting coverage / type
 //   Events & triggers  lightning at the camera's target, named events, dissipation reset, live lists
 //   Performance        per-pass GPU times, frame-time plot, budget mode, the render graph's passes
@@ -32,6 +33,7 @@ void draw_weather_panel(Editor& e, PanelInfo& p);
 void draw_scheduler_panel(Editor& e, PanelInfo& p);
 void draw_time_panel(Editor& e, PanelInfo& p);
 void draw_cloudscape_panel(Editor& e, PanelInfo& p);
+void draw_envelope_panel(Editor& e, PanelInfo& p);
 void draw_paint_panel(Editor& e, PanelInfo& p);
 void draw_events_panel(Editor& e, PanelInfo& p);
 void draw_performance_panel(Editor& e, PanelInfo& p);

@@ -112,8 +112,11 @@ void param_widget(Editor& e, const std::string& id, const Json& state, const Par
   try {
     value = get_param(state, p.path);
   } catch (const Error&) {
-    ImGui::TextDisabled("%s: (absent)", p.label.c_str());
-    return;
+    if (p.default_value.is_null()) {
+      ImGui::TextDisabled("%s: (absent)", p.label.c_str());
+      return;
+    }
+    value = p.default_value;  // an optional key the state leaves out: its default, written once edited
   }
   bool changed = false;
   Json out;

@@ -57,6 +57,9 @@ layout(set = 0, binding = CLOUD_BINDING_SKY_DEPTH) uniform sampler2D sky_depth_t
 layout(set = 0, binding = CLOUD_BINDING_ENVELOPE_COLOR) uniform sampler2D envelope_tex;
 layout(set = 0, binding = CLOUD_BINDING_ENVELOPE_DEPTH) uniform sampler2D envelope_depth_tex;
 #endif
+#ifndef ENVELOPE_UPSAMPLE
+#define ENVELOPE_UPSAMPLE 0  // 1: the envelope's layer is below the output's size (bilinear, as the 2.5D sky)
+#endif
 #ifndef ENVELOPE_SPLIT
 #define ENVELOPE_SPLIT 0  // 1: the envelope's near pass (half its resolution) merges over its far pass here
 #endif
@@ -128,48 +131,43 @@ void main() {
   // Each layer as (radiance after haze, transmittance), hazed at its own depth.
   vec3 voxel_rgb = hazed(c, depth50, ro, dir, uv);
 #if ENVELOPE
-  // Up to three layers (radiance after haze, transmittance, depth), composited farthest first; on a tie the layer
-  // added later lies behind.
-  vec4 lay_rgb_t[3];
-  float lay_depth[3];
-  int n = 0;
-  lay_rgb_t[0] = vec4(voxel_rgb, c.a);
-  lay_depth[0] = depth50;
-  n = 1;
+  // Three layers (radiance after haze, transmittance) composited farthest first by their half-opacity depths: a
+  // compare-and-swap network on the three (an absent layer is (0, 1), which commutes with anything); on a tie the
+  // 2.5D sky lies behind the voxel clouds (as below) and the envelope behind both.
+  vec4 lv = vec4(voxel_rgb, c.a), ls = vec4(0.0, 0.0, 0.0, 1.0);
+  float dv = depth50, ds = -1.0;
 #if SKY_LAYER
   vec4 s = textureLod(sky_tex, uv, 0.0);
   float sky50 = textureLod(sky_depth_tex, uv, 0.0).x;
   if (s.a < 1.0 && sky50 < t_scene) {
-    lay_rgb_t[n] = vec4(hazed(s, min(sky50, 9e4), ro, dir, uv), s.a);
-    lay_depth[n] = sky50;
-    ++n;
+    ls = vec4(hazed(s, min(sky50, 9e4), ro, dir, uv), s.a);
+    ds = sky50;
   }
 #endif
-  vec4 e, ed;
-  if (textureSize(envelope_tex, 0) == size) {  // at the output's size (a reprojected far pass): no upsample
-    e = texelFetch(envelope_tex, pixel, 0);
-    ed = texelFetch(envelope_depth_tex, pixel, 0);
-  } else {
-    depth_aware_upsample(envelope_tex, envelope_depth_tex, pixel, size, min(t_scene, 1e6), e, ed);
-  }
+  vec4 e;
+  float de;
 #if ENVELOPE_SPLIT
-  vec4 en, end_;
+  vec4 ed, en, end_;
+  depth_aware_upsample(envelope_tex, envelope_depth_tex, pixel, size, min(t_scene, 1e6), e, ed);
   // The near pass's rays end at the split (the voxel clouds' distance, P.steps.x, which the envelope shares).
   depth_aware_upsample(envelope_near_tex, envelope_near_depth_tex, pixel, size, min(t_scene, P.steps.x), en, end_);
   merge_near_over_far(en, end_, e, ed, e, ed);
+  de = ed.x;
+#elif ENVELOPE_UPSAMPLE
+  e = textureLod(envelope_tex, uv, 0.0);  // half size (a CPU device): bilinear, as the 2.5D sky
+  de = textureLod(envelope_depth_tex, uv, 0.0).x;
+#else
+  e = texelFetch(envelope_tex, pixel, 0);
+  de = texelFetch(envelope_depth_tex, pixel, 0).x;
 #endif
-  if (e.a < 1.0) {
-    lay_rgb_t[n] = vec4(hazed(e, min(ed.x, 9e4), ro, dir, uv), e.a);
-    lay_depth[n] = ed.x;
-    ++n;
-  }
-  for (int i = 1; i < n; ++i)  // insertion sort, farthest first, ties keep their order
-    for (int j = i; j > 0 && lay_depth[j] > lay_depth[j - 1]; --j) {
-      vec4 a = lay_rgb_t[j]; lay_rgb_t[j] = lay_rgb_t[j - 1]; lay_rgb_t[j - 1] = a;
-      float b = lay_depth[j]; lay_depth[j] = lay_depth[j - 1]; lay_depth[j - 1] = b;
-    }
-  vec3 rgb = scene.rgb;
-  for (int i = 0; i < n; ++i) rgb = rgb * lay_rgb_t[i].a + lay_rgb_t[i].rgb;
+  vec4 le = vec4(hazed(e, min(de, 9e4), ro, dir, uv), e.a);
+  // x1 farthest .. x3 nearest.
+  vec4 x1 = lv, x2 = ls, x3 = le;
+  float d1 = dv, d2 = ds, d3 = de;
+  if (d2 >= d1) { vec4 t = x1; x1 = x2; x2 = t; float u = d1; d1 = d2; d2 = u; }
+  if (d3 >= d2) { vec4 t = x2; x2 = x3; x3 = t; float u = d2; d2 = d3; d3 = u; }
+  if (d2 >= d1) { vec4 t = x1; x1 = x2; x2 = t; float u = d1; d1 = d2; d2 = u; }
+  vec3 rgb = ((scene.rgb * x1.a + x1.rgb) * x2.a + x2.rgb) * x3.a + x3.rgb;
 #else
   vec3 rgb = scene.rgb * c.a + voxel_rgb;
 #if SKY_LAYER

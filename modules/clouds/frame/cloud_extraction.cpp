@@ -62,6 +62,10 @@ void apply_weather(const weather::WeatherState& w, CloudFrame& frame) {
     i.wind_direction = w.wind_direction;
     i.wind_speed = w.wind_speed;
   }
+  for (EnvelopeFrame& e : frame.envelopes) {  // the component's own wind: mountains' clouds keep their authored flow
+    e.coverage *= w.envelope_coverage;
+    e.density *= w.envelope_density;
+  }
   apply_weather(w, frame.sky);
 }
 

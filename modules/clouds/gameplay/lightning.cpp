@@ -63,7 +63,7 @@ ecs::Entity strike_lightning(ecs::World& world, glm::vec3 position, LightningKin
   e.intensity = intensity;
   e.radius = radius;
   const auto* seed = world.try_resource<app::SimulationSeed>();
-  uint64_t p[4];
+  uint64_t p[4] = {};  // the position fills 12 of the first 16 bytes: the rest must not be the stack's leftovers
   std::memcpy(p, &position, sizeof position);
   p[3] = world.alive_count();
   e.seed = hash64(p, sizeof p, seed ? seed->value : 1);

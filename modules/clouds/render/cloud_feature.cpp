@@ -127,6 +127,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     in.sky_depth = composite_in.sky_depth;
     in.envelope_color = composite_in.envelope_color;
     in.envelope_depth = composite_in.envelope_depth;
+    in.envelope_upsample = composite_in.envelope_upsample;
   };
   f.hdr = add_cloud_passes(*resources_, f.graph, in, f.hdr, f.depth, &outputs, &light_, before_composite);
   light_ = {};

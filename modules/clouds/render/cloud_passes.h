@@ -108,8 +108,9 @@ struct CloudResources {
   // [with the 2.5D sky (SKY_LAYER)][with the aerial froxels (AERIAL)][clouds below the output's size (UPSAMPLE),
   // made on first use][a debug view that replaces the picture (DEBUG_VIEWS: steps, light grid; made on first
   // use): on a CPU device an unused branch still costs, the light grid's fetch a third of the pass]
-  // [the Envelope method's clouds (ENVELOPE: 0 none, 1 one pass, 2 the split's near and far passes)]
-  gpu::Pipeline* composite_pipes[2][2][2][2][3] = {};
+  // [the Envelope method's clouds (ENVELOPE: 0 none, 1 one layer at the output's size, 2 the split's near and far
+  // passes, 3 one layer below the output's size)]
+  gpu::Pipeline* composite_pipes[2][2][2][2][4] = {};
   gpu::Pipeline* shadow_pipe = nullptr;
   // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
   gpu::Image shadow_image;
@@ -162,12 +163,14 @@ struct CloudResources {
                                  .name = std::string("clouds.composite") + (sky ? " (2.5D sky)" : "") +
                                          (aerial ? " (aerial froxels)" : "") + (upsample ? " (upsampled)" : "") +
                                          (debug_views ? " (debug views)" : "") +
-                                         (envelope == 1 ? " (envelope)" : envelope == 2 ? " (envelope, split)" : "")};
+                                         (envelope == 1 ? " (envelope)" : envelope == 2 ? " (envelope, split)"
+                                          : envelope == 3 ? " (envelope, upsampled)" : "")};
       // Only a composite with the envelope's layer names its defines: the others' sources, and so their cached and
       // compiled code, stay what they were.
       if (envelope > 0) {
         d.defines.push_back({"ENVELOPE", "1"});
         d.defines.push_back({"ENVELOPE_SPLIT", envelope == 2 ? "1" : "0"});
+        d.defines.push_back({"ENVELOPE_UPSAMPLE", envelope >= 2 ? "1" : "0"});
       }
       p = &library.compute(d);
     }

@@ -337,6 +337,7 @@ struct CloudFrameInputs {
   // The Envelope method's orographic clouds (EnvelopeLayer::add_passes): a third layer in the composite; with the
   // 40/60 Hz split also their near pass (half their resolution), merged over the far one. Invalid: none.
   TextureHandle envelope_color, envelope_depth, envelope_near_color, envelope_near_depth;
+  bool envelope_upsample = false;  // envelope_color is below the output's size
   // The atmosphere's aerial-perspective froxels (render::AerialPerspective, a stage resource): the composite
   // hazes each layer with them at its depth; invalid: the height fog (haze_*).
   TextureHandle aerial;

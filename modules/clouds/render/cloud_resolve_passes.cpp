@@ -40,8 +40,9 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
   // Clouds below the output's size (dynamic resolution): upsampled depth-aware against the scene's depth.
   const VkExtent2D out = graph.output_size(), clouds = march_extent(graph, in);
   const bool upsample = clouds.width != out.width || clouds.height != out.height;
-  const int envelope = !(in.envelope_color.valid() && in.envelope_depth.valid()) ? 0
-                       : in.envelope_near_color.valid() && in.envelope_near_depth.valid() ? 2 : 1;
+  int envelope = !(in.envelope_color.valid() && in.envelope_depth.valid()) ? 0
+                 : in.envelope_near_color.valid() && in.envelope_near_depth.valid() ? 2 : 1;
+  if (envelope == 1 && in.envelope_upsample) envelope = 3;
   const bool scene_depth = sky || upsample || envelope > 0;
   const CloudDebugView view = in.settings.debug;
   gpu::Pipeline* comp =
@@ -87,7 +88,7 @@ TextureHandle add_composite_pass(CloudResources& res, RenderGraph& graph, const 
           bind.sampled(CLOUD_BINDING_SCENE_DEPTH_COMPOSITE, c.view(depth), r->nearest_clamp, c.layout(depth));
         if (aerial) bind.sampled(CLOUD_BINDING_AERIAL, c.view(aerial_tex), r->linear_clamp, c.layout(aerial_tex));
         if (envelope > 0)
-          bind.sampled(CLOUD_BINDING_ENVELOPE_COLOR, c.view(env_c), r->nearest_clamp, c.layout(env_c))
+          bind.sampled(CLOUD_BINDING_ENVELOPE_COLOR, c.view(env_c), r->linear_clamp, c.layout(env_c))
               .sampled(CLOUD_BINDING_ENVELOPE_DEPTH, c.view(env_d), r->nearest_clamp, c.layout(env_d));
         if (envelope == 2)
           bind.sampled(CLOUD_BINDING_ENVELOPE_NEAR_COLOR, c.view(env_nc), r->nearest_clamp, c.layout(env_nc))

@@ -79,10 +79,14 @@ struct EnvelopeLayer::Impl {
   // The sub-sampled far pass's reprojection (EnvelopeMarchSettings::far_block > 1).
   gpu::Pipeline* reconstruct = nullptr;
   gpu::Pipeline* reconstruct_merge = nullptr;  // MERGE_NEAR: the split's near pass merged in
+  gpu::Pipeline* reconstruct_near = nullptr;   // CLIP_TO_SPLIT: the split's near pass, sub-sampled
+  cumulo::render::GpuHistory near_history{"clouds.envelope.near_history", VK_FORMAT_R16G16B16A16_SFLOAT, 0.5f,
+                                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
   gpu::Buffer recon_ubo[gpu::kFramesInFlight];  // reconstruct.comp reads CloudParams' camera fields
   cumulo::render::GpuHistory history{"clouds.envelope.history", VK_FORMAT_R16G16B16A16_SFLOAT, 1.0f,
                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
   glm::mat4 prev_view_proj{1.0f};
+  glm::vec3 box_lo{1e30f}, box_hi{-1e30f};  // the columns holding envelope (set_maps)
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
 
   Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
@@ -151,6 +155,9 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
   m.reconstruct_merge = &library.compute({.shader = "clouds/reconstruct.comp",
                                           .defines = {{"MERGE_NEAR", "1"}},
                                           .name = "clouds.envelope_reconstruct (merge near)"});
+  m.reconstruct_near = &library.compute({.shader = "clouds/reconstruct.comp",
+                                         .defines = {{"CLIP_TO_SPLIT", "1"}},
+                                         .name = "clouds.envelope_reconstruct (near)"});
   for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
     m.recon_ubo[i] = gpu::Buffer(ctx, {sizeof(shared::CloudParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                        gpu::MemoryUsage::Dynamic, "clouds.envelope.camera"});
@@ -197,7 +204,35 @@ void EnvelopeLayer::set_maps(std::shared_ptr<const envelope::EnvelopeMaps> maps,
   std::vector<glm::vec4> aux(n);
   for (size_t i = 0; i < n; ++i) aux[i] = glm::vec4(e.distance_m[i], e.edge_m[i], e.apex[i]);
   m.aux = make(VK_FORMAT_R32G32B32A32_SFLOAT, "clouds.envelope.aux", aux.data(), n * sizeof(glm::vec4));
+  // The clouds' tight box: the columns that hold any envelope (the frame passes are left out when it is off screen).
+  m.box_lo = glm::vec3(1e30f), m.box_hi = glm::vec3(-1e30f);
+  for (uint32_t j = 0; j < e.resolution; ++j)
+    for (uint32_t i = 0; i < e.resolution; ++i) {
+      const glm::vec4& st = e.steps[size_t(j) * e.resolution + i];
+      if (!(st.x > envelope::kEmptyTop)) continue;
+      const glm::vec3 lo(e.origin.x + float(i) * e.texel_m, st.y, e.origin.y + float(j) * e.texel_m);
+      m.box_lo = glm::min(m.box_lo, lo);
+      m.box_hi = glm::max(m.box_hi, glm::vec3(lo.x + e.texel_m, st.x, lo.z + e.texel_m));
+    }
   m.maps = std::move(maps);
+}
+
+bool envelope_in_view(const glm::mat4& view_proj, glm::vec3 lo, glm::vec3 hi) {
+  if (!(lo.x <= hi.x)) return false;  // no envelope at all
+  // Clip-space outcodes of the 8 corners: off screen when all lie beyond one plane (left, right, bottom, top, near).
+  int all = 0x1f;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 p((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+    const glm::vec4 c = view_proj * glm::vec4(p, 1.0f);
+    int code = 0;
+    if (c.x < -c.w) code |= 1;
+    if (c.x > c.w) code |= 2;
+    if (c.y < -c.w) code |= 4;
+    if (c.y > c.w) code |= 8;
+    if (c.w <= 0.0f) code |= 16;
+    all &= code;
+  }
+  return all == 0;
 }
 
 uint64_t EnvelopeLayer::gpu_bytes() const {
@@ -255,6 +290,12 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   Impl& m = *impl_;
   if (draw.maps && draw.maps != m.maps) set_maps(draw.maps, in.frame_index + 1);
   if (!has_maps()) return {};
+  if (!envelope_in_view(in.camera.view_proj, m.box_lo, m.box_hi)) {
+    m.history.invalidate();  // what it held is of another view by the time the clouds come back
+    m.near_history.invalidate();
+    m.prev_view_proj = in.camera.view_proj;
+    return {};
+  }
   const float scale = std::clamp(march.resolution_scale, 0.125f, 1.0f) * in.resolution_scale;
   // The split's near pass only where the envelope comes within the split distance of the camera (as the voxel clouds
   // leave out theirs): from afar the far pass marches the whole ray.
@@ -316,10 +357,42 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   };
 
   Outputs o;
-  if (split) {
+  o.below_output_size = scale < 1.0f;
+  // The reconstructions' camera block (both read P.steps.x, where the near pass ends).
+  shared::CloudParams cp{};
+  cp.inv_view_proj = in.camera.inv_view_proj;
+  cp.view_proj = in.camera.view_proj;
+  cp.prev_view_proj = m.prev_view_proj;
+  cp.camera_pos = glm::vec4(in.camera.position, float(in.time));
+  cp.steps = glm::vec4(split ? march.split_m : 1e9f, 0.0f, 0.0f, 0.0f);
+  const gpu::Buffer& recon_ubo = m.recon_ubo[in.slot % gpu::kFramesInFlight];
+  std::memcpy(recon_ubo.mapped(), &cp, sizeof cp);
+  if (in.camera_cut) m.history.invalidate(), m.near_history.invalidate();
+  const uint32_t near_block = std::clamp(march.near_block, 1u, 4u);
+  if (split && near_block == 1) {
     const auto near = add_segment("clouds.envelope_near", "clouds.envelope.near_color", "clouds.envelope.near_depth", 0,
                                   0.5f * scale, 0.0f, march.split_m, 1, glm::uvec2(0));
     o.near_color = near.first, o.near_depth = near.second;
+    m.near_history.invalidate();
+  } else if (split) {
+    // The near pass sub-sampled too (a CPU device; the voxel clouds' near segment marches 1 of 16 as well), its rays
+    // ending at the split.
+    m.near_history.set_scale(0.5f * scale);
+    const cumulo::render::HistoryHandles hn = m.near_history.import(m.ctx, graph);
+    const glm::uvec2 offset_n = reprojection_offset(near_block, in.frame_index);
+    const auto sub_n = add_segment("clouds.envelope_near", "clouds.envelope.near_sub_color",
+                                   "clouds.envelope.near_sub_depth", 0, 0.5f * scale, 0.0f, march.split_m, near_block,
+                                   offset_n);
+    TextureHandle next_n = hn.current;
+    TextureHandle depth_n =
+        graph.create_texture("clouds.envelope.near_depth", TextureDesc::relative(VK_FORMAT_R32G32B32A32_SFLOAT, 0.5f * scale));
+    add_reconstruct_pass(graph, m.ctx, "clouds.envelope_reconstruct_near",
+                         {m.reconstruct_near, recon_ubo.handle(), sub_n.first, sub_n.second, hn.previous, scene_depth,
+                          near_block, offset_n, hn.valid},
+                         next_n, depth_n);
+    o.near_color = next_n, o.near_depth = depth_n;
+  } else {
+    m.near_history.invalidate();
   }
   const uint32_t block = std::clamp(march.far_block, 1u, 4u);
   const float far_start = split ? march.split_m : 0.0f;
@@ -333,20 +406,11 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   }
   // Sub-sampled and reprojected (a CPU device): the far pass's history at the layer's scale; the split's near pass is
   // merged in by the reconstruction.
-  if (in.camera_cut) m.history.invalidate();
   m.history.set_scale(scale);
   const cumulo::render::HistoryHandles h = m.history.import(m.ctx, graph);
   const glm::uvec2 offset = reprojection_offset(block, in.frame_index);
   const auto sub = add_segment(split ? "clouds.envelope_far" : "clouds.envelope", "clouds.envelope.sub_color",
                                "clouds.envelope.sub_depth", 1, scale, far_start, 1e9f, block, offset);
-  shared::CloudParams cp{};
-  cp.inv_view_proj = in.camera.inv_view_proj;
-  cp.view_proj = in.camera.view_proj;
-  cp.prev_view_proj = m.prev_view_proj;
-  cp.camera_pos = glm::vec4(in.camera.position, float(in.time));
-  cp.steps = glm::vec4(split ? march.split_m : 1e9f, 0.0f, 0.0f, 0.0f);  // MERGE_NEAR: where the near pass ends
-  const gpu::Buffer& recon_ubo = m.recon_ubo[in.slot % gpu::kFramesInFlight];
-  std::memcpy(recon_ubo.mapped(), &cp, sizeof cp);
   m.prev_view_proj = in.camera.view_proj;
   ReconstructInputs ri{split ? m.reconstruct_merge : m.reconstruct, recon_ubo.handle(), sub.first, sub.second,
                        h.previous, scene_depth, block, offset, h.valid};

@@ -55,6 +55,7 @@ struct EnvelopeMarchSettings {
   // envelope marched in full at 320x180 cost 26-39 ms of the mixed view's 60 Hz frame (the voxel clouds' far segment
   // 20 ms at 1 of 16): envelope_block_for_device.
   uint32_t far_block = 1;
+  uint32_t near_block = 1;  // the same for the split's near pass (a CPU device: 4, as the voxel clouds' near segment)
   float noise_tile_m = 600.0f, detail_tile_m = 80.0f;
   float detail_erosion = 0.6f;  // 0: the talk's up-rez alone
   // Not in the talk: its erosion, saturate(noise - (1 - profile)), leaves densities of 0.1-0.3 where the voxel up-rez
@@ -67,6 +68,9 @@ struct EnvelopeMarchSettings {
 uint32_t envelope_block_for_device(bool cpu_device, bool split);
 // Whether any texel column of the envelope (its conservative bottom to top) comes within `distance` of `p`.
 bool envelope_within(const envelope::EnvelopeMaps& maps, glm::vec3 p, float distance);
+// Whether the box [lo, hi] may be seen through `view_proj` (conservative: false only when all its corners lie beyond
+// one of the left, right, bottom, top and near planes); false for an empty box (lo > hi).
+bool envelope_in_view(const glm::mat4& view_proj, glm::vec3 lo, glm::vec3 hi);
 
 class EnvelopeLayer {
  public:
@@ -86,6 +90,7 @@ class EnvelopeLayer {
     cumulo::render::TextureHandle depth;       // RGBA32F: x opacity-0.5 distance (1e6: none), y density samples, z the ray's end, w steps
     cumulo::render::TextureHandle near_color;  // the split's near pass (invalid without the split or when merged)
     cumulo::render::TextureHandle near_depth;
+    bool below_output_size = false;  // color / depth are smaller than the graph's output (upsample them)
   };
   Outputs add_passes(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw, const EnvelopeMarchSettings& march,
                      const CloudFrameInputs& in, cumulo::render::TextureHandle scene_depth);

@@ -70,6 +70,8 @@ struct WeatherState {
   float height_skew = 0.0f, anvil_bias = 0.0f;
   CloudMapSource cloud_map;
   float voxel_density = 1.0f;
+  // The Envelope method's orographic clouds (OrographicClouds): x their coverage and density (optional: 1, 1).
+  float envelope_coverage = 1.0f, envelope_density = 1.0f;
   WeatherLighting lighting;
   float lightning_per_minute = 0.0f;
   float rain_intensity = 0.0f;
