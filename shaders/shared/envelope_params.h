@@ -31,7 +31,7 @@ struct EnvelopeParams {
   vec4 noise;          // x: base noise tile (m), y: detail noise tile (m), z: detail erosion 0..1, w: coverage multiplier
   vec4 wind;           // xyz: the noise's scroll (m, world); w: extinction per unit density (1/m)
   vec4 march;          // x: step inside the envelope (m), y: its growth per metre of distance, z: max steps, w: light sample length (m)
-  vec4 stepping;       // x: 1 cone + distance step mapping, 0 fixed steps; y: draw distance (m); z: smallest step outside (m); w: segment start (m)
+  vec4 stepping;       // x: 1 cone + distance step mapping, 0 fixed steps (for a reader: the pipeline's CONE_STEPPING decides); y: draw distance (m); z: unused; w: segment start (m)
   vec4 phase;          // x: forward HG g, y: backward HG g, z: forward weight, w: multiple-scattering strength
   vec4 misc;           // x: segment end (m); y: ambient at the bottom / at the top; z: yield box count; w: yield fade (m)
   vec4 yield_min[ENV_MAX_YIELD_BOXES];  // xyz: world AABB of a voxel cloudscape (the envelope yields inside it)

@@ -120,7 +120,7 @@ struct EnvelopeLayer::Impl {
     p.wind = glm::vec4(wind * scroll, s.extinction);
     p.march = glm::vec4(std::max(m.step_m, 0.5f), std::max(m.step_growth, 0.0f), float(std::max(m.max_steps, 1u)),
                         std::max(m.light_step_m, 1.0f));
-    p.stepping = glm::vec4(m.cone_stepping ? 1.0f : 0.0f, m.draw_distance_m, 0.5f * std::max(m.step_m, 0.5f), segment_start);
+    p.stepping = glm::vec4(m.cone_stepping ? 1.0f : 0.0f, m.draw_distance_m, 0.0f, segment_start);
     p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
     uint32_t boxes = 0;
     for (const CloudInstance& inst : in.instances) {
