@@ -16,6 +16,7 @@
 #include "engine/gpu/sampler.h"
 #include "engine/render/history.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/render/point_probe.h"
 #include "modules/clouds/render/reconstruct_pass.h"
 #include "modules/clouds/volume/volume_file.h"
 #include "shaders/shared/cloud_params.h"
@@ -251,36 +252,20 @@ std::vector<glm::vec4> EnvelopeLayer::probe(const EnvelopeDraw& draw, const Enve
   if (!has_maps()) fail("envelope clouds: probe without baked maps");
   if (!m.probe) m.probe = &m.library.compute({.shader = "clouds/envelope_probe.comp", .name = "clouds.envelope_probe"});
   const shared::EnvelopeParams p = m.params(draw, march, in, 0.0f, 1e9f);
-  const uint32_t n = uint32_t(points.size());
   gpu::Buffer ubo(m.ctx, {sizeof p, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic, "envelope probe params"});
   std::memcpy(ubo.mapped(), &p, sizeof p);
-  gpu::Buffer in_buf(m.ctx, {n * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
-                             "envelope probe points"});
-  std::vector<glm::vec4> pts(n);
-  for (uint32_t i = 0; i < n; ++i) pts[i] = glm::vec4(points[i], 1.0f);
-  std::memcpy(in_buf.mapped(), pts.data(), n * sizeof(glm::vec4));
-  gpu::Buffer out_buf(m.ctx, {n * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Readback,
-                              "envelope probe out"});
-  m.ctx.submit_and_wait([&](VkCommandBuffer cmd) {
-    m.probe->bind(cmd);
-    gpu::DescriptorWriter()
-        .uniform_buffer(ENV_BINDING_PARAMS, ubo.handle(), 0, sizeof p)
-        .sampled_image(ENV_BINDING_SHAPE, m.shape.view(), m.linear_clamp)
-        .sampled_image(ENV_BINDING_STEPS, m.steps.view(), m.nearest_clamp)
-        .sampled_image(ENV_BINDING_AUX, m.aux.view(), m.linear_clamp)
-        .sampled_image(ENV_BINDING_BASE_NOISE, m.base.view(), m.linear_repeat)
-        .sampled_image(ENV_BINDING_DETAIL_NOISE, m.detail.view(), m.linear_repeat)
-        .storage_buffer(ENV_BINDING_PROBE_POINTS, in_buf.handle())
-        .storage_buffer(ENV_BINDING_PROBE_OUT, out_buf.handle())
-        .push(m.ctx, cmd, *m.probe);
-    const glm::uvec4 count(n, 0, 0, 0);
-    m.probe->push_constants(cmd, count);
-    m.probe->dispatch_threads(cmd, n, 1, 1);
-    gpu::cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                            VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-  });
-  std::vector<glm::vec4> out(n);
-  out_buf.download(out.data(), n * sizeof(glm::vec4));
+  const std::vector<uint8_t> bytes =
+      run_point_probe(m.ctx, *m.probe, points, sizeof(glm::vec4), ENV_BINDING_PROBE_POINTS, ENV_BINDING_PROBE_OUT,
+                      [&](gpu::DescriptorWriter& w) {
+                        w.uniform_buffer(ENV_BINDING_PARAMS, ubo.handle(), 0, sizeof p)
+                            .sampled_image(ENV_BINDING_SHAPE, m.shape.view(), m.linear_clamp)
+                            .sampled_image(ENV_BINDING_STEPS, m.steps.view(), m.nearest_clamp)
+                            .sampled_image(ENV_BINDING_AUX, m.aux.view(), m.linear_clamp)
+                            .sampled_image(ENV_BINDING_BASE_NOISE, m.base.view(), m.linear_repeat)
+                            .sampled_image(ENV_BINDING_DETAIL_NOISE, m.detail.view(), m.linear_repeat);
+                      });
+  std::vector<glm::vec4> out(points.size());
+  std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "engine/render/history.h"
 #include "modules/clouds/noise/noise.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/render/point_probe.h"
 #include "modules/clouds/render/reconstruct_pass.h"
 #include "modules/clouds/volume/volume_file.h"
 #include "shaders/shared/cloud_params.h"
@@ -229,35 +230,19 @@ std::vector<float> SkyLayer::probe_density(const SkyLayerFrame& sky, const Cloud
   if (!m.probe)
     m.probe = &m.library.compute({.shader = "clouds/sky_layer_probe.comp", .name = "clouds.sky_layer_probe"});
   const shared::SkyLayerParams p = m.params(sky, in);
-  const uint32_t n = uint32_t(points.size());
   gpu::Buffer ubo(m.ctx, {sizeof p, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic, "sky probe params"});
   std::memcpy(ubo.mapped(), &p, sizeof p);
-  gpu::Buffer in_buf(m.ctx, {n * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
-                             "sky probe points"});
-  std::vector<glm::vec4> pts(n);
-  for (uint32_t i = 0; i < n; ++i) pts[i] = glm::vec4(points[i], 1.0f);
-  std::memcpy(in_buf.mapped(), pts.data(), n * sizeof(glm::vec4));
-  gpu::Buffer out_buf(
-      m.ctx, {n * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Readback, "sky probe out"});
-  m.ctx.submit_and_wait([&](VkCommandBuffer cmd) {
-    m.probe->bind(cmd);
-    gpu::DescriptorWriter()
-        .uniform_buffer(SKY_BINDING_PARAMS, ubo.handle(), 0, sizeof p)
-        .sampled_image(SKY_BINDING_CLOUD_MAP, m.map_image.view(), m.linear_repeat)
-        .sampled_image(SKY_BINDING_BASE_NOISE, m.base.view(), m.linear_repeat)
-        .sampled_image(SKY_BINDING_DETAIL_NOISE, m.detail.view(), m.linear_repeat)
-        .sampled_image(SKY_BINDING_CURL, m.curl.view(), m.linear_repeat)
-        .storage_buffer(SKY_BINDING_PROBE_POINTS, in_buf.handle())
-        .storage_buffer(SKY_BINDING_PROBE_OUT, out_buf.handle())
-        .push(m.ctx, cmd, *m.probe);
-    const glm::uvec4 count(n, 0, 0, 0);
-    m.probe->push_constants(cmd, count);
-    m.probe->dispatch_threads(cmd, n, 1, 1);
-    gpu::cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                            VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-  });
-  std::vector<float> out(n);
-  out_buf.download(out.data(), n * sizeof(float));
+  const std::vector<uint8_t> bytes =
+      run_point_probe(m.ctx, *m.probe, points, sizeof(float), SKY_BINDING_PROBE_POINTS, SKY_BINDING_PROBE_OUT,
+                      [&](gpu::DescriptorWriter& w) {
+                        w.uniform_buffer(SKY_BINDING_PARAMS, ubo.handle(), 0, sizeof p)
+                            .sampled_image(SKY_BINDING_CLOUD_MAP, m.map_image.view(), m.linear_repeat)
+                            .sampled_image(SKY_BINDING_BASE_NOISE, m.base.view(), m.linear_repeat)
+                            .sampled_image(SKY_BINDING_DETAIL_NOISE, m.detail.view(), m.linear_repeat)
+                            .sampled_image(SKY_BINDING_CURL, m.curl.view(), m.linear_repeat);
+                      });
+  std::vector<float> out(points.size());
+  std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;
 }
 
