@@ -21,12 +21,16 @@
 #include "clouds/cloud_math.glsl"
 #include "engine/runtime_uniform.glsl"
 
-layout(set = 0, binding = ENV_BINDING_PARAMS, std140) uniform EnvelopeBlock { EnvelopeParams E; };
-layout(set = 0, binding = ENV_BINDING_SHAPE) uniform sampler2D shape_tex;
-layout(set = 0, binding = ENV_BINDING_STEPS) uniform sampler2D steps_tex;
-layout(set = 0, binding = ENV_BINDING_AUX) uniform sampler2D aux_tex;
-layout(set = 0, binding = ENV_BINDING_BASE_NOISE) uniform sampler3D base_noise;
-layout(set = 0, binding = ENV_BINDING_DETAIL_NOISE) uniform sampler3D detail_noise;
+// ENV_BINDING_OFFSET: added to the bindings below (the path tracer binds the envelope beside the voxel clouds).
+#ifndef ENV_BINDING_OFFSET
+#define ENV_BINDING_OFFSET 0
+#endif
+layout(set = 0, binding = ENV_BINDING_OFFSET + ENV_BINDING_PARAMS, std140) uniform EnvelopeBlock { EnvelopeParams E; };
+layout(set = 0, binding = ENV_BINDING_OFFSET + ENV_BINDING_SHAPE) uniform sampler2D shape_tex;
+layout(set = 0, binding = ENV_BINDING_OFFSET + ENV_BINDING_STEPS) uniform sampler2D steps_tex;
+layout(set = 0, binding = ENV_BINDING_OFFSET + ENV_BINDING_AUX) uniform sampler2D aux_tex;
+layout(set = 0, binding = ENV_BINDING_OFFSET + ENV_BINDING_BASE_NOISE) uniform sampler3D base_noise;
+layout(set = 0, binding = ENV_BINDING_OFFSET + ENV_BINDING_DETAIL_NOISE) uniform sampler3D detail_noise;
 
 const float kProfilePeak = 0.0916133417;  // (3/7)^1.5 (4/7)^2
 

@@ -119,7 +119,7 @@ void main() {
       light_in += E.ambient_color.rgb * mix(E.misc.y, 1.0, es.hf);
       float sigma_t = max(es.density * E.wind.w, 1e-7);
       float tr = exp(-sigma_t * dt);
-      vec3 s_in = light_in * sigma_t;
+      vec3 s_in = light_in * (sigma_t * E.stepping.z);
       radiance += transmittance * (s_in - s_in * tr) / sigma_t;
       float before = transmittance;
       transmittance *= tr;

@@ -20,7 +20,12 @@
 // Phase: the march's dual-lobe HG (sampled by lobe: weight 1), Jendersie & d'Eon 2023's approximate Mie
 // (sampled from an HG mixture, weighted), or isotropic.
 //
-// Defines: MEDIUM (0 the cloudscape, 1 the analytic box of ReferenceParams for tests), CLOUD_ASSET_SLOTS.
+// The Envelope method's orographic clouds (ENVELOPE 1; envelope_density.glsl, its bindings at
+// ENV_BINDING_REFERENCE_OFFSET) are a medium beside the instances: the march's density with its near detail, tracked
+// texel by texel of its maps (2D DDA) with the majorant E.heights.w x E.wind.w (the up-rezzed density is at most the
+// multiplier) where the ray is inside the texel's conservative column, 0 elsewhere.
+//
+// Defines: MEDIUM (0 the cloudscape, 1 the analytic box of ReferenceParams for tests), CLOUD_ASSET_SLOTS, ENVELOPE.
 #extension GL_GOOGLE_include_directive : require
 #include "clouds/cloud_common.glsl"
 #include "shared/reference_params.h"
@@ -29,6 +34,13 @@
 
 #ifndef MEDIUM
 #define MEDIUM 0
+#endif
+#ifndef ENVELOPE
+#define ENVELOPE 0
+#endif
+#if ENVELOPE
+#define ENV_BINDING_OFFSET ENV_BINDING_REFERENCE_OFFSET
+#include "clouds/envelope_density.glsl"
 #endif
 
 layout(local_size_x = REF_LOCAL_SIZE, local_size_y = REF_LOCAL_SIZE) in;
@@ -202,6 +214,78 @@ float track_instance(int i, vec3 o, vec3 d, float tmax, bool ratio, inout float 
   }
   return -1.0;
 }
+#if ENVELOPE
+// The envelope along o + d t, t in [0, tmax]: delta or ratio tracking as track_instance, over the maps' texels.
+float track_envelope(vec3 o, vec3 d, float tmax, bool ratio, inout float T) {
+  float mu = E.heights.w * E.wind.w;
+  float side = E.map.z * E.map.w;
+  vec2 seg = ray_box(o, d, vec3(E.map.x, E.heights.x, E.map.y), vec3(E.map.x + side, E.heights.y, E.map.y + side));
+  float t = max(seg.x, 0.0), t1 = min(seg.y, tmax);
+  if (!(t < t1) || !(mu > 0.0)) return -1.0;
+  int N = int(E.map.w);
+  vec2 gp = (o.xz + d.xz * t - E.map.xy) / E.map.z;
+  vec2 gd = d.xz / E.map.z;
+  ivec2 c = clamp(ivec2(floor(gp)), ivec2(0), ivec2(N - 1));
+  ivec2 dir = ivec2(gd.x > 0.0 ? 1 : -1, gd.y > 0.0 ? 1 : -1);
+  vec2 t_next, t_delta;
+  for (int a = 0; a < 2; ++a) {
+    if (abs(gd[a]) < 1e-12) {
+      t_next[a] = 1e30;
+      t_delta[a] = 1e30;
+    } else {
+      float boundary = float(c[a] + (gd[a] > 0.0 ? 1 : 0));
+      t_next[a] = t + (boundary - gp[a]) / gd[a];
+      t_delta[a] = 1.0 / abs(gd[a]);
+    }
+  }
+  int events = 0;
+  for (int k = 0; k < 4 * kMaxCells; ++k) {
+    float tc = min(min(t_next.x, t_next.y), t1);
+    vec4 s = texelFetch(steps_tex, c, 0);  // x: conservative top, y: bottom (envelope_maps.h; none: x < y)
+    float a = t, b = tc;
+    if (abs(d.y) > 1e-9) {
+      float ya = (s.y - o.y) / d.y, yb = (s.x - o.y) / d.y;
+      a = max(a, min(ya, yb));
+      b = min(b, max(ya, yb));
+    } else if (o.y < s.y || o.y > s.x) {
+      b = a;
+    }
+    if (s.x > s.y && a < b) {
+      // The majorant holds on [a, b]; past b the next texel starts its flights afresh (memoryless).
+      float tt = a;
+      for (; events < kMaxEvents; ++events) {
+        tt -= log(1.0 - rand01()) / mu;
+        if (tt >= b) break;
+        float sg = envelope_sample(o + d * tt, true).density * E.wind.w;
+        if (sg > mu * 1.0001) g_violations += 1.0;
+        if (ratio) {
+          T *= max(1.0 - sg / mu, 0.0);
+          if (T < 0.1) {
+            if (rand01() < 0.5) {
+              T = 0.0;
+              return -1.0;
+            }
+            T *= 2.0;
+          }
+        } else if (rand01() * mu < sg) {
+          return tt;
+        }
+      }
+    }
+    t = tc;
+    if (t >= t1) break;
+    if (t_next.x <= t_next.y) {
+      c.x += dir.x;
+      t_next.x += t_delta.x;
+    } else {
+      c.y += dir.y;
+      t_next.y += t_delta.y;
+    }
+    if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, ivec2(N)))) break;
+  }
+  return -1.0;
+}
+#endif
 float free_flight(vec3 o, vec3 d, float tmax) {
   float best = tmax;
   bool hit = false;
@@ -213,11 +297,21 @@ float free_flight(vec3 o, vec3 d, float tmax) {
       hit = true;
     }
   }
+#if ENVELOPE
+  float te = track_envelope(o, d, best, false, T);
+  if (te >= 0.0 && te < best) {
+    best = te;
+    hit = true;
+  }
+#endif
   return hit ? best : -1.0;
 }
 float transmittance(vec3 o, vec3 d, float tmax) {
   float T = 1.0;
   for (uint i = 0u; i < min(P.frame.y, uint(CLOUD_MAX_INSTANCES)) && T > 0.0; ++i) track_instance(int(i), o, d, tmax, true, T);
+#if ENVELOPE
+  if (T > 0.0) track_envelope(o, d, tmax, true, T);
+#endif
   return T;
 }
 #endif

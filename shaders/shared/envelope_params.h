@@ -18,6 +18,11 @@ CUMULO_SHARED_BEGIN
 #define ENV_BINDING_OUT_DEPTH 8    // image2D rgba32f: x opacity-0.5 distance (1e6: none), y samples, z the ray's end, w steps taken
 #define ENV_BINDING_PROBE_POINTS 9 // envelope_probe.comp: vec4 world points
 #define ENV_BINDING_PROBE_OUT 10   // envelope_probe.comp: vec4 (density, profile, height fraction, edge gradient)
+#define ENV_BINDING_TERRAIN 11     // envelope_shadow.comp: sampler2D r32f, the terrain's height (world y) over EnvelopeShadowPush::terrain
+#define ENV_BINDING_SHADOW_OUT 12  // envelope_shadow.comp, envelope_shadow_combine.comp: image2D r16f, the light's transmittance
+#define ENV_BINDING_SHADOW_IN 13   // envelope_shadow_combine.comp: sampler2D, the envelope's transmittance (envelope_shadow.comp)
+#define ENV_BINDING_VOXEL_SHADOW 14  // envelope_shadow_combine.comp: sampler2D, the voxel clouds' shadow map (shadow_map.comp)
+#define ENV_BINDING_REFERENCE_OFFSET 32  // reference_trace.comp: the density's bindings (0..5) + this
 #define ENV_MAX_YIELD_BOXES 4      // voxel cloudscape boxes the envelope yields to (no cloud drawn twice)
 
 struct EnvelopeParams {
@@ -31,13 +36,32 @@ struct EnvelopeParams {
   vec4 noise;          // x: base noise tile (m), y: detail noise tile (m), z: detail erosion 0..1, w: coverage multiplier
   vec4 wind;           // xyz: the noise's scroll (m, world); w: extinction per unit density (1/m)
   vec4 march;          // x: step inside the envelope (m), y: its growth per metre of distance, z: max steps, w: light sample length (m)
-  vec4 stepping;       // x: 1 cone + distance step mapping, 0 fixed steps (for a reader: the pipeline's CONE_STEPPING decides); y: draw distance (m); z: unused; w: segment start (m)
+  vec4 stepping;       // x: 1 cone + distance step mapping, 0 fixed steps (for a reader: the pipeline's CONE_STEPPING decides); y: draw distance (m); z: single-scattering albedo (the voxel clouds'); w: segment start (m)
   vec4 phase;          // x: forward HG g, y: backward HG g, z: forward weight, w: multiple-scattering strength
   vec4 misc;           // x: segment end (m); y: ambient at the bottom / at the top; z: yield box count; w: yield fade (m)
   vec4 yield_min[ENV_MAX_YIELD_BOXES];  // xyz: world AABB of a voxel cloudscape (the envelope yields inside it)
   vec4 yield_max[ENV_MAX_YIELD_BOXES];
 };
 CUMULO_SHARED_SIZE(EnvelopeParams, 384)
+
+// Push constants of envelope_shadow.comp: the key light's transmittance through the envelope, from where the light's
+// ray leaves the envelope's top down to the first terrain it meets, on a horizontal plane (render::LightShadowMap).
+struct EnvelopeShadowPush {
+  vec4 plane;    // xy: world x, z of the map's corner; zw: its size (m)
+  vec4 light;    // xyz: toward the light; w: the plane's height (world y)
+  vec4 terrain;  // xy: world x, z of the terrain square's corner; z: its side (m); w: the step along the light (m)
+};
+CUMULO_SHARED_SIZE(EnvelopeShadowPush, 48)
+
+// Push constants of envelope_shadow_combine.comp: the envelope's map times the voxel clouds' (one map for the scene).
+struct EnvelopeShadowCombinePush {
+  vec4 plane;        // the combined map: xy corner, zw size (m)
+  vec4 light;        // xyz: toward the light; w: the plane's height (world y), the envelope map's too
+  vec4 envelope;     // the envelope's map on the same plane: xy corner, zw size
+  vec4 voxel_plane;  // the voxel clouds' map: xy corner, zw size
+  vec4 voxel;        // x: its plane's height (world y); y: 1 when bound
+};
+CUMULO_SHARED_SIZE(EnvelopeShadowCombinePush, 80)
 
 CUMULO_SHARED_END
 

@@ -70,6 +70,14 @@ TextureHandle RenderGraph::import_texture(const std::string& name, const Texture
   return {impl_->add_resource(std::move(r)), 0};
 }
 
+TextureHandle RenderGraph::find_import(const std::string& name, VkImage image) const {
+  for (uint32_t i = 0; i < impl_->resources.size(); ++i) {
+    const detail::ResourceDecl& r = impl_->resources[i];
+    if (r.image && r.imported && r.vk_image == image && r.name == name) return {i, 0};
+  }
+  return {};
+}
+
 TextureHandle RenderGraph::import_persistent(PersistentTexture& t) {
   if (t.desc.width == 0) fail("render graph: persistent texture '%s' needs an absolute size", t.name.c_str());
   TextureHandle h = import_texture(t.name, t.desc, t.image, t.view, t.state, ResourceState::undefined());

@@ -396,6 +396,9 @@ class RenderGraph {
   // Persistent: starts from texture.state; the executor writes the state of its last use back (the
   // PersistentTexture must outlive the execution of this graph).
   TextureHandle import_persistent(PersistentTexture& texture);
+  // The texture this graph imported under `name` from `image`, or an invalid handle: a read-only import two passes
+  // share (names are unique in a graph), at its first version (an import nobody writes has no other).
+  TextureHandle find_import(const std::string& name, VkImage image) const;
   // Flips the pair and imports both ("NAME" = this frame's target, "NAME (previous)" = last frame's).
   HistoryHandles import_history(HistoryTexture& history);
 

@@ -12,6 +12,7 @@
 #include "engine/render/pass_helpers.h"
 #include "engine/render/sky_model.h"
 #include "modules/clouds/render/pass_bindings.h"
+#include "shaders/shared/envelope_params.h"
 #include "shaders/shared/reference_params.h"
 
 namespace cumulo::clouds::render {
@@ -63,23 +64,30 @@ ReferenceTracer::ReferenceTracer(gpu::Context& ctx, gpu::PipelineLibrary& librar
   no_aerial_ = gpu::Image(ctx, gpu::ImageDesc::tex3d(1, 1, 1, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
                                                     "clouds.reference.no_aerial"));
   no_aerial_.upload({{ap, sizeof ap}});
+  const uint16_t none[4] = {0, 0, 0, 0};
+  no_volume_ = gpu::Image(ctx, gpu::ImageDesc::tex3d(1, 1, 1, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
+                                                    "clouds.reference.no_volume"));
+  no_volume_.upload({{none, sizeof none}});
 }
 
 ReferenceTracer::~ReferenceTracer() { ctx_.wait_idle(); }
 
-gpu::Pipeline& ReferenceTracer::trace_pipeline(bool analytic, int asset_slots, bool coverage_texture) {
-  const auto key = std::make_tuple(analytic, analytic ? 1 : asset_slots, coverage_texture && !analytic);
+gpu::Pipeline& ReferenceTracer::trace_pipeline(bool analytic, int asset_slots, bool coverage_texture, bool envelope) {
+  const auto key = std::make_tuple(analytic, analytic ? 1 : asset_slots, coverage_texture && !analytic, envelope && !analytic);
   auto it = trace_pipes_.find(key);
   if (it != trace_pipes_.end()) return *it->second;
   const int slots = std::get<1>(key);
   const bool coverage = std::get<2>(key);
+  const bool env = std::get<3>(key);
   gpu::Pipeline& p = library_.compute(
       {.shader = "clouds/reference_trace.comp",
        .defines = {{"MEDIUM", analytic ? "1" : "0"},
                    {"CLOUD_ASSET_SLOTS", std::to_string(slots)},
-                   {"COVERAGE_TEXTURE", coverage ? "1" : "0"}},
+                   {"COVERAGE_TEXTURE", coverage ? "1" : "0"},
+                   {"ENVELOPE", env ? "1" : "0"}},
        .name = std::string("clouds.reference_trace") +
-               (analytic ? " (analytic medium)" : slots > 1 ? " (2 assets)" : "") + (coverage ? " (coverage texture)" : "")});
+               (analytic ? " (analytic medium)" : slots > 1 ? " (2 assets)" : "") + (coverage ? " (coverage texture)" : "") +
+               (env ? " (envelope)" : "")});
   trace_pipes_[key] = &p;
   return p;
 }
@@ -210,6 +218,8 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
   const cumulo::render::TextureHandle terrain_tex = import_2d("clouds.reference.terrain", terrain ? terrain_ : no_terrain_);
   const cumulo::render::TextureHandle sky_tex = import_2d("clouds.reference.sky", sky_ ? sky_ : no_sky_);
   const cumulo::render::TextureHandle aerial_tex = aerial ? in.aerial : import_3d("clouds.reference.no_aerial", no_aerial_);
+  // Without voxel instances (the envelope clouds alone) the instances' loops never run, but their bindings are bound.
+  const bool no_instances = !analytic && light.modelings.empty();
 
   // Majorant grids, one per asset slot (built once per asset).
   std::vector<cumulo::render::TextureHandle> majorants;
@@ -258,11 +268,20 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
   }
 
   // ---- Trace ----
-  gpu::Pipeline* trace = &trace_pipeline(analytic, int(std::max<size_t>(1, light.modelings.size())), light.coverage_texture);
+  const CloudFrameInputs::EnvelopeMedium envelope = analytic ? CloudFrameInputs::EnvelopeMedium{} : in.envelope_medium;
+  const bool with_envelope = envelope.valid();
+  gpu::Pipeline* trace =
+      &trace_pipeline(analytic, int(std::max<size_t>(1, light.modelings.size())), light.coverage_texture, with_envelope);
   cumulo::render::TextureHandle accum = graph.import_persistent(accum_), aux = graph.import_persistent(aux_);
-  const std::vector<cumulo::render::TextureHandle> modelings = light.modelings;
+  std::vector<cumulo::render::TextureHandle> modelings = light.modelings;
+  cumulo::render::TextureHandle noise = light.noise;
+  if (no_instances) {
+    const cumulo::render::TextureHandle none = import_3d("clouds.reference.no_volume", no_volume_);
+    modelings = {none};
+    noise = none;
+    majorants = {none};
+  }
   const std::vector<cumulo::render::TextureHandle> coverages = analytic ? std::vector<cumulo::render::TextureHandle>{} : light.coverages;
-  const cumulo::render::TextureHandle noise = light.noise;
   graph.add_pass("clouds.reference_trace", Queue::Compute,
       [&](PassBuilder& b) {
         if (!analytic) {
@@ -271,6 +290,9 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
           for (cumulo::render::TextureHandle m : majorants) b.read(m, Usage::Sampled);
           b.read(noise, Usage::Sampled);
         }
+        if (with_envelope)
+          for (cumulo::render::TextureHandle t : {envelope.shape, envelope.steps, envelope.aux, envelope.base_noise, envelope.detail_noise})
+            b.read(t, Usage::Sampled);
         b.read(depth, Usage::Sampled);
         b.read(terrain_tex, Usage::Sampled);
         b.read(sky_tex, Usage::Sampled);
@@ -279,7 +301,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
         aux = b.read_write(aux, Usage::StorageWrite);
       },
       [this, trace, analytic, modelings, coverages, majorants, noise, depth, terrain_tex, sky_tex, aerial_tex, accum, aux, cloud_ubo,
-       ref_ubo](PassContext& c) {
+       ref_ubo, envelope, with_envelope](PassContext& c) {
         PassBindings bind(*trace);
         bind.ubo(CLOUD_BINDING_PARAMS, cloud_ubo, sizeof(shared::CloudParams))
             .ubo(REF_BINDING_PARAMS, ref_ubo, sizeof(shared::ReferenceParams))
@@ -299,6 +321,16 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
           for (size_t a = 0; a < coverages.size(); ++a)
             bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), linear_clamp_,
                          c.layout(coverages[a]));
+        }
+        if (with_envelope) {
+          constexpr uint32_t o = ENV_BINDING_REFERENCE_OFFSET;
+          bind.ubo(o + ENV_BINDING_PARAMS, envelope.params, sizeof(shared::EnvelopeParams))
+              .sampled(o + ENV_BINDING_SHAPE, c.view(envelope.shape), linear_clamp_, c.layout(envelope.shape))
+              .sampled(o + ENV_BINDING_STEPS, c.view(envelope.steps), nearest_clamp_, c.layout(envelope.steps))
+              .sampled(o + ENV_BINDING_AUX, c.view(envelope.aux), linear_clamp_, c.layout(envelope.aux))
+              .sampled(o + ENV_BINDING_BASE_NOISE, c.view(envelope.base_noise), linear_repeat_, c.layout(envelope.base_noise))
+              .sampled(o + ENV_BINDING_DETAIL_NOISE, c.view(envelope.detail_noise), linear_repeat_,
+                       c.layout(envelope.detail_noise));
         }
         bind.push(ctx_, c.cmd());
         const VkExtent3D e = c.extent(accum);

@@ -128,13 +128,13 @@ class ReferenceTracer final : public CloudFrameOverride {
     cumulo::render::PersistentTexture texture;
     bool built = false;
   };
-  gpu::Pipeline& trace_pipeline(bool analytic, int asset_slots, bool coverage_texture = false);
+  gpu::Pipeline& trace_pipeline(bool analytic, int asset_slots, bool coverage_texture = false, bool envelope = false);
   void prepare_scene(const cumulo::render::FrameSnapshot& snapshot);
 
   gpu::Context& ctx_;
   gpu::PipelineLibrary& library_;
   ReferenceSettings settings_;
-  std::map<std::tuple<bool, int, bool>, gpu::Pipeline*> trace_pipes_;
+  std::map<std::tuple<bool, int, bool, bool>, gpu::Pipeline*> trace_pipes_;
   gpu::Pipeline* majorant_pipe_ = nullptr;
   gpu::Pipeline* resolve_pipe_ = nullptr;
   gpu::Buffer cloud_ubo_[gpu::kFramesInFlight], ref_ubo_[gpu::kFramesInFlight];
@@ -147,6 +147,7 @@ class ReferenceTracer final : public CloudFrameOverride {
   // The scene beyond the clouds.
   TerrainHeightfield terrain_cpu_;
   gpu::Image terrain_, sky_, no_terrain_, no_sky_, no_aerial_;
+  gpu::Image no_volume_;  // a frame without voxel instances (the envelope alone): the modeling, noise and majorant
   std::optional<glm::vec4> ocean_;  // xyz: albedo, w: height
   const void* scene_models_ = nullptr;
   size_t scene_model_count_ = 0;

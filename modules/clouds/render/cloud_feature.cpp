@@ -103,7 +103,9 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   if (stage == Stage::BeforeScene) {
     inputs_ = frame_inputs(f, *frame);
     light_ = add_cloud_light_passes(*resources_, f.graph, *inputs_);
-    if (light_.shadow.texture.valid()) f.resources.publish(light_.shadow);
+    cumulo::render::LightShadowMap shadow = light_.shadow;
+    for (CloudFramePass* p : drawn_passes_) p->add_before_scene(f, *frame, *inputs_, shadow);
+    if (shadow.texture.valid()) f.resources.publish(shadow);
     return;
   }
   if (!inputs_) return;  // (a renderer always runs BeforeScene first)
@@ -112,6 +114,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   if (const auto* aerial = f.resources.find<cumulo::render::AerialPerspective>()) in.aerial = aerial->froxels;
   if (reference_) {
     // The path tracer draws the whole picture (clouds, terrain, sky) in place of the real-time passes.
+    for (CloudFramePass* p : drawn_passes_) p->add_before_reference(f, *frame, in);
     f.hdr = reference_->add_passes(f.graph, f.snapshot, in, light_, f.hdr, f.depth);
     light_ = {};
     if (hdr_capture_) hdr_capture_->add_pass(f.graph, f.hdr);

@@ -35,6 +35,14 @@ class CloudFramePass {
   virtual bool create_gpu(cumulo::render::GpuServices& g, const CloudRenderOptions& options,
                           const CloudLevelFacts& level) = 0;
   virtual void destroy_gpu() = 0;
+  // Before the scene, after the voxel clouds' light passes: what this pass adds to the key light's shadow on the scene
+  // (`shadow`: the voxel clouds' map, or none; the geometry reads the one map it becomes).
+  virtual void add_before_scene(cumulo::render::StageContext& /*stage*/, const CloudFrame& /*frame*/,
+                                const CloudFrameInputs& /*in*/, cumulo::render::LightShadowMap& /*shadow*/) {}
+  // In place of the real-time passes when the path tracer draws the frame (reference_tracer.h): what it traces of this
+  // pass, into `in`.
+  virtual void add_before_reference(cumulo::render::StageContext& /*stage*/, const CloudFrame& /*frame*/,
+                                    CloudFrameInputs& /*in*/) {}
   // Before the clouds' march: what the march and the composite take from this pass, into `in`.
   virtual void add_before_clouds(cumulo::render::StageContext& /*stage*/, const CloudFrame& /*frame*/,
                                  CloudFrameInputs& /*in*/) {}

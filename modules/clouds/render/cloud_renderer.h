@@ -338,6 +338,14 @@ struct CloudFrameInputs {
   // 40/60 Hz split also their near pass (half their resolution), merged over the far one. Invalid: none.
   TextureHandle envelope_color, envelope_depth, envelope_near_color, envelope_near_depth;
   bool envelope_upsample = false;  // envelope_color is below the output's size
+  // The same clouds as a medium for the path tracer (EnvelopeLayer::add_medium; reference_tracer.h): their parameter
+  // block (shared::EnvelopeParams) and textures at envelope_params.h's ENV_BINDING_SHAPE.. order. Invalid: none.
+  struct EnvelopeMedium {
+    VkBuffer params = VK_NULL_HANDLE;
+    TextureHandle shape, steps, aux, base_noise, detail_noise;
+    bool valid() const { return params != VK_NULL_HANDLE && shape.valid(); }
+  };
+  EnvelopeMedium envelope_medium;
   // The atmosphere's aerial-perspective froxels (render::AerialPerspective, a stage resource): the composite
   // hazes each layer with them at its depth; invalid: the height fog (haze_*).
   TextureHandle aerial;

@@ -76,7 +76,7 @@ struct EnvelopeLayer::Impl {
   gpu::Pipeline* march_cone = nullptr;
   gpu::Pipeline* march_fixed = nullptr;
   gpu::Pipeline* probe = nullptr;  // built on first use
-  gpu::Buffer ubo[gpu::kFramesInFlight][2];  // [slot][near, far]
+  gpu::Buffer ubo[gpu::kFramesInFlight][3];  // [slot][near, far, the path tracer's medium]
   // The sub-sampled far pass's reprojection (EnvelopeMarchSettings::far_block > 1).
   gpu::Pipeline* reconstruct = nullptr;
   gpu::Pipeline* reconstruct_merge = nullptr;  // MERGE_NEAR: the split's near pass merged in
@@ -88,6 +88,18 @@ struct EnvelopeLayer::Impl {
                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
   glm::mat4 prev_view_proj{1.0f};
   glm::vec3 box_lo{1e30f}, box_hi{-1e30f};  // the columns holding envelope (set_maps)
+  // The shadow on the terrain (add_shadow_passes).
+  gpu::Image terrain;  // R32F heights over the square [terrain_origin, + terrain_side]
+  glm::vec2 terrain_origin{0.0f};
+  float terrain_side = 0.0f;
+  gpu::Pipeline* shadow_pipe = nullptr;   // built on first use
+  gpu::Pipeline* combine_pipe = nullptr;
+  gpu::Image env_shadow, combined_shadow;
+  cumulo::render::PersistentTexture env_shadow_tex, combined_shadow_tex;
+  gpu::Buffer shadow_ubo[gpu::kFramesInFlight];
+  std::vector<float> shadow_key;  // what the envelope's own map was marched for
+  glm::vec3 shadow_scroll{0.0f};
+  uint32_t shadow_marches = 0;
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
 
   Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
@@ -121,7 +133,7 @@ struct EnvelopeLayer::Impl {
     p.wind = glm::vec4(wind * scroll, s.extinction);
     p.march = glm::vec4(std::max(m.step_m, 0.5f), std::max(m.step_growth, 0.0f), float(std::max(m.max_steps, 1u)),
                         std::max(m.light_step_m, 1.0f));
-    p.stepping = glm::vec4(m.cone_stepping ? 1.0f : 0.0f, m.draw_distance_m, 0.0f, segment_start);
+    p.stepping = glm::vec4(m.cone_stepping ? 1.0f : 0.0f, m.draw_distance_m, std::clamp(s.albedo, 0.0f, 1.0f), segment_start);
     p.phase = glm::vec4(s.hg_forward, s.hg_backward, s.hg_forward_weight, s.ms_strength);
     uint32_t boxes = 0;
     for (const CloudInstance& inst : in.instances) {
@@ -136,7 +148,9 @@ struct EnvelopeLayer::Impl {
     return p;
   }
 
+  // Once per graph (the shadow, the march and the path tracer's medium read the same maps in one frame).
   TextureHandle import(cumulo::render::RenderGraph& g, const char* name, const gpu::Image& img) const {
+    if (const TextureHandle h = g.find_import(name, img.handle()); h.valid()) return h;
     return g.import_texture(name, texture_desc(img), img.handle(), img.view(), cumulo::render::ResourceState::shader_read_only());
   }
 };
@@ -163,7 +177,7 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
     m.recon_ubo[i] = gpu::Buffer(ctx, {sizeof(shared::CloudParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                        gpu::MemoryUsage::Dynamic, "clouds.envelope.camera"});
   for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
-    for (uint32_t k = 0; k < 2; ++k)
+    for (uint32_t k = 0; k < 3; ++k)
       m.ubo[i][k] = gpu::Buffer(ctx, {sizeof(shared::EnvelopeParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                       gpu::MemoryUsage::Dynamic, "clouds.envelope.params"});
   m.linear_clamp = ctx.samplers().get(gpu::SamplerDesc::linear_clamp());
@@ -216,6 +230,195 @@ void EnvelopeLayer::set_maps(std::shared_ptr<const envelope::EnvelopeMaps> maps,
       m.box_hi = glm::max(m.box_hi, glm::vec3(lo.x + e.texel_m, st.x, lo.z + e.texel_m));
     }
   m.maps = std::move(maps);
+  m.shadow_key.clear();
+}
+
+void EnvelopeLayer::set_terrain(const TerrainHeightfield& t) {
+  Impl& m = *impl_;
+  m.ctx.wait_idle();  // a frame in flight may read the old one (a bake: rare)
+  m.terrain = {};
+  if (t.empty() || t.resolution == 0) return;
+  if (std::abs(t.size.x - t.size.y) > 1e-3f * t.size.x)
+    fail("envelope clouds: the terrain under the maps must be square (%.1f x %.1f m)", t.size.x, t.size.y);
+  std::vector<float> heights(t.texels.size());
+  // Sea level where no triangle covers a texel: the bake sets the envelope there on the sea (envelope_pass.cpp).
+  for (size_t i = 0; i < heights.size(); ++i) heights[i] = std::max(t.texels[i].x, 0.0f);
+  m.terrain = gpu::Image(m.ctx, gpu::ImageDesc::tex2d(t.resolution, t.resolution, VK_FORMAT_R32_SFLOAT,
+                                                      VK_IMAGE_USAGE_SAMPLED_BIT, 1, "clouds.envelope.terrain"));
+  m.terrain.upload({{heights.data(), heights.size() * sizeof(float)}});
+  m.terrain_origin = t.origin;
+  m.terrain_side = t.size.x;
+  m.shadow_key.clear();
+}
+
+uint32_t EnvelopeLayer::shadow_updates() const { return impl_->shadow_marches; }
+
+CloudFrameInputs::EnvelopeMedium EnvelopeLayer::add_medium(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw,
+                                                           const EnvelopeMarchSettings& march, const CloudFrameInputs& in) {
+  Impl& m = *impl_;
+  if (draw.maps && draw.maps != m.maps) set_maps(draw.maps, in.frame_index + 1);
+  if (!has_maps()) return {};
+  const shared::EnvelopeParams p = m.params(draw, march, in, 0.0f, 1e9f);
+  const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight][2];
+  std::memcpy(ubo.mapped(), &p, sizeof p);
+  CloudFrameInputs::EnvelopeMedium medium;
+  medium.params = ubo.handle();
+  medium.shape = m.import(graph, "clouds.envelope.shape", m.shape);
+  medium.steps = m.import(graph, "clouds.envelope.steps", m.steps);
+  medium.aux = m.import(graph, "clouds.envelope.aux", m.aux);
+  medium.base_noise = m.import(graph, "clouds.envelope.base_noise", m.base);
+  medium.detail_noise = m.import(graph, "clouds.envelope.detail_noise", m.detail);
+  return medium;
+}
+
+namespace {
+
+// A square map on the plane at `height` holding the corners `pts` carried along `l` onto it, one texel of margin (the
+// border stays unshadowed).
+cumulo::render::LightShadowMap square_map(const std::vector<glm::vec2>& pts, float height, uint32_t texels) {
+  glm::vec2 lo(INFINITY), hi(-INFINITY);
+  for (const glm::vec2& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const float side = std::max(std::max(hi.x - lo.x, hi.y - lo.y), 1.0f) * (1.0f + 2.0f / float(std::max(texels, 4u)));
+  cumulo::render::LightShadowMap map;
+  map.origin = 0.5f * (lo + hi) - glm::vec2(0.5f * side);
+  map.size = glm::vec2(side);
+  map.height = height;
+  return map;
+}
+
+}  // namespace
+
+cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::RenderGraph& graph,
+                                                                const EnvelopeDraw& draw,
+                                                                const EnvelopeMarchSettings& march,
+                                                                const CloudFrameInputs& in,
+                                                                const cumulo::render::LightShadowMap& voxel) {
+  Impl& m = *impl_;
+  if (draw.maps && draw.maps != m.maps) set_maps(draw.maps, in.frame_index + 1);
+  const glm::vec3 l = glm::normalize(in.sun_direction);
+  if (!has_maps() || !m.terrain || !in.settings.shadows || l.y < kShadowMinLightHeight || !(m.box_lo.x <= m.box_hi.x))
+    return voxel;
+  if (!m.shadow_pipe) {
+    m.shadow_pipe = &m.library.compute({.shader = "clouds/envelope_shadow.comp", .name = "clouds.envelope_shadow"});
+    m.combine_pipe = &m.library.compute({.shader = "clouds/envelope_shadow_combine.comp", .name = "clouds.envelope_shadow_combine"});
+    for (uint32_t i = 0; i < gpu::kFramesInFlight; ++i)
+      m.shadow_ubo[i] = gpu::Buffer(m.ctx, {sizeof(shared::EnvelopeParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                            gpu::MemoryUsage::Dynamic, "clouds.envelope.shadow_params"});
+  }
+  auto ensure = [&](gpu::Image& img, cumulo::render::PersistentTexture& tex, uint32_t texels, const char* name) {
+    texels = std::clamp(texels, 16u, 4096u);
+    if (img && img.extent().width == texels) return;
+    if (img) m.ctx.wait_idle();
+    img = gpu::Image(m.ctx, gpu::ImageDesc::tex2d(texels, texels, VK_FORMAT_R16_SFLOAT,
+                                                  VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1, name));
+    tex = {name, TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, texels, texels), img.handle(), img.view(),
+           cumulo::render::ResourceState::undefined()};
+    if (&img == &m.env_shadow) m.shadow_key.clear();
+  };
+  ensure(m.env_shadow, m.env_shadow_tex, march.shadow_texels, "clouds.envelope.shadow");
+
+  // The plane: under the envelope's lowest bottom and the voxel clouds' plane (a point between them reads both).
+  const bool with_voxel = voxel.texture.valid();
+  const float height = with_voxel ? std::min(m.box_lo.y, voxel.height) : m.box_lo.y;
+  auto onto_plane = [&](glm::vec3 p) {
+    const glm::vec3 q = p + l * ((height - p.y) / l.y);
+    return glm::vec2(q.x, q.z);
+  };
+  std::vector<glm::vec2> corners;
+  for (int c = 0; c < 8; ++c)
+    corners.push_back(onto_plane(glm::vec3((c & 1) ? m.box_hi.x : m.box_lo.x, (c & 2) ? m.box_hi.y : m.box_lo.y,
+                                           (c & 4) ? m.box_hi.z : m.box_lo.z)));
+  const cumulo::render::LightShadowMap env_map = square_map(corners, height, m.env_shadow.extent().width);
+
+  // The envelope's own map: marched when stale (every frame on a GPU).
+  const shared::EnvelopeParams p = m.params(draw, march, in, 0.0f, 1e9f);
+  const float texel_m = env_map.size.x / float(m.env_shadow.extent().width);
+  const std::vector<float> key = {l.x, l.y, l.z, env_map.origin.x, env_map.origin.y, env_map.size.x, height,
+                                  p.heights.w, p.noise.w, p.heights.z, p.wind.w};
+  const bool stale = march.shadow_every_frame || key != m.shadow_key ||
+                     glm::length(glm::vec3(p.wind) - m.shadow_scroll) > 0.5f * texel_m;
+  TextureHandle env = graph.import_persistent(m.env_shadow_tex);
+  if (stale) {
+    const gpu::Buffer& ubo = m.shadow_ubo[in.slot % gpu::kFramesInFlight];
+    std::memcpy(ubo.mapped(), &p, sizeof p);
+    shared::EnvelopeShadowPush pc{};
+    pc.plane = glm::vec4(env_map.origin, env_map.size);
+    pc.light = glm::vec4(l, height);
+    pc.terrain = glm::vec4(m.terrain_origin, m.terrain_side, std::max(std::min(m.maps->texel_m, texel_m), 1.0f));
+    TextureHandle shape = m.import(graph, "clouds.envelope.shape", m.shape);
+    TextureHandle steps = m.import(graph, "clouds.envelope.steps", m.steps);
+    TextureHandle aux = m.import(graph, "clouds.envelope.aux", m.aux);
+    TextureHandle base = m.import(graph, "clouds.envelope.base_noise", m.base);
+    TextureHandle detail = m.import(graph, "clouds.envelope.detail_noise", m.detail);
+    TextureHandle terrain = m.import(graph, "clouds.envelope.terrain", m.terrain);
+    gpu::Pipeline* pipe = m.shadow_pipe;
+    Impl* mp = &m;
+    const VkBuffer ubo_h = ubo.handle();
+    graph.add_pass("clouds.envelope_shadow", Queue::Compute,
+        [&](PassBuilder& b) {
+          for (TextureHandle t : {shape, steps, aux, base, detail, terrain}) b.read(t, Usage::Sampled);
+          env = b.write(env, Usage::StorageWrite);
+          b.side_effect();  // kept for the frames that reuse it
+        },
+        [mp, pipe, ubo_h, shape, steps, aux, base, detail, terrain, env, pc](PassContext& c) {
+          pipe->bind(c.cmd());
+          gpu::DescriptorWriter()
+              .uniform_buffer(ENV_BINDING_PARAMS, ubo_h, 0, sizeof(shared::EnvelopeParams))
+              .sampled_image(ENV_BINDING_SHAPE, c.view(shape), mp->linear_clamp, c.layout(shape))
+              .sampled_image(ENV_BINDING_STEPS, c.view(steps), mp->nearest_clamp, c.layout(steps))
+              .sampled_image(ENV_BINDING_AUX, c.view(aux), mp->linear_clamp, c.layout(aux))
+              .sampled_image(ENV_BINDING_BASE_NOISE, c.view(base), mp->linear_repeat, c.layout(base))
+              .sampled_image(ENV_BINDING_DETAIL_NOISE, c.view(detail), mp->linear_repeat, c.layout(detail))
+              .sampled_image(ENV_BINDING_TERRAIN, c.view(terrain), mp->linear_clamp, c.layout(terrain))
+              .storage_image(ENV_BINDING_SHADOW_OUT, c.view(env))
+              .push(mp->ctx, c.cmd(), *pipe);
+          pipe->push_constants(c.cmd(), pc);
+          const VkExtent3D e = c.extent(env);
+          pipe->dispatch_threads(c.cmd(), e.width, e.height);
+        });
+    m.shadow_key = key;
+    m.shadow_scroll = glm::vec3(p.wind);
+    ++m.shadow_marches;
+  }
+  cumulo::render::LightShadowMap out = env_map;
+  out.texture = env;
+  if (!with_voxel) return out;
+
+  // With the voxel clouds' map: one map over both footprints on the lower plane.
+  ensure(m.combined_shadow, m.combined_shadow_tex, march.combined_shadow_texels, "clouds.envelope.shadow_combined");
+  const glm::vec2 shift = glm::vec2(l.x, l.z) * ((height - voxel.height) / l.y);  // a voxel-plane point onto this plane
+  const std::vector<glm::vec2> both = {env_map.origin, env_map.origin + env_map.size, voxel.origin + shift,
+                                       voxel.origin + voxel.size + shift};
+  cumulo::render::LightShadowMap combined = square_map(both, height, m.combined_shadow.extent().width);
+  shared::EnvelopeShadowCombinePush pc{};
+  pc.plane = glm::vec4(combined.origin, combined.size);
+  pc.light = glm::vec4(l, height);
+  pc.envelope = glm::vec4(env_map.origin, env_map.size);
+  pc.voxel_plane = glm::vec4(voxel.origin, voxel.size);
+  pc.voxel = glm::vec4(voxel.height, 1.0f, 0.0f, 0.0f);
+  TextureHandle dst = graph.import_persistent(m.combined_shadow_tex);
+  const TextureHandle vox = voxel.texture;
+  gpu::Pipeline* pipe = m.combine_pipe;
+  Impl* mp = &m;
+  graph.add_pass("clouds.envelope_shadow_combine", Queue::Compute,
+      [&](PassBuilder& b) {
+        b.read(env, Usage::Sampled);
+        b.read(vox, Usage::Sampled);
+        dst = b.write(dst, Usage::StorageWrite);
+      },
+      [mp, pipe, env, vox, dst, pc](PassContext& c) {
+        pipe->bind(c.cmd());
+        gpu::DescriptorWriter()
+            .sampled_image(ENV_BINDING_SHADOW_IN, c.view(env), mp->linear_clamp, c.layout(env))
+            .sampled_image(ENV_BINDING_VOXEL_SHADOW, c.view(vox), mp->linear_clamp, c.layout(vox))
+            .storage_image(ENV_BINDING_SHADOW_OUT, c.view(dst))
+            .push(mp->ctx, c.cmd(), *pipe);
+        pipe->push_constants(c.cmd(), pc);
+        const VkExtent3D e = c.extent(dst);
+        pipe->dispatch_threads(c.cmd(), e.width, e.height);
+      });
+  combined.texture = dst;
+  return combined;
 }
 
 bool envelope_in_view(const glm::mat4& view_proj, glm::vec3 lo, glm::vec3 hi) {
@@ -241,7 +444,8 @@ uint64_t EnvelopeLayer::gpu_bytes() const {
   auto bytes = [](const gpu::Image& i, uint64_t texel) {
     return i ? uint64_t(i.extent().width) * i.extent().height * i.extent().depth * texel : 0ull;
   };
-  return bytes(m.base, 4) + bytes(m.detail, 4) + bytes(m.shape, 16) + bytes(m.steps, 16) + bytes(m.aux, 16);
+  return bytes(m.base, 4) + bytes(m.detail, 4) + bytes(m.shape, 16) + bytes(m.steps, 16) + bytes(m.aux, 16) +
+         bytes(m.terrain, 4) + bytes(m.env_shadow, 2) + bytes(m.combined_shadow, 2);
 }
 
 std::vector<glm::vec4> EnvelopeLayer::probe(const EnvelopeDraw& draw, const EnvelopeMarchSettings& march,

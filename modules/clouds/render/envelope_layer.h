@@ -20,8 +20,10 @@
 #include <glm/glm.hpp>
 
 #include "engine/render/graph/render_graph.h"
+#include "engine/render/render_feature.h"
 #include "modules/clouds/envelope/envelope_maps.h"
 #include "modules/clouds/render/cloud_renderer.h"
+#include "modules/clouds/render/terrain_heightfield.h"
 
 namespace cumulo::gpu {
 class Context;
@@ -61,6 +63,12 @@ struct EnvelopeMarchSettings {
   // Not in the talk: its erosion, saturate(noise - (1 - profile)), leaves densities of 0.1-0.3 where the voxel up-rez
   // (sharpened by its pow) leaves 0.5-1, so at the voxel clouds' extinction the envelope's clouds were a thin haze.
   float density_scale = 4.0f;
+  // The envelope's shadow on the terrain (envelope_shadow.comp): texels per side of its own map, and of the map it makes
+  // with the voxel clouds' (the one the geometry reads); marched every frame, or (false: a CPU device) again only when
+  // the light, the draw or the maps changed or the noise scrolled half a texel.
+  uint32_t shadow_texels = 512;
+  uint32_t combined_shadow_texels = 1024;
+  bool shadow_every_frame = true;
 };
 
 // The far pass's block on a device: 1 on a GPU; on a CPU device the voxel clouds' own (2 at 30 Hz, 4 for the 40/60 Hz
@@ -84,6 +92,21 @@ class EnvelopeLayer {
   // Uploads the maps (a new bake); the old textures are kept until the frames in flight are done with them.
   void set_maps(std::shared_ptr<const envelope::EnvelopeMaps> maps, uint64_t frame_index);
   bool has_maps() const;
+  // The terrain the maps were baked over (its heights): where the envelope's shadow falls. Without it, no shadow.
+  void set_terrain(const TerrainHeightfield& terrain);
+
+  // The envelope's shadow on the scene folded into the voxel clouds' map `voxel` (texture invalid: none): the one map
+  // the geometry reads (render::LightShadowMap), on a plane under the envelope. `voxel` unchanged without maps or
+  // terrain, with shadows off, or a light lower than kShadowMinLightHeight.
+  cumulo::render::LightShadowMap add_shadow_passes(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw,
+                                                   const EnvelopeMarchSettings& march, const CloudFrameInputs& in,
+                                                   const cumulo::render::LightShadowMap& voxel);
+  uint32_t shadow_updates() const;  // times the envelope's own shadow map was marched
+
+  // The clouds as a medium for the path tracer (reference_trace.comp ENVELOPE): this frame's parameter block and the
+  // maps and noise imported into `graph`. Invalid without maps.
+  CloudFrameInputs::EnvelopeMedium add_medium(cumulo::render::RenderGraph& graph, const EnvelopeDraw& draw,
+                                              const EnvelopeMarchSettings& march, const CloudFrameInputs& in);
 
   struct Outputs {
     cumulo::render::TextureHandle color;       // RGBA16F: rgb radiance, a transmittance

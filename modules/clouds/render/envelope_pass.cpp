@@ -38,28 +38,28 @@ class EnvelopePass final : public CloudFramePass {
     bake_key_.clear();
   }
 
+  void add_before_scene(cumulo::render::StageContext& stage, const CloudFrame& frame, const CloudFrameInputs& in,
+                        cumulo::render::LightShadowMap& shadow) override {
+    if (frame.envelopes.empty()) return;
+    const EnvelopeFrame& e = frame.envelopes.front();
+    if (!ensure_baked(stage.snapshot, e, in.frame_index)) return;
+    shadow = layer_->add_shadow_passes(stage.graph, draw_for(e), march_for(in), in, shadow);
+  }
+
+  // The path tracer traces the same clouds (cumulo fidelity, cumulo reference).
+  void add_before_reference(cumulo::render::StageContext& stage, const CloudFrame& frame, CloudFrameInputs& in) override {
+    if (frame.envelopes.empty()) return;
+    const EnvelopeFrame& e = frame.envelopes.front();
+    if (!ensure_baked(stage.snapshot, e, in.frame_index)) return;
+    in.envelope_medium = layer_->add_medium(stage.graph, draw_for(e), march_for(in), in);
+  }
+
   void add_before_composite(cumulo::render::StageContext& stage, const CloudFrame& frame, const CloudPassOutputs&,
                             CloudFrameInputs& in) override {
-    if (options_->reference_comparable || frame.envelopes.empty()) return;
+    if (frame.envelopes.empty()) return;
     const EnvelopeFrame& e = frame.envelopes.front();
-    if (!ensure_baked(stage.snapshot, e)) return;
-    EnvelopeDraw draw;
-    draw.maps = maps_;
-    draw.density = e.density;
-    draw.coverage = e.coverage;
-    draw.edge_m = e.edge_m;
-    draw.wind_direction = e.wind_direction;
-    draw.wind_speed = e.wind_speed;
-    EnvelopeMarchSettings march;
-    march.cone_stepping = options_->envelope_cone_stepping;
-    march.split_m = in.settings.split ? in.settings.split_distance_m : 0.0f;
-    march.far_block = options_->envelope_block > 0 ? options_->envelope_block
-                                                   : envelope_block_for_device(cpu_device_, march.split_m > 0.0f);
-    march.near_block = cpu_device_ ? 4u : 1u;
-    // On a CPU device the layer is marched at half the output's size as well (the bank view's far pass cost 12 ms of a
-    // 60 Hz frame at 320x180 marching 1 of 16 pixels at full size); the composite upsamples it depth-aware.
-    if (cpu_device_) march.resolution_scale = 0.5f;
-    const EnvelopeLayer::Outputs o = layer_->add_passes(stage.graph, draw, march, in, stage.depth);
+    if (!ensure_baked(stage.snapshot, e, in.frame_index)) return;
+    const EnvelopeLayer::Outputs o = layer_->add_passes(stage.graph, draw_for(e), march_for(in), in, stage.depth);
     in.envelope_color = o.color;
     in.envelope_depth = o.depth;
     in.envelope_near_color = o.near_color;
@@ -69,9 +69,34 @@ class EnvelopePass final : public CloudFramePass {
   cumulo::render::TextureHandle add_passes(const CloudFramePassContext& c) override { return c.stage.hdr; }
 
  private:
+  EnvelopeDraw draw_for(const EnvelopeFrame& e) const {
+    EnvelopeDraw draw;
+    draw.maps = maps_;
+    draw.density = e.density;
+    draw.coverage = e.coverage;
+    draw.edge_m = e.edge_m;
+    draw.wind_direction = e.wind_direction;
+    draw.wind_speed = e.wind_speed;
+    return draw;
+  }
+  EnvelopeMarchSettings march_for(const CloudFrameInputs& in) const {
+    EnvelopeMarchSettings march;
+    march.cone_stepping = options_->envelope_cone_stepping;
+    march.split_m = in.settings.split ? in.settings.split_distance_m : 0.0f;
+    march.far_block = options_->envelope_block > 0 ? options_->envelope_block
+                                                   : envelope_block_for_device(cpu_device_, march.split_m > 0.0f);
+    march.near_block = cpu_device_ ? 4u : 1u;
+    // On a CPU device the layer is marched at half the output's size as well (the bank view's far pass cost 12 ms of a
+    // 60 Hz frame at 320x180 marching 1 of 16 pixels at full size); the composite upsamples it depth-aware.
+    if (cpu_device_) march.resolution_scale = 0.5f;
+    // Its shadow on the terrain: marched again only when something changed (or the noise scrolled half a texel).
+    if (cpu_device_) march.shadow_texels = 256, march.combined_shadow_texels = 512, march.shadow_every_frame = false;
+    return march;
+  }
+
   // The maps of `e`'s component, baked over the snapshot's terrain when its spec changed. A bake that fails the first
   // time stops the run (the error names the file and the place); later (an edit) it keeps the last good maps.
-  bool ensure_baked(const cumulo::render::FrameSnapshot& snapshot, const EnvelopeFrame& e) {
+  bool ensure_baked(const cumulo::render::FrameSnapshot& snapshot, const EnvelopeFrame& e, uint64_t frame_index) {
     if (!e.spec) return false;
     if (maps_ && e.bake_key == bake_key_) return true;
     if (failed_key_ == e.bake_key) return bool(maps_);
@@ -82,7 +107,9 @@ class EnvelopePass final : public CloudFramePass {
         pending_key_ = e.bake_key;
         pending_frames_ = 0;
       }
-      if (++pending_frames_ < kSettleFrames) return true;
+      // Called before the scene and again before the composite: one count per frame.
+      if (frame_index != pending_frame_) pending_frame_ = frame_index, ++pending_frames_;
+      if (pending_frames_ < kSettleFrames) return true;
     }
     try {
       const auto start = std::chrono::steady_clock::now();
@@ -93,6 +120,7 @@ class EnvelopePass final : public CloudFramePass {
       auto height = [&terrain](float x, float z) { return std::max(terrain.height_at(x, z, 0.0f), 0.0f); };
       auto maps = std::make_shared<envelope::EnvelopeMaps>(envelope::bake_envelope_maps(spec, height));
       maps_ = std::move(maps);
+      layer_->set_terrain(terrain);
       bake_key_ = e.bake_key;
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::fprintf(stderr, "cumulo: envelope clouds (%s): baked %ux%u maps over the terrain in %.2f s\n",
@@ -112,6 +140,7 @@ class EnvelopePass final : public CloudFramePass {
   std::shared_ptr<const envelope::EnvelopeMaps> maps_;
   std::string bake_key_, failed_key_, pending_key_;
   int pending_frames_ = 0;
+  uint64_t pending_frame_ = ~0ull;
 };
 
 }  // namespace

@@ -638,3 +638,23 @@ TEST(RenderGraphCompile, DeclarationErrorsNameThePassAndResource) {
   }
   EXPECT_THROW(RenderGraph({0, 90}), Error);
 }
+
+namespace {
+
+// A read-only import two passes share is found again by its name and image; another image or name is not.
+TEST(RenderGraphCompile, FindImportReturnsTheSameReadOnlyImport) {
+  RenderGraph g(kSize);
+  VkImage a = reinterpret_cast<VkImage>(uintptr_t(0x10)), b = reinterpret_cast<VkImage>(uintptr_t(0x20));
+  const TextureDesc desc = TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, 8, 8);
+  EXPECT_FALSE(g.find_import("maps", a).valid());
+  const TextureHandle h = g.import_texture("maps", desc, a, VK_NULL_HANDLE, ResourceState::shader_read_only());
+  const TextureHandle again = g.find_import("maps", a);
+  ASSERT_TRUE(again.valid());
+  EXPECT_EQ(again.index, h.index);
+  EXPECT_FALSE(g.find_import("maps", b).valid());
+  EXPECT_FALSE(g.find_import("other", a).valid());
+  g.create_texture("maps (transient)", desc);
+  EXPECT_FALSE(g.find_import("maps (transient)", VK_NULL_HANDLE).valid());
+}
+
+}  // namespace

@@ -6,7 +6,9 @@
 #include <cmath>
 
 #include "engine/core/json.h"
+#include "engine/gpu/readback.h"
 #include "modules/clouds/envelope/envelope_bake.h"
+#include "modules/clouds/reference/reference_tracer.h"
 #include "modules/clouds/render/envelope_layer.h"
 #include "modules/clouds/scene/cloudscape_assets.h"
 #include "tests/modules/clouds/render/cloud_test_util.h"
@@ -25,6 +27,22 @@ const char* kSpec = R"({
   ]})";
 
 float hill(float x, float z) { return 300.0f * std::exp(-(x * x + z * z) / (2.0f * 350.0f * 350.0f)); }
+
+// The hill as the renderer's terrain (texel centres) over the maps' square.
+TerrainHeightfield hill_terrain(uint32_t n) {
+  TerrainHeightfield t;
+  t.resolution = n;
+  t.origin = glm::vec2(-1000.0f);
+  t.size = glm::vec2(2000.0f);
+  t.texels.resize(size_t(n) * n);
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const float x = t.origin.x + (i + 0.5f) * t.size.x / n, z = t.origin.y + (j + 0.5f) * t.size.y / n;
+      t.texels[size_t(j) * n + i] = glm::vec4(hill(x, z), 0.3f, 0.3f, 0.3f);
+    }
+  t.min_height = 0.0f, t.max_height = 300.0f;
+  return t;
+}
 
 std::shared_ptr<const envelope::EnvelopeMaps> test_maps() {
   static std::shared_ptr<const envelope::EnvelopeMaps> maps = [] {
@@ -62,14 +80,13 @@ class EnvelopeLayerTest : public CloudRenderFixture {
 
   // The envelope layer alone (one pass at full resolution): colour and depth (x opacity-0.5 distance, y density
   // samples, z the ray's end, w steps).
-  Frame march(const scene::CameraView& cam, bool cone) {
+  Frame march(const scene::CameraView& cam, bool cone, EnvelopeMarchSettings m = {}) {
     using namespace cumulo::render;
     RenderGraph g({width_, height_});
     const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
                                                  depth_.handle(), depth_.view(), ResourceState::shader_read_only());
     EnvelopeDraw draw;
     draw.maps = test_maps();
-    EnvelopeMarchSettings m;
     m.cone_stepping = cone;
     m.max_steps = 4096;  // both reach the far side: the counts compare placements, not a budget
     const EnvelopeLayer::Outputs o = layer_->add_passes(g, draw, m, env_inputs(cam), depth);
@@ -116,6 +133,30 @@ class EnvelopeLayerTest : public CloudRenderFixture {
     double s = 0;
     for (const glm::vec4& c : f.color) s += 1.0 - c.a;
     return s / double(f.color.size());
+  }
+
+  // A square R16F texture read back (the shadow maps).
+  std::vector<float> read_r16f(cumulo::render::RenderGraph& g, cumulo::render::TextureHandle tex, uint32_t n) {
+    using namespace cumulo::render;
+    gpu::Buffer rb(ctx(), {VkDeviceSize(n) * n * 2, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::Readback, "test.rb_r16f"});
+    BufferHandle h = g.import_buffer("test.rb_r16f", rb.handle(), rb.size(), ResourceState::host_read(), ResourceState::host_read());
+    g.add_pass("test.readback_r16f", Queue::Graphics,
+        [&](PassBuilder& b) {
+          b.read(tex, Usage::TransferSrc);
+          h = b.write(h, Usage::TransferDst);
+        },
+        [tex, h, n](PassContext& c) {
+          VkBufferImageCopy r{};
+          r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+          r.imageExtent = {n, n, 1};
+          vkCmdCopyImageToBuffer(c.cmd(), c.image(tex), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(h), 1, &r);
+        });
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { executor_->execute(g, cmd); });
+    std::vector<uint16_t> halfs(size_t(n) * n);
+    rb.download(halfs.data(), halfs.size() * 2);
+    std::vector<float> out(halfs.size());
+    for (size_t i = 0; i < out.size(); ++i) out[i] = gpu::half_to_float(halfs[i]);
+    return out;
   }
 
   std::unique_ptr<EnvelopeLayer> layer_;
@@ -188,6 +229,159 @@ TEST_F(EnvelopeLayerTest, ConeSteppingNeverStepsOverCloudAndTakesFewerSteps) {
     EXPECT_NEAR(coverage(cone), coverage(fixed), 0.01) << v.name;
     EXPECT_GT(ratio, v.min_ratio) << v.name;
   }
+}
+
+// The envelope's shadow on the terrain: each texel of its map is the light's transmittance along its ray from the first
+// terrain it meets coming down to the envelope's top, against the same integral on the CPU (fine steps through the
+// GPU's own density, probed); folded into a voxel clouds' map it multiplies it.
+TEST_F(EnvelopeLayerTest, TheShadowOnTheTerrainIsTheLightsTransmittanceThroughTheEnvelope) {
+  using namespace cumulo::render;
+  constexpr uint32_t kTexels = 48;
+  layer_->set_terrain(hill_terrain(256));
+  EnvelopeDraw draw;
+  draw.maps = test_maps();
+  EnvelopeMarchSettings m;
+  m.detail_erosion = 0.0f;  // the probe's density is then the light samples' (no high-frequency erosion)
+  m.shadow_texels = kTexels;
+  m.combined_shadow_texels = kTexels;
+  const CloudFrameInputs in = env_inputs(camera());
+  const glm::vec3 l = glm::normalize(in.sun_direction);
+  RenderGraph g({width_, height_});
+  const LightShadowMap map = layer_->add_shadow_passes(g, draw, m, in, LightShadowMap{});
+  ASSERT_TRUE(map.texture.valid());
+  const std::vector<float> gpu = read_r16f(g, map.texture, kTexels);
+
+  // The CPU's integral at every third texel: 2 m steps from the top down to the hill.
+  std::vector<glm::vec3> points;
+  std::vector<std::pair<size_t, size_t>> spans;  // per texel checked: its points [first, last)
+  std::vector<size_t> texels;
+  const float top = test_maps()->max_top, dt = 2.0f;
+  for (uint32_t j = 1; j < kTexels; j += 3)
+    for (uint32_t i = 1; i < kTexels; i += 3) {
+      const glm::vec2 xz = map.origin + (glm::vec2(i, j) + 0.5f) / float(kTexels) * map.size;
+      const glm::vec3 q(xz.x, map.height, xz.y);
+      const size_t first = points.size();
+      for (float t = (top - q.y) / l.y - 0.5f * dt; t > 0.0f; t -= dt) {
+        const glm::vec3 p = q + l * t;
+        if (p.y < hill(p.x, p.z)) break;
+        points.push_back(p);
+      }
+      spans.emplace_back(first, points.size());
+      texels.push_back(size_t(j) * kTexels + i);
+    }
+  const std::vector<glm::vec4> density = layer_->probe(draw, m, in, points);
+  double err = 0.0, worst = 0.0;
+  int shadowed = 0, clear = 0;
+  for (size_t k = 0; k < texels.size(); ++k) {
+    double od = 0.0;
+    for (size_t i = spans[k].first; i < spans[k].second; ++i) od += density[i].x * dt;
+    const double cpu = std::exp(-od * in.settings.extinction);
+    const double e = std::abs(cpu - gpu[texels[k]]);
+    err += e, worst = std::max(worst, e);
+    if (cpu < 0.5) ++shadowed;
+    if (cpu > 0.999) ++clear;
+  }
+  err /= double(texels.size());
+  std::printf("envelope shadow: %zu texels, %d in shadow (T < 0.5), %d clear; |GPU - CPU| mean %.4f, worst %.4f\n",
+              texels.size(), shadowed, clear, err, worst);
+  EXPECT_GT(shadowed, 10);
+  EXPECT_GT(clear, 10);
+  EXPECT_LT(err, 0.02);
+  EXPECT_LT(worst, 0.15);
+
+  // Folded into a voxel clouds' map (0.5 everywhere, on a plane 800 m up): 0.5 x the envelope's where it covers.
+  const uint16_t half = 0x3800;  // 0.5
+  const std::vector<uint16_t> halves(16, half);
+  gpu::Image voxel_img(ctx(), gpu::ImageDesc::tex2d(4, 4, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1, "test.voxel_shadow"));
+  voxel_img.upload({{halves.data(), halves.size() * 2}});
+  RenderGraph g2({width_, height_});
+  LightShadowMap voxel;
+  voxel.texture = g2.import_texture("test.voxel_shadow", TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, 4, 4), voxel_img.handle(),
+                                    voxel_img.view(), ResourceState::shader_read_only());
+  voxel.origin = glm::vec2(-3000.0f, -3000.0f);
+  voxel.size = glm::vec2(3000.0f);  // the quarter x, z < 0 on its plane
+  voxel.height = 800.0f;
+  const LightShadowMap both = layer_->add_shadow_passes(g2, draw, m, in, voxel);
+  ASSERT_TRUE(both.texture.valid());
+  EXPECT_LE(both.height, map.height);
+  const std::vector<float> combined = read_r16f(g2, both.texture, kTexels);
+  int checked_half = 0, checked_env = 0;
+  for (uint32_t j = 0; j < kTexels; ++j)
+    for (uint32_t i = 0; i < kTexels; ++i) {
+      const glm::vec2 xz = both.origin + (glm::vec2(i, j) + 0.5f) / float(kTexels) * both.size;
+      const glm::vec2 on_voxel = xz + glm::vec2(l.x, l.z) * ((voxel.height - both.height) / l.y);
+      const bool in_voxel = on_voxel.x > -2990.0f && on_voxel.x < -10.0f && on_voxel.y > -2990.0f && on_voxel.y < -10.0f;
+      const bool out_voxel = on_voxel.x > 10.0f || on_voxel.y > 10.0f;
+      const glm::vec2 uv = (xz - map.origin) / map.size * float(kTexels) - 0.5f;
+      const bool outside_env = uv.x < -1.0f || uv.y < -1.0f || uv.x > kTexels || uv.y > kTexels;
+      if (in_voxel && outside_env) {
+        EXPECT_NEAR(combined[size_t(j) * kTexels + i], 0.5f, 2e-3f);
+        ++checked_half;
+      } else if (out_voxel && !outside_env && uv.x > 1 && uv.y > 1 && uv.x < kTexels - 2 && uv.y < kTexels - 2) {
+        // Bilinear in the envelope's map: within its neighbours' range.
+        const int x0 = int(uv.x), y0 = int(uv.y);
+        float lo = 1.0f, hi = 0.0f;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const float v = gpu[size_t(y0 + dy) * kTexels + size_t(x0 + dx)];
+            lo = std::min(lo, v), hi = std::max(hi, v);
+          }
+        EXPECT_GE(combined[size_t(j) * kTexels + i], lo - 2e-3f);
+        EXPECT_LE(combined[size_t(j) * kTexels + i], hi + 2e-3f);
+        ++checked_env;
+      }
+    }
+  EXPECT_GT(checked_half, 50);
+  EXPECT_GT(checked_env, 50);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// The path tracer traces the envelope's clouds (reference_trace.comp ENVELOPE): the view rays' transmittance, a
+// ratio-tracking estimate through the same density, is the real-time march's, under the majorant everywhere.
+TEST_F(EnvelopeLayerTest, ThePathTracerTracesTheSameEnvelope) {
+  using namespace cumulo::render;
+  set_size(48, 27);
+  const scene::CameraView cam = camera({700.0f, 1200.0f, 900.0f}, {0.0f, 300.0f, 0.0f}, 60.0f);
+  CloudFrameInputs in = env_inputs(cam);
+  EnvelopeDraw draw;
+  draw.maps = test_maps();
+  EnvelopeMarchSettings m;
+  m.max_steps = 4096;
+  m.step_m = 2.0f, m.step_growth = 0.0f;  // fine steps: the march's own error well under the estimate's noise
+  const Frame rt = march(cam, true, m);
+  ReferenceTracer tracer(ctx(), *library_);
+  tracer.settings().max_bounces = 4;
+  tracer.settings().samples_per_frame = 16;
+  tracer.settings().uniform_sky = 0.5f;
+  tracer.reset();
+  for (int f = 0; f < 2; ++f) {
+    RenderGraph g({width_, height_});
+    const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
+                                                 depth_.handle(), depth_.view(), ResourceState::shader_read_only());
+    TextureHandle hdr = g.create_texture("hdr", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT));
+    in.envelope_medium = layer_->add_medium(g, draw, m, in);
+    ASSERT_TRUE(in.envelope_medium.valid());
+    hdr = tracer.add_passes(g, in, CloudLightOutputs{}, hdr, depth);
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { executor_->execute(g, cmd); });
+  }
+  const ReferenceImage img = tracer.read();
+  ASSERT_EQ(img.radiance.size(), rt.color.size());
+  double diff = 0.0, cover = 0.0, lit = 0.0;
+  for (size_t i = 0; i < rt.color.size(); ++i) {
+    const double a_rt = 1.0 - rt.color[i].a;
+    diff += std::abs(a_rt - img.radiance[i].a);
+    cover += a_rt;
+    if (a_rt > 0.9) lit += img.radiance[i].r + img.radiance[i].g + img.radiance[i].b;
+  }
+  diff /= double(rt.color.size());
+  cover /= double(rt.color.size());
+  std::printf("envelope traced: cloud cover %.3f, |opacity reference - march| mean %.4f, majorant violations %.0f\n", cover,
+              diff, img.majorant_violations);
+  EXPECT_GT(cover, 0.05);
+  EXPECT_LT(diff, 0.03);
+  EXPECT_EQ(img.majorant_violations, 0.0);
+  EXPECT_GT(lit, 0.0);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
 }  // namespace
