@@ -20,7 +20,10 @@ constexpr float kCameraCutMetres = 200.0f;
 }  // namespace
 
 void CloudFeature::on_level_loaded(bool has_cloudscapes, bool has_weather_scheduler, bool has_orographic_clouds) {
-  if (has_cloudscapes && noise_file_.empty()) noise_file_ = prepare_voxel_noise(options_.noise_size);
+  // The renderer's resources (its composite) serve the 2.5D sky and the envelope clouds too: a level with either and no
+  // cloudscape still gets them.
+  if ((has_cloudscapes || has_weather_scheduler || has_orographic_clouds) && noise_file_.empty())
+    noise_file_ = prepare_voxel_noise(options_.noise_size);
   level_.has_weather_scheduler = has_weather_scheduler;
   level_.has_orographic_clouds = has_orographic_clouds;
 }
@@ -29,7 +32,7 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   ctx_ = &g.ctx;
   library_ = &g.library;
   cache_ = std::make_unique<CloudAssetCache>(g.ctx);
-  if (noise_file_.empty()) return;  // the level has no cloudscape
+  if (noise_file_.empty()) return;  // the level has no clouds
   // The talk's 256x256x32 grid, or on CPU devices a smaller one (its eighth per frame would cost about
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
   CloudResourcesDesc desc = options_.talk_light_grid ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
@@ -98,7 +101,8 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   using cumulo::render::Stage;
   if (stage == Stage::AfterTonemap || !options_.enabled || !resources_) return;
   const CloudFrame* frame = f.snapshot.extensions.find<CloudFrame>();
-  if (!frame || frame->instances.empty()) return;
+  // Without voxel instances the 2.5D sky and the envelope clouds still draw (the renderer composites them alone).
+  if (!frame) return;
   // Before the scene: the light grid and the shadow map (the geometry reads it); after it, the rest.
   if (stage == Stage::BeforeScene) {
     inputs_ = frame_inputs(f, *frame);

@@ -112,6 +112,8 @@ struct CloudResources {
   // passes, 3 one layer below the output's size)]
   gpu::Pipeline* composite_pipes[2][2][2][2][4] = {};
   gpu::Pipeline* shadow_pipe = nullptr;
+  // A frame without voxel instances (the 2.5D sky or the envelope clouds alone): the composite's light grid.
+  gpu::Image empty_grid;
   // The clouds' shadow map (persistent; recomputed when the grid or the plane changes).
   gpu::Image shadow_image;
   cumulo::render::PersistentTexture shadow_texture;

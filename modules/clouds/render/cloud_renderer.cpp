@@ -399,10 +399,56 @@ CloudLightOutputs add_cloud_light_passes(CloudResources& res, RenderGraph& graph
   return out;
 }
 
+namespace {
+
+// No voxel instance this frame: the layers that join the composite (the 2.5D sky, the envelope clouds) are composited
+// over the scene alone, the voxel clouds' colour and depth standing in as empty (transmittance 1, no depth).
+TextureHandle add_layers_only(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
+                              TextureHandle depth, CloudPassOutputs* outputs, const BeforeComposite& before_composite) {
+  if (outputs) *outputs = {};
+  if (!before_composite) return hdr;
+  CloudFrameInputs layers = in;
+  before_composite(CloudPassOutputs{}, layers);
+  if (!layers.sky_color.valid() && !layers.envelope_color.valid()) return hdr;
+  if (!res.empty_grid) {
+    const uint32_t zero = 0;
+    res.empty_grid = gpu::Image(res.ctx, gpu::ImageDesc::tex3d(1, 1, 1, VK_FORMAT_R16G16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
+                                                              "clouds.empty_grid"));
+    res.empty_grid.upload({{&zero, sizeof zero}});
+  }
+  TextureDesc grid_desc = TextureDesc::absolute(VK_FORMAT_R16G16_SFLOAT, 1, 1, 1);
+  grid_desc.type = cumulo::render::ImageType::Image3D;
+  CloudLightOutputs light;
+  light.grid = graph.import_texture("clouds.empty_grid", grid_desc, res.empty_grid.handle(), res.empty_grid.view(),
+                                    cumulo::render::ResourceState::shader_read_only());
+  const float scale = in.resolution_scale;
+  TextureHandle color = graph.create_texture("clouds.none.color", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT, scale));
+  TextureHandle cdepth = graph.create_texture("clouds.none.depth", TextureDesc::relative(kDepthFormat, scale));
+  graph.add_pass("clouds.none", Queue::Graphics,
+      [&](PassBuilder& b) {
+        color = b.write(color, Usage::TransferDst);
+        cdepth = b.write(cdepth, Usage::TransferDst);
+      },
+      [color, cdepth](PassContext& c) {
+        const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        VkClearColorValue none{};
+        none.float32[3] = 1.0f;  // nothing drawn: transmittance 1
+        vkCmdClearColorImage(c.cmd(), c.image(color), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &none, 1, &all);
+        VkClearColorValue far{};
+        far.float32[0] = 1e6f;  // no half-opacity depth
+        far.float32[2] = 1e6f;
+        vkCmdClearColorImage(c.cmd(), c.image(cdepth), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &far, 1, &all);
+      });
+  const VkBuffer ubo = write_params(res, layers, march_extent(graph, in), false, {});
+  return add_composite_pass(res, graph, layers, light, color, cdepth, depth, hdr, ubo);
+}
+
+}  // namespace
+
 TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& in, TextureHandle hdr,
                                TextureHandle depth, CloudPassOutputs* outputs, const CloudLightOutputs* light,
                                const BeforeComposite& before_composite) {
-  if (in.instances.empty()) return hdr;
+  if (in.instances.empty()) return add_layers_only(res, graph, in, hdr, depth, outputs, before_composite);
   CloudLightOutputs own;
   if (!light) {
     own = add_cloud_light_passes(res, graph, in);

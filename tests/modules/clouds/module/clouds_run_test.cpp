@@ -375,3 +375,28 @@ TEST_F(CloudsRun, RainFallsUnderAPrecipitatingCloudAndStopsWithDissipation) {
 }
 
 }  // namespace
+
+// A level with orographic clouds and no cloudscape (no terrain either: the envelope sits on the sea) draws them: the
+// renderer composites the envelope alone, the voxel clouds standing in as empty.
+TEST_F(CloudsRun, OrographicCloudsDrawInALevelWithoutACloudscape) {
+  const fs::path file = dir_ / "envelope_only.json";
+  write_file_atomic(file, R"({"version": 1, "name": "envelope-only", "entities": [
+    {"name": "sun", "components": {"TimeOfDay": {"hours": 12}}},
+    {"name": "cap", "components": {"OrographicClouds": {"extent": {"min": [-600, -600], "max": [600, 600]},
+      "resolution": 64, "rules": [{"type": "cap", "center": [0, 0], "radius_m": 400, "base_m": 100, "top_m": 400}]}}},
+    {"name": "cam", "components": {"Transform": {"position": [0, 250, 700], "look_at": [0, 250, 0]}, "Camera": {}}}]})");
+  ASSERT_EQ(run(file, "on.png", {}, 8), 0);  // 3: validation errors
+  ASSERT_EQ(run(file, "off.png", {"--envelope", "off"}, 8), 0);
+  const Png on = load_png(dir_ / "on.png"), off = load_png(dir_ / "off.png");
+  ASSERT_EQ(on.w, 160);
+  double centre = 0;
+  for (int y = 35; y < 55; ++y)
+    for (int x = 70; x < 90; ++x)
+      for (int c = 0; c < 3; ++c) centre += std::abs(on.at(x, y, c) - off.at(x, y, c));
+  EXPECT_GT(centre / (20.0 * 20 * 3), 10.0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(on.at(1, 1, c), off.at(1, 1, c), 3) << c;
+  const std::string g = read_file_text(dir_ / "on.png.txt");
+  EXPECT_NE(g.find("clouds.envelope"), std::string::npos);
+  EXPECT_NE(g.find("clouds.composite"), std::string::npos);
+  EXPECT_EQ(g.find("clouds.march"), std::string::npos);
+}
