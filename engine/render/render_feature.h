@@ -59,6 +59,7 @@ struct LightShadowMap {
   glm::vec2 origin{0.0f};       // world x, z of texel (0, 0)'s corner
   glm::vec2 size{1.0f};         // m covered along x and z
   float height = 0.0f;          // world y of the plane
+  uint64_t version = 0;         // changes when the texture's content does (a reader may cache what it made of it); 0: unknown
 };
 
 // The atmosphere's aerial-perspective froxels (3D RGBA16F, atmosphere_params.h ATMOSPHERE_AERIAL_*; sample

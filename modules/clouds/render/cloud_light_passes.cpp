@@ -434,6 +434,7 @@ void add_shadow_map_pass(CloudResources& res, RenderGraph& graph, const CloudFra
   }
   out.shadow = *plane;
   out.shadow.texture = shadow;
+  out.shadow.version = res.shadow_updates;  // >= 1: recomputed above at least once
 }
 
 }  // namespace cumulo::clouds::render

@@ -98,6 +98,7 @@ struct EnvelopeLayer::Impl {
   cumulo::render::PersistentTexture env_shadow_tex, combined_shadow_tex;
   gpu::Buffer shadow_ubo[gpu::kFramesInFlight];
   std::vector<float> shadow_key;  // what the envelope's own map was marched for
+  std::vector<float> combined_key;  // what the combined map was made of (the voxel map's version, both planes)
   glm::vec3 shadow_scroll{0.0f};
   uint32_t shadow_marches = 0;
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
@@ -314,6 +315,7 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
     tex = {name, TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, texels, texels), img.handle(), img.view(),
            cumulo::render::ResourceState::undefined()};
     if (&img == &m.env_shadow) m.shadow_key.clear();
+    m.combined_key.clear();
   };
   ensure(m.env_shadow, m.env_shadow_tex, march.shadow_texels, "clouds.envelope.shadow");
 
@@ -397,6 +399,13 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
   pc.voxel_plane = glm::vec4(voxel.origin, voxel.size);
   pc.voxel = glm::vec4(voxel.height, 1.0f, 0.0f, 0.0f);
   TextureHandle dst = graph.import_persistent(m.combined_shadow_tex);
+  combined.texture = dst;  // this frame's write (below) replaces the handle
+  // Made again only when an input changed: the envelope's map, the voxel clouds' (its version), either plane.
+  const std::vector<float> ckey = {float(m.shadow_marches), float(voxel.version), voxel.origin.x, voxel.origin.y,
+                                   voxel.size.x, voxel.height, combined.origin.x, combined.origin.y, combined.size.x,
+                                   height, l.x, l.y, l.z};
+  if (voxel.version != 0 && ckey == m.combined_key) return combined;
+  m.combined_key = ckey;
   const TextureHandle vox = voxel.texture;
   gpu::Pipeline* pipe = m.combine_pipe;
   Impl* mp = &m;
@@ -405,6 +414,7 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
         b.read(env, Usage::Sampled);
         b.read(vox, Usage::Sampled);
         dst = b.write(dst, Usage::StorageWrite);
+        b.side_effect();  // kept for the frames that reuse it
       },
       [mp, pipe, env, vox, dst, pc](PassContext& c) {
         pipe->bind(c.cmd());
