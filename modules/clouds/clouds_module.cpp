@@ -72,9 +72,15 @@ void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
   static_cast<const ecs::World&>(world).view<const weather::WeatherScheduler>().each(
       [&](const weather::WeatherScheduler&) { scheduler = true; });
   bool orographic = false;
+  std::string first_orographic;
   world.view<envelope::OrographicClouds>().each([&](ecs::Entity, envelope::OrographicClouds& c) {
+    // One set of envelope maps per level (the renderer bakes one): a second would be dropped without a word.
+    if (orographic)
+      fail("%s: a level holds one OrographicClouds component (%s has one already): put the second's rules in it",
+           c.where.c_str(), first_orographic.c_str());
     envelope::resolve_orographic_clouds(c, level.directory);
     orographic = true;
+    first_orographic = c.where;
   });
   feature_.on_level_loaded(any, scheduler, orographic);
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The OrographicClouds component (issue 24; the 2023 talk's "Envelope Method", seed 000): clouds that live in an
 // envelope between a bottom and a top height given by 2D maps over the terrain (caps over summits, banks on the
-// windward slopes, valley and sea fog), baked by bake_envelope_maps (envelope_bake.h) into EnvelopeMaps.
+// windward slopes, valley and sea fog), baked by bake_envelope_maps (envelope_bake.h) into EnvelopeMaps. One per level
+// (the clouds module refuses a second at load, naming both).
 //
 //   "OrographicClouds": {
 //     "extent": {"min": [-1200, -600], "max": [1200, 1600]},  // world x, z the maps cover (required, max > min)

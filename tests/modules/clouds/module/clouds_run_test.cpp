@@ -396,6 +396,22 @@ TEST_F(CloudsRun, OrographicCloudsDrawInALevelWithoutACloudscape) {
   EXPECT_GT(centre / (20.0 * 20 * 3), 10.0);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(on.at(1, 1, c), off.at(1, 1, c), 3) << c;
   const std::string g = read_file_text(dir_ / "on.png.txt");
+  // A second OrographicClouds component is refused, naming both (the renderer bakes one set of maps).
+  const fs::path two = dir_ / "two_envelopes.json";
+  std::string text = read_file_text(file);
+  const std::string cap = text.substr(text.find(R"({"name": "cap")"), text.find(R"({"name": "cam")") - text.find(R"({"name": "cap")"));
+  std::string cap2 = cap;
+  cap2.replace(cap2.find(R"("cap")"), 5, R"("cap2")");
+  text.insert(text.find(R"({"name": "cam")"), cap2);
+  write_file_atomic(two, text);
+  try {
+    run(two, "two.png", {}, 1);
+    ADD_FAILURE() << "two OrographicClouds components were taken";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("entities[2].components.OrographicClouds"), std::string::npos) << m;
+    EXPECT_NE(m.find("entities[1].components.OrographicClouds"), std::string::npos) << m;
+  }
   EXPECT_NE(g.find("clouds.envelope"), std::string::npos);
   EXPECT_NE(g.find("clouds.composite"), std::string::npos);
   EXPECT_EQ(g.find("clouds.march"), std::string::npos);
