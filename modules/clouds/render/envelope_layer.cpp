@@ -43,8 +43,6 @@ TextureDesc texture_desc(const gpu::Image& img) {
 
 // The ambient at the envelope's bottom, as a share of the top's (the 2.5D sky's 0.35: bases see less sky).
 constexpr float kAmbientBottom = 0.35f;
-// The voxel clouds' boxes: the envelope fades out over this distance before one.
-constexpr float kYieldFadeM = 60.0f;
 
 }  // namespace
 
@@ -127,11 +125,8 @@ struct EnvelopeLayer::Impl {
                           std::max(draw.density, 0.0f) * std::max(m.density_scale, 0.0f));
     p.noise = glm::vec4(std::max(m.noise_tile_m, 1.0f), std::max(m.detail_tile_m, 1.0f),
                         std::clamp(m.detail_erosion, 0.0f, 1.0f), std::clamp(draw.coverage, 0.0f, 1.0f));
-    const float wl = glm::length(draw.wind_direction);
-    const glm::vec3 wind = wl > 0.0f ? draw.wind_direction / wl : glm::vec3(1.0f, 0.0f, 0.0f);
-    // The scroll wraps at a multiple of the noise's tile, so float precision holds over hours.
-    const float scroll = float(std::fmod(double(draw.wind_speed) * in.time, double(m.noise_tile_m) * 64.0));
-    p.wind = glm::vec4(wind * scroll, s.extinction);
+    p.wind = glm::vec4(envelope::envelope_scroll(draw.wind_direction, draw.wind_speed, m.noise_tile_m, in.time),
+                       s.extinction);
     p.march = glm::vec4(std::max(m.step_m, 0.5f), std::max(m.step_growth, 0.0f), float(std::max(m.max_steps, 1u)),
                         std::max(m.light_step_m, 1.0f));
     p.stepping = glm::vec4(m.cone_stepping ? 1.0f : 0.0f, m.draw_distance_m, std::clamp(s.albedo, 0.0f, 1.0f), segment_start);
@@ -145,7 +140,7 @@ struct EnvelopeLayer::Impl {
       p.yield_max[boxes] = glm::vec4(hi, 0.0f);
       ++boxes;
     }
-    p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), kYieldFadeM);
+    p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), envelope::kYieldFadeM);
     return p;
   }
 

@@ -22,6 +22,7 @@
 #include "engine/render/graph/render_graph.h"
 #include "engine/render/render_feature.h"
 #include "modules/clouds/envelope/envelope_maps.h"
+#include "modules/clouds/envelope/envelope_query.h"
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/render/terrain_heightfield.h"
 
@@ -58,14 +59,10 @@ struct EnvelopeMarchSettings {
   // 20 ms at 1 of 16): envelope_block_for_device.
   uint32_t far_block = 1;
   uint32_t near_block = 1;  // the same for the split's near pass (a CPU device: 4, as the voxel clouds' near segment)
-  // The base noise's tile: at 600 m the envelope's outlines were smooth sausages (cloud_shape.py roughness of the
-  // envelope alone at 640x360: ground 1.24, mixed 1.28, bank 1.08); at 300 m its billows reach the 20-80 m of a
-  // silhouette's bumps seen from a kilometre (1.40, 1.31, 1.29; the backlit cap from `peak` 1.21 -> 1.17 either way).
-  float noise_tile_m = 300.0f, detail_tile_m = 80.0f;
-  float detail_erosion = 0.6f;  // 0: the talk's up-rez alone
-  // Not in the talk: its erosion, saturate(noise - (1 - profile)), leaves densities of 0.1-0.3 where the voxel up-rez
-  // (sharpened by its pow) leaves 0.5-1, so at the voxel clouds' extinction the envelope's clouds were a thin haze.
-  float density_scale = 4.0f;
+  // The up-rez (envelope_query.h documents the constants).
+  float noise_tile_m = envelope::kNoiseTileM, detail_tile_m = envelope::kDetailTileM;
+  float detail_erosion = envelope::kDetailErosion;  // 0: the talk's up-rez alone
+  float density_scale = envelope::kDensityScale;
   // The envelope's shadow on the terrain (envelope_shadow.comp): texels per side of its own map, and of the map it makes
   // with the voxel clouds' (the one the geometry reads); marched every frame, or (false: a CPU device) again only when
   // the light, the draw or the maps changed or the noise scrolled half a texel.

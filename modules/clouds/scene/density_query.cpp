@@ -13,29 +13,6 @@
 namespace cumulo::clouds {
 namespace {
 
-// A GPU sampler's trilinear fetch of component c at normalized uvw (texel centres at (i + 0.5) / n):
-// clamp-to-edge, or repeat for the tiling noise.
-float trilinear(const Volume& v, glm::vec3 uvw, uint32_t c, bool repeat) {
-  const glm::ivec3 n(v.size);
-  const glm::vec3 p = uvw * glm::vec3(n) - 0.5f;
-  const glm::vec3 f0 = glm::floor(p);
-  const glm::vec3 w = p - f0;
-  const glm::ivec3 i0(f0);
-  auto coord = [&](int i, int size) {
-    if (repeat) return ((i % size) + size) % size;
-    return std::clamp(i, 0, size - 1);
-  };
-  float out = 0.0f;
-  for (int k = 0; k < 8; ++k) {
-    const glm::ivec3 o((k & 1), (k >> 1) & 1, (k >> 2) & 1);
-    const float weight = (o.x ? w.x : 1.0f - w.x) * (o.y ? w.y : 1.0f - w.y) * (o.z ? w.z : 1.0f - w.z);
-    if (weight == 0.0f) continue;
-    out += weight * v.texel(uint32_t(coord(i0.x + o.x, n.x)), uint32_t(coord(i0.y + o.y, n.y)),
-                            uint32_t(coord(i0.z + o.z, n.z)), c);
-  }
-  return out;
-}
-
 float saturate(float x) { return std::clamp(x, 0.0f, 1.0f); }
 
 }  // namespace
@@ -78,19 +55,19 @@ float CloudDensityQuery::density(const CloudPlacement& p, glm::vec3 world, doubl
   const glm::vec3 asset = glm::vec3(glm::inverse(placement_matrix(p)) * glm::vec4(world, 1.0f));
   const glm::vec3 uvw = (asset - modeling_.bounds_min) / (modeling_.bounds_max - modeling_.bounds_min);
   if (glm::any(glm::lessThan(uvw, glm::vec3(0.0f))) || glm::any(glm::greaterThan(uvw, glm::vec3(1.0f)))) return 0.0f;
-  float profile = trilinear(modeling_, uvw, profile_, false);
-  const float type = trilinear(modeling_, uvw, type_, false);
-  const float density_scale = trilinear(modeling_, uvw, scale_, false);
+  float profile = sample_trilinear(modeling_, uvw, profile_, false);
+  const float type = sample_trilinear(modeling_, uvw, type_, false);
+  const float density_scale = sample_trilinear(modeling_, uvw, scale_, false);
   // Dissipation and coverage: the same re-ranging as cloud_common.glsl's modeling_data().
   const float dissipated = saturate(std::clamp(p.dissipation, 0.0f, 1.0f) * (1.5f + (1.0f - 1.5f) * type));
-  const float coverage_threshold = coverage_ >= 0 ? trilinear(modeling_, uvw, uint32_t(coverage_), false) : 0.0f;
+  const float coverage_threshold = coverage_ >= 0 ? sample_trilinear(modeling_, uvw, uint32_t(coverage_), false) : 0.0f;
   const float presence = coverage_presence(std::clamp(p.coverage, 0.0f, 1.0f), coverage_threshold);
   const float threshold = dissipated + (1.0f - dissipated) * (1.0f - presence);
   if (threshold > 0.0f) profile = saturate((profile - threshold) / std::max(1.0f - threshold, 1e-4f));
   if (!(profile > 0.0f)) return 0.0f;
   const glm::vec3 n = (asset - wind_offset_asset(p, time)) * 0.01f;  // the noise tiles every 100 m
   float noise[4];
-  for (uint32_t c = 0; c < 4; ++c) noise[c] = trilinear(noise_, n, c, true);
+  for (uint32_t c = 0; c < 4; ++c) noise[c] = sample_trilinear(noise_, n, c, true);
   return uprez_density(noise, profile, type, density_scale) * p.density;
 }
 

@@ -316,4 +316,25 @@ float bc4_decode_texel(const uint8_t* block, uint32_t tx, uint32_t ty) {
   return ((6 - idx) * r0 + (idx - 1) * r1) / 5.0f;
 }
 
+float sample_trilinear(const Volume& v, glm::vec3 uvw, uint32_t c, bool repeat) {
+  const glm::ivec3 n(v.size);
+  const glm::vec3 p = uvw * glm::vec3(n) - 0.5f;
+  const glm::vec3 f0 = glm::floor(p);
+  const glm::vec3 w = p - f0;
+  const glm::ivec3 i0(f0);
+  auto coord = [&](int i, int size) {
+    if (repeat) return ((i % size) + size) % size;
+    return std::clamp(i, 0, size - 1);
+  };
+  float out = 0.0f;
+  for (int k = 0; k < 8; ++k) {
+    const glm::ivec3 o((k & 1), (k >> 1) & 1, (k >> 2) & 1);
+    const float weight = (o.x ? w.x : 1.0f - w.x) * (o.y ? w.y : 1.0f - w.y) * (o.z ? w.z : 1.0f - w.z);
+    if (weight == 0.0f) continue;
+    out += weight * v.texel(uint32_t(coord(i0.x + o.x, n.x)), uint32_t(coord(i0.y + o.y, n.y)),
+                            uint32_t(coord(i0.z + o.z, n.z)), c);
+  }
+  return out;
+}
+
 }  // namespace cumulo::clouds

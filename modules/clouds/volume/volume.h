@@ -119,6 +119,10 @@ struct Volume {
   void validate(std::string_view what) const;
 };
 
+// A GPU sampler's trilinear fetch of component `c` (texel(), level 0) at normalized `uvw` (texel centres at
+// (i + 0.5) / n): clamp-to-edge, or repeat for tiling noise. The CPU side of a density the GPU samples.
+float sample_trilinear(const Volume& v, glm::vec3 uvw, uint32_t c, bool repeat);
+
 // Replaces levels[1..] with a box-filtered chain of `mip_count` levels in total (0: full chain).
 // Averages in the stored 0..1 (or float) domain, so every encoding but BC1 is supported; BC1
 // volumes must be mipped before encoding. For tiling noise, wrap = true filters with wrap-around

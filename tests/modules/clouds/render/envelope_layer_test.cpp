@@ -8,6 +8,7 @@
 #include "engine/core/json.h"
 #include "engine/gpu/readback.h"
 #include "modules/clouds/envelope/envelope_bake.h"
+#include "modules/clouds/envelope/envelope_query.h"
 #include "modules/clouds/reference/reference_tracer.h"
 #include "modules/clouds/render/envelope_layer.h"
 #include "modules/clouds/scene/cloudscape_assets.h"
@@ -229,6 +230,43 @@ TEST_F(EnvelopeLayerTest, ConeSteppingNeverStepsOverCloudAndTakesFewerSteps) {
     EXPECT_NEAR(coverage(cone), coverage(fixed), 0.01) << v.name;
     EXPECT_GT(ratio, v.min_ratio) << v.name;
   }
+}
+
+// The CPU's density query (envelope_query.h) is the GPU's density: at points up through the cap and out over the bank,
+// with the wind's scroll, a weather's coverage and density and a wider edge.
+TEST_F(EnvelopeLayerTest, TheCpuDensityQueryIsTheGpusDensity) {
+  const auto maps = test_maps();
+  EnvelopeDraw draw;
+  draw.maps = maps;
+  draw.density = 1.3f, draw.coverage = 0.8f, draw.edge_m = 50.0f;
+  draw.wind_direction = glm::vec3(1.0f, 0.0f, 0.4f), draw.wind_speed = 7.0f;
+  CloudFrameInputs in = env_inputs(camera());
+  in.time = 123.25;
+  std::vector<glm::vec3> points;
+  for (int k = 0; k < 3000; ++k) {
+    const float a = 0.37f * k, r = 0.15f * k;  // a spiral up through the cap and out over the bank
+    points.emplace_back(r * std::cos(a), 150.0f + 0.15f * k, r * std::sin(a));
+  }
+  const std::vector<glm::vec4> gpu = layer_->probe(draw, {}, in, points);
+  const envelope::EnvelopeDensityQuery q = envelope::EnvelopeDensityQuery::load(maps, prepare_sky_noise());
+  envelope::EnvelopeLook look;
+  look.density = draw.density, look.coverage = draw.coverage, look.edge_m = draw.edge_m;
+  look.wind_direction = draw.wind_direction, look.wind_speed = draw.wind_speed;
+  double err = 0.0, worst = 0.0;
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const float cpu = q.density(look, points[i], in.time);
+    const double e = std::abs(double(cpu) - gpu[i].x);
+    err += e, worst = std::max(worst, e);
+    if (gpu[i].x > 0.05f) ++inside;
+  }
+  err /= double(points.size());
+  std::printf("envelope density query: %zu points, %d in cloud, |CPU - GPU| mean %.5f, worst %.4f (density up to %.1f)\n",
+              points.size(), inside, err, worst, look.density * look.density_scale);
+  EXPECT_GT(inside, 200);
+  EXPECT_LT(err, 2e-3);
+  EXPECT_LT(worst, 0.06);
+  EXPECT_EQ(q.density(look, glm::vec3(5000.0f, 300.0f, 0.0f), in.time), 0.0f);  // off the maps
 }
 
 // The envelope's shadow on the terrain: each texel of its map is the light's transmittance along its ray from the first
