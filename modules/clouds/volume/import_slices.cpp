@@ -122,7 +122,7 @@ SliceStack load_stack(const fs::path& dir) {
   // VDB import): budgeted from the headers before anything is decoded.
   uint64_t pixels = 0, largest = 0;
   for (const fs::path& f : files) {
-    const auto [w, h] = peek_tga_size(f);
+    const auto [w, h] = peek_tga_size(f, {.max_dimension = 4096});
     pixels += uint64_t(w) * h;
     largest = std::max(largest, uint64_t(w) * h);
   }

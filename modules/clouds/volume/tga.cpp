@@ -14,36 +14,57 @@ constexpr size_t kHeaderBytes = 18;
 uint16_t le16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
 }  // namespace
 
+namespace {
+
+// What the header says and where the pixels start, checked against the file's size before anything is allocated:
+// the decoder and the slice budget (peek_tga_size) refuse the same files with the same message.
+struct TgaHeader {
+  uint32_t width = 0, height = 0, bpp = 0, type = 0, descriptor = 0;
+  bool rle = false, gray = false;
+  size_t pos = 0;  // the first pixel byte
+};
+
+TgaHeader parse_header(const uint8_t* h, size_t file_bytes, const char* n, const TgaLimits& limits) {
+  if (file_bytes < kHeaderBytes) fail("%s: truncated TGA: %zu bytes, the header alone is 18", n, file_bytes);
+  TgaHeader t;
+  const uint32_t id_length = h[0], cmap_type = h[1];
+  const uint32_t cmap_length = le16(h + 5), cmap_entry_bits = h[7];
+  t.type = h[2];
+  t.width = le16(h + 12), t.height = le16(h + 14), t.bpp = h[16], t.descriptor = h[17];
+  t.rle = t.type == 10 || t.type == 11;
+  t.gray = t.type == 3 || t.type == 11;
+  if (t.type != 2 && t.type != 3 && t.type != 10 && t.type != 11)
+    fail("%s: unsupported TGA image type %u (need 2/10 truecolor or 3/11 grayscale)", n, t.type);
+  if (cmap_type > 1) fail("%s: bad TGA colour map type %u", n, cmap_type);
+  if (t.gray ? t.bpp != 8 : (t.bpp != 24 && t.bpp != 32))
+    fail("%s: unsupported TGA pixel depth %u for image type %u (need %s)", n, t.bpp, t.type, t.gray ? "8" : "24 or 32");
+  if (t.width == 0 || t.height == 0 || t.width > limits.max_dimension || t.height > limits.max_dimension)
+    fail("%s: TGA size %ux%u (each side must be 1..%u)", n, t.width, t.height, limits.max_dimension);
+  if (t.descriptor & 0xc0) fail("%s: interleaved TGA (descriptor 0x%02x) is not supported", n, t.descriptor);
+
+  t.pos = kHeaderBytes + id_length;
+  if (cmap_type == 1) t.pos += size_t(cmap_length) * ((cmap_entry_bits + 7) / 8);  // unused by truecolor
+  if (t.pos > file_bytes) fail("%s: truncated TGA: image ID / colour map run past the end of the file", n);
+  const uint32_t pixel_bytes = t.bpp / 8;
+  const size_t count = size_t(t.width) * t.height;
+  // Refuse before allocating: raw data needs every pixel, RLE at least one packet per 128 pixels.
+  const size_t min_bytes = t.rle ? (count + 127) / 128 * (1 + pixel_bytes) : count * pixel_bytes;
+  if (file_bytes - t.pos < min_bytes)
+    fail("%s: truncated TGA: %ux%u at %u bits needs %s%zu pixel bytes, file has %zu", n, t.width, t.height, t.bpp,
+         t.rle ? "at least " : "", min_bytes, file_bytes - t.pos);
+  return t;
+}
+
+}  // namespace
+
 Rgba8Image decode_tga(std::span<const uint8_t> bytes, const std::string& name, const TgaLimits& limits) {
   const char* n = name.c_str();
-  if (bytes.size() < kHeaderBytes) fail("%s: truncated TGA: %zu bytes, the header alone is 18", n, bytes.size());
-  const uint8_t* h = bytes.data();
-  const uint32_t id_length = h[0], cmap_type = h[1], type = h[2];
-  const uint32_t cmap_length = le16(h + 5), cmap_entry_bits = h[7];
-  const uint32_t width = le16(h + 12), height = le16(h + 14), bpp = h[16], descriptor = h[17];
-
-  const bool rle = type == 10 || type == 11;
-  const bool gray = type == 3 || type == 11;
-  if (type != 2 && type != 3 && type != 10 && type != 11)
-    fail("%s: unsupported TGA image type %u (need 2/10 truecolor or 3/11 grayscale)", n, type);
-  if (cmap_type > 1) fail("%s: bad TGA colour map type %u", n, cmap_type);
-  if (gray ? bpp != 8 : (bpp != 24 && bpp != 32))
-    fail("%s: unsupported TGA pixel depth %u for image type %u (need %s)", n, bpp, type, gray ? "8" : "24 or 32");
-  if (width == 0 || height == 0 || width > limits.max_dimension || height > limits.max_dimension)
-    fail("%s: TGA size %ux%u (each side must be 1..%u)", n, width, height, limits.max_dimension);
-  if (descriptor & 0xc0) fail("%s: interleaved TGA (descriptor 0x%02x) is not supported", n, descriptor);
-
-  size_t pos = kHeaderBytes + id_length;
-  if (cmap_type == 1) pos += size_t(cmap_length) * ((cmap_entry_bits + 7) / 8);  // unused by truecolor
-  if (pos > bytes.size()) fail("%s: truncated TGA: image ID / colour map run past the end of the file", n);
-
+  const TgaHeader t = parse_header(bytes.data(), bytes.size(), n, limits);
+  const uint32_t width = t.width, height = t.height, bpp = t.bpp, descriptor = t.descriptor;
+  const bool rle = t.rle, gray = t.gray;
+  size_t pos = t.pos;
   const uint32_t pixel_bytes = bpp / 8;
   const size_t count = size_t(width) * height;
-  // Refuse before allocating: raw data needs every pixel, RLE at least one packet per 128 pixels.
-  const size_t min_bytes = rle ? (count + 127) / 128 * (1 + pixel_bytes) : count * pixel_bytes;
-  if (bytes.size() - pos < min_bytes)
-    fail("%s: truncated TGA: %ux%u at %u bits needs %s%zu pixel bytes, file has %zu", n, width, height, bpp,
-         rle ? "at least " : "", min_bytes, bytes.size() - pos);
   std::vector<uint8_t> src(count * pixel_bytes);  // file order, file pixel layout
   if (!rle) {
     std::memcpy(src.data(), bytes.data() + pos, src.size());
@@ -100,11 +121,17 @@ Rgba8Image load_tga(const std::filesystem::path& path, const TgaLimits& limits) 
   return decode_tga(read_file_bytes(path), path.string(), limits);
 }
 
-std::pair<uint32_t, uint32_t> peek_tga_size(const std::filesystem::path& path) {
+std::pair<uint32_t, uint32_t> peek_tga_size(const std::filesystem::path& path, const TgaLimits& limits) {
+  const std::string name = path.string();
+  std::error_code ec;
+  const uintmax_t file_bytes = std::filesystem::file_size(path, ec);
+  if (ec) fail("%s: cannot read: %s", name.c_str(), ec.message().c_str());
   std::ifstream in(path, std::ios::binary);
-  uint8_t h[18];
-  if (!in.read(reinterpret_cast<char*>(h), sizeof h)) return {0, 0};
-  return {uint32_t(h[12] | (h[13] << 8)), uint32_t(h[14] | (h[15] << 8))};  // TGA 2.0 spec: image specification
+  uint8_t h[kHeaderBytes] = {};
+  in.read(reinterpret_cast<char*>(h), sizeof h);
+  if (!in && !in.eof()) fail("%s: cannot read", name.c_str());
+  const TgaHeader t = parse_header(h, size_t(file_bytes), name.c_str(), limits);
+  return {t.width, t.height};
 }
 
 std::vector<uint8_t> encode_tga(const Rgba8Image& image, bool rle) {

@@ -28,9 +28,10 @@ struct TgaLimits {
 // Throws cumulo::Error("<name>: <what>") for truncated data, unsupported types, bad RLE packets.
 Rgba8Image decode_tga(std::span<const uint8_t> bytes, const std::string& name, const TgaLimits& limits = {});
 Rgba8Image load_tga(const std::filesystem::path& path, const TgaLimits& limits = {});
-// Width and height from the 18-byte header alone (0 x 0 when the file is shorter), so a caller can
-// budget the memory a set of slices will take before decoding any of them.
-std::pair<uint32_t, uint32_t> peek_tga_size(const std::filesystem::path& path);
+// Width and height from the 18-byte header, so a caller can budget the memory a set of slices will take before
+// decoding any of them. The header is checked as decode_tga checks it (type, depth, size, the pixel bytes the file
+// must hold): a file that is no TGA throws cumulo::Error naming it here, before its made-up size reaches a budget.
+std::pair<uint32_t, uint32_t> peek_tga_size(const std::filesystem::path& path, const TgaLimits& limits = {});
 std::vector<uint8_t> encode_tga(const Rgba8Image& image, bool rle = false);
 
 }  // namespace cumulo::clouds

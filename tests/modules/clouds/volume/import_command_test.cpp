@@ -2,6 +2,7 @@
 // with a conservative BC1 field; command-line errors.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -105,24 +106,66 @@ TEST(ImportCommand, FailedImportLeavesThePreviousSetUntouched) {
 }
 
 TEST(ImportCommand, SliceStackOverTheMemoryBudgetIsRefusedBeforeDecoding) {
-  // 4096 slices whose headers claim 4096 x 4096 pixels: 256 GiB of RGBA before any volume work.
+  // 64 slices of 1024 x 1024 (one RLE colour each, 40 KB a file): 3.8 GB of pixels and volumes before any volume work,
+  // against a budget of 64 MB.
   const fs::path root = cumulo::test::unique_temp_path("cumulo_volume_import_budget");
   fs::remove_all(root);
   fs::create_directories(root / "field");
-  std::vector<uint8_t> header(18, 0);
-  header[2] = 2;  // truecolor
-  header[12] = 0x00, header[13] = 0x10, header[14] = 0x00, header[15] = 0x10, header[16] = 32;
-  for (int k = 0; k < 4096; ++k)  // plain writes: 4096 fsyncs would make the test slow
+  Rgba8Image slice;
+  slice.width = slice.height = 1024;
+  slice.rgba.assign(size_t(1024) * 1024 * 4, 128);
+  const std::vector<uint8_t> bytes = encode_tga(slice, true);
+  for (int k = 0; k < 64; ++k)  // plain writes: 64 fsyncs would make the test slow
     std::ofstream(root / "field" / ("sdf." + std::to_string(k) + ".tga"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  const char* old = std::getenv("CUMULO_MEMORY_BUDGET_MB");
+  const std::string saved = old ? old : "";
+  setenv("CUMULO_MEMORY_BUDGET_MB", "64", 1);
   try {
     run_import({"--field", (root / "field").string(), "-o", (root / "out").string()});
     ADD_FAILURE() << "accepted";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("field: 4096 TGA slices of up to 16777216 pixels"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("field: 64 TGA slices of up to 1048576 pixels"), std::string::npos) << msg;
     EXPECT_NE(msg.find("memory budget"), std::string::npos) << msg;
   }
+  if (old) setenv("CUMULO_MEMORY_BUDGET_MB", saved.c_str(), 1);
+  else unsetenv("CUMULO_MEMORY_BUDGET_MB");
+  fs::remove_all(root);
+}
+
+// A slice that is no TGA (a text file named .tga read as a 760-megapixel image) is named by the error, before its
+// made-up size reaches the budget; so is a slice whose header claims more pixels than the file holds.
+TEST(ImportCommand, ASliceThatIsNoTgaIsNamed) {
+  const fs::path root = cumulo::test::unique_temp_path("cumulo_volume_import_not_tga");
+  fs::remove_all(root);
+  fs::create_directories(root / "field");
+  Rgba8Image slice;
+  slice.width = slice.height = 8;
+  slice.rgba.assign(8 * 8 * 4, 200);
+  const std::vector<uint8_t> bytes = encode_tga(slice, false);
+  for (int k = 0; k < 4; ++k)
+    std::ofstream(root / "field" / ("sdf." + std::to_string(k) + ".tga"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  std::ofstream(root / "field" / "sdf.2.tga") << "This is a text file, not an image: it only has a .tga name.\n";
+  auto error_of = [&] {
+    try {
+      run_import({"--field", (root / "field").string(), "-o", (root / "out").string(), "--voxel-size", "8"});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  std::string msg = error_of();
+  EXPECT_NE(msg.find("sdf.2.tga: "), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("memory budget"), std::string::npos) << msg;
+  // A header claiming 4096 x 4096 over 18 bytes: named as truncated, not budgeted as 64 MB of pixels.
+  std::vector<uint8_t> header(18, 0);
+  header[2] = 2, header[13] = 0x10, header[15] = 0x10, header[16] = 32;
+  std::ofstream(root / "field" / "sdf.2.tga", std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+  msg = error_of();
+  EXPECT_NE(msg.find("sdf.2.tga: truncated TGA"), std::string::npos) << msg;
   fs::remove_all(root);
 }
 
