@@ -44,9 +44,18 @@ void Simulation::step(uint64_t steps) {
 void Simulation::extract() { scheduler_.extract(world_); }
 
 ecs::Entity Simulation::camera(const std::string& name) const {
-  if (!name.empty()) return scene::find_camera(world_, name);
-  if (level_.cameras.empty()) fail("%s: the level has no camera (an entity with Camera and Transform)", level_.file.string().c_str());
-  return scene::find_camera(world_, level_.cameras.front());
+  const std::string file = level_.file.string();
+  if (name.empty()) {
+    // The level's first camera, named or not (by name, an unnamed one could not be found).
+    const ecs::Entity first = scene::first_camera(world_);
+    if (first.is_null()) fail("%s: the level has no camera (an entity with Camera and Transform)", file.c_str());
+    return first;
+  }
+  try {
+    return scene::find_camera(world_, name);
+  } catch (const Error& e) {
+    fail("%s: %s", file.c_str(), e.what());  // a message about the level names its file
+  }
 }
 
 }  // namespace cumulo::app

@@ -96,6 +96,14 @@ std::vector<std::string> camera_names(const ecs::World& world) {
   return names;
 }
 
+ecs::Entity first_camera(const ecs::World& world) {
+  ecs::Entity found = ecs::Entity::null();
+  world.each_entity([&](ecs::Entity e) {
+    if (found.is_null() && world.has<Camera>(e) && world.has<Transform>(e)) found = e;
+  });
+  return found;
+}
+
 ecs::Entity find_camera(const ecs::World& world, std::string_view name) {
   ecs::Entity found = ecs::Entity::null();
   world.each_entity([&](ecs::Entity e) {

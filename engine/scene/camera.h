@@ -57,6 +57,8 @@ struct Frustum {
 // The entity named `name` that has a Camera and a Transform. Throws cumulo::Error listing the cameras
 // there are when none matches: `no camera named "x" (the level has: ground, mixed, immersed)`.
 ecs::Entity find_camera(const ecs::World& world, std::string_view name);
+// The first entity (in entity order: the level file's) with a Camera and a Transform, named or not; null when none.
+ecs::Entity first_camera(const ecs::World& world);
 // The names of every entity with a Camera, in entity order.
 std::vector<std::string> camera_names(const ecs::World& world);
 

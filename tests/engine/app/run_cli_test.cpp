@@ -326,8 +326,24 @@ TEST(RunCliBadInput, MissingGltfIsNamed) {
 TEST(RunCliBadInput, UnknownCameraListsTheCameras) {
   auto r = run_cumulo("run " + kLevel + " --headless --camera nowhere");
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("nowhere"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(kLevel + ": no camera named \"nowhere\""), std::string::npos) << r.output;  // the level's file
   EXPECT_NE(r.output.find("ground"), std::string::npos) << r.output;
+}
+
+// A level whose only camera has no name starts from it (the default camera is the first, named or not); `--camera ""`
+// is the default too; a named one it lacks is an error naming the level's file.
+TEST(RunCliBadInput, AnUnnamedCameraIsTheDefault) {
+  fs::path d = temp_dir();
+  fs::path p = d / "unnamed_camera.json";
+  std::ofstream(p) << R"({"version": 1, "entities": [
+    {"components": {"Transform": {"position": [0, 10, 50], "look_at": [0, 10, 0]}, "Camera": {}}}]})";
+  auto r = run_cumulo("run " + p.string() + " --headless --frames 1 --size 64x36");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_cumulo("run " + p.string() + " --headless --frames 1 --size 64x36 --camera \"\"");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_cumulo("run " + p.string() + " --headless --frames 1 --size 64x36 --camera ground");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(p.string() + ": no camera named \"ground\""), std::string::npos) << r.output;
 }
 
 TEST(RunCliBadInput, BadFlagValues) {
