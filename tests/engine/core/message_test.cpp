@@ -22,3 +22,25 @@ TEST(Message, LibraryMessagesLoseTheirPrefixes) {
   EXPECT_EQ(library_message("first\nsecond\n"), "first; second");
   EXPECT_LE(library_message(std::string(100000, 'z')).size(), 340u);
 }
+
+// Every error is bounded where it is made: a 2 MB value echoed by a site that did not quote it comes back cut in its
+// middle with its length, the words around it whole; a short message is unchanged; a message of many short words is
+// cut after kMaxMessageBytes.
+TEST(Message, EveryErrorIsBounded) {
+  const std::string path = "/levels/" + std::string(2000000, 'x') + ".glb";
+  try {
+    fail("level.json: $.entities[0].components.ModelRef.path: model file not found: %s", path.c_str());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_LT(m.size(), 1000u);
+    EXPECT_EQ(m.rfind("level.json: $.entities[0].components.ModelRef.path: model file not found: /levels/xxx", 0), 0u) << m;
+    EXPECT_NE(m.find("xxx.glb (2000012 bytes)"), std::string::npos) << m;
+  }
+  EXPECT_STREQ(Error("short: message").what(), "short: message");
+  std::string words;
+  for (int i = 0; i < 5000; ++i) words += "word ";
+  const std::string cut = Error(words).what();
+  EXPECT_LT(cut.size(), kMaxMessageBytes + 100);
+  EXPECT_NE(cut.find("(message cut: 25000 bytes)"), std::string::npos);
+}
