@@ -44,6 +44,10 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
 }
 
 void CloudFeature::destroy_gpu() {
+  // A frame that threw between its stages (a shader missing at run time) leaves its inputs here: they hold the
+  // assets' GPU images, which must go before the device does.
+  inputs_.reset();
+  light_ = {};
   steps_buffer_.reset();
   steps_pixels_ = 0;
   for (CloudFramePass* p : drawn_passes_) p->destroy_gpu();
