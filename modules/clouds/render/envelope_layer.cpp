@@ -1,6 +1,7 @@
 #include "modules/clouds/render/envelope_layer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -95,8 +96,8 @@ struct EnvelopeLayer::Impl {
   gpu::Image env_shadow, combined_shadow;
   cumulo::render::PersistentTexture env_shadow_tex, combined_shadow_tex;
   gpu::Buffer shadow_ubo[gpu::kFramesInFlight];
-  std::vector<float> shadow_key;  // what the envelope's own map was marched for
-  std::vector<float> combined_key;  // what the combined map was made of (the voxel map's version, both planes)
+  std::array<float, 11> shadow_key{};  // what the envelope's own map was marched for (NaN once its image is made: stale)
+  std::array<float, 13> combined_key{};  // what the combined map was made of (the voxel map's version, both planes)
   glm::vec3 shadow_scroll{0.0f};
   uint32_t shadow_marches = 0;
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
@@ -142,6 +143,30 @@ struct EnvelopeLayer::Impl {
     }
     p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), envelope::kYieldFadeM);
     return p;
+  }
+
+  // What envelope_density.glsl reads (its parameter block `ubo` and the maps and noise), imported once per graph; the
+  // shadow, the march and the path tracer's medium share it.
+  CloudFrameInputs::EnvelopeMedium density_inputs(cumulo::render::RenderGraph& g, VkBuffer ubo) const {
+    CloudFrameInputs::EnvelopeMedium d;
+    d.params = ubo;
+    d.shape = import(g, "clouds.envelope.shape", shape);
+    d.steps = import(g, "clouds.envelope.steps", steps);
+    d.aux = import(g, "clouds.envelope.aux", aux);
+    d.base_noise = import(g, "clouds.envelope.base_noise", base);
+    d.detail_noise = import(g, "clouds.envelope.detail_noise", detail);
+    return d;
+  }
+  static void read_density(PassBuilder& b, const CloudFrameInputs::EnvelopeMedium& d) {
+    for (TextureHandle t : {d.shape, d.steps, d.aux, d.base_noise, d.detail_noise}) b.read(t, Usage::Sampled);
+  }
+  gpu::DescriptorWriter& bind_density(gpu::DescriptorWriter& w, PassContext& c, const CloudFrameInputs::EnvelopeMedium& d) const {
+    return w.uniform_buffer(ENV_BINDING_PARAMS, d.params, 0, sizeof(shared::EnvelopeParams))
+        .sampled_image(ENV_BINDING_SHAPE, c.view(d.shape), linear_clamp, c.layout(d.shape))
+        .sampled_image(ENV_BINDING_STEPS, c.view(d.steps), nearest_clamp, c.layout(d.steps))
+        .sampled_image(ENV_BINDING_AUX, c.view(d.aux), linear_clamp, c.layout(d.aux))
+        .sampled_image(ENV_BINDING_BASE_NOISE, c.view(d.base_noise), linear_repeat, c.layout(d.base_noise))
+        .sampled_image(ENV_BINDING_DETAIL_NOISE, c.view(d.detail_noise), linear_repeat, c.layout(d.detail_noise));
   }
 
   // Once per graph (the shadow, the march and the path tracer's medium read the same maps in one frame).
@@ -226,7 +251,7 @@ void EnvelopeLayer::set_maps(std::shared_ptr<const envelope::EnvelopeMaps> maps,
       m.box_hi = glm::max(m.box_hi, glm::vec3(lo.x + e.texel_m, st.x, lo.z + e.texel_m));
     }
   m.maps = std::move(maps);
-  m.shadow_key.clear();
+  m.shadow_key.fill(NAN);
 }
 
 void EnvelopeLayer::set_terrain(const TerrainHeightfield& t) {
@@ -244,7 +269,7 @@ void EnvelopeLayer::set_terrain(const TerrainHeightfield& t) {
   m.terrain.upload({{heights.data(), heights.size() * sizeof(float)}});
   m.terrain_origin = t.origin;
   m.terrain_side = t.size.x;
-  m.shadow_key.clear();
+  m.shadow_key.fill(NAN);
 }
 
 uint32_t EnvelopeLayer::shadow_updates() const { return impl_->shadow_marches; }
@@ -257,14 +282,7 @@ CloudFrameInputs::EnvelopeMedium EnvelopeLayer::add_medium(cumulo::render::Rende
   const shared::EnvelopeParams p = m.params(draw, march, in, 0.0f, 1e9f);
   const gpu::Buffer& ubo = m.ubo[in.slot % gpu::kFramesInFlight][2];
   std::memcpy(ubo.mapped(), &p, sizeof p);
-  CloudFrameInputs::EnvelopeMedium medium;
-  medium.params = ubo.handle();
-  medium.shape = m.import(graph, "clouds.envelope.shape", m.shape);
-  medium.steps = m.import(graph, "clouds.envelope.steps", m.steps);
-  medium.aux = m.import(graph, "clouds.envelope.aux", m.aux);
-  medium.base_noise = m.import(graph, "clouds.envelope.base_noise", m.base);
-  medium.detail_noise = m.import(graph, "clouds.envelope.detail_noise", m.detail);
-  return medium;
+  return m.density_inputs(graph, ubo.handle());
 }
 
 namespace {
@@ -309,8 +327,8 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
                                                   VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT, 1, name));
     tex = {name, TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, texels, texels), img.handle(), img.view(),
            cumulo::render::ResourceState::undefined()};
-    if (&img == &m.env_shadow) m.shadow_key.clear();
-    m.combined_key.clear();
+    if (&img == &m.env_shadow) m.shadow_key.fill(NAN);
+    m.combined_key.fill(NAN);
   };
   ensure(m.env_shadow, m.env_shadow_tex, march.shadow_texels, "clouds.envelope.shadow");
 
@@ -330,7 +348,7 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
   // The envelope's own map: marched when stale (every frame on a GPU).
   const shared::EnvelopeParams p = m.params(draw, march, in, 0.0f, 1e9f);
   const float texel_m = env_map.size.x / float(m.env_shadow.extent().width);
-  const std::vector<float> key = {l.x, l.y, l.z, env_map.origin.x, env_map.origin.y, env_map.size.x, height,
+  const std::array<float, 11> key = {l.x, l.y, l.z, env_map.origin.x, env_map.origin.y, env_map.size.x, height,
                                   p.heights.w, p.noise.w, p.heights.z, p.wind.w};
   const bool stale = march.shadow_every_frame || key != m.shadow_key ||
                      glm::length(glm::vec3(p.wind) - m.shadow_scroll) > 0.5f * texel_m;
@@ -342,30 +360,21 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
     pc.plane = glm::vec4(env_map.origin, env_map.size);
     pc.light = glm::vec4(l, height);
     pc.terrain = glm::vec4(m.terrain_origin, m.terrain_side, std::max(std::min(m.maps->texel_m, texel_m), 1.0f));
-    TextureHandle shape = m.import(graph, "clouds.envelope.shape", m.shape);
-    TextureHandle steps = m.import(graph, "clouds.envelope.steps", m.steps);
-    TextureHandle aux = m.import(graph, "clouds.envelope.aux", m.aux);
-    TextureHandle base = m.import(graph, "clouds.envelope.base_noise", m.base);
-    TextureHandle detail = m.import(graph, "clouds.envelope.detail_noise", m.detail);
+    const CloudFrameInputs::EnvelopeMedium density = m.density_inputs(graph, ubo.handle());
     TextureHandle terrain = m.import(graph, "clouds.envelope.terrain", m.terrain);
     gpu::Pipeline* pipe = m.shadow_pipe;
     Impl* mp = &m;
-    const VkBuffer ubo_h = ubo.handle();
     graph.add_pass("clouds.envelope_shadow", Queue::Compute,
         [&](PassBuilder& b) {
-          for (TextureHandle t : {shape, steps, aux, base, detail, terrain}) b.read(t, Usage::Sampled);
+          Impl::read_density(b, density);
+          b.read(terrain, Usage::Sampled);
           env = b.write(env, Usage::StorageWrite);
           b.side_effect();  // kept for the frames that reuse it
         },
-        [mp, pipe, ubo_h, shape, steps, aux, base, detail, terrain, env, pc](PassContext& c) {
+        [mp, pipe, density, terrain, env, pc](PassContext& c) {
           pipe->bind(c.cmd());
-          gpu::DescriptorWriter()
-              .uniform_buffer(ENV_BINDING_PARAMS, ubo_h, 0, sizeof(shared::EnvelopeParams))
-              .sampled_image(ENV_BINDING_SHAPE, c.view(shape), mp->linear_clamp, c.layout(shape))
-              .sampled_image(ENV_BINDING_STEPS, c.view(steps), mp->nearest_clamp, c.layout(steps))
-              .sampled_image(ENV_BINDING_AUX, c.view(aux), mp->linear_clamp, c.layout(aux))
-              .sampled_image(ENV_BINDING_BASE_NOISE, c.view(base), mp->linear_repeat, c.layout(base))
-              .sampled_image(ENV_BINDING_DETAIL_NOISE, c.view(detail), mp->linear_repeat, c.layout(detail))
+          gpu::DescriptorWriter w;
+          mp->bind_density(w, c, density)
               .sampled_image(ENV_BINDING_TERRAIN, c.view(terrain), mp->linear_clamp, c.layout(terrain))
               .storage_image(ENV_BINDING_SHADOW_OUT, c.view(env))
               .push(mp->ctx, c.cmd(), *pipe);
@@ -396,7 +405,7 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
   TextureHandle dst = graph.import_persistent(m.combined_shadow_tex);
   combined.texture = dst;  // this frame's write (below) replaces the handle
   // Made again only when an input changed: the envelope's map, the voxel clouds' (its version), either plane.
-  const std::vector<float> ckey = {float(m.shadow_marches), float(voxel.version), voxel.origin.x, voxel.origin.y,
+  const std::array<float, 13> ckey = {float(m.shadow_marches), float(voxel.version), voxel.origin.x, voxel.origin.y,
                                    voxel.size.x, voxel.height, combined.origin.x, combined.origin.y, combined.size.x,
                                    height, l.x, l.y, l.z};
   if (voxel.version != 0 && ckey == m.combined_key) return combined;
@@ -494,11 +503,6 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   // The split's near pass only where the envelope comes within the split distance of the camera (as the voxel clouds
   // leave out theirs): from afar the far pass marches the whole ray.
   const bool split = march.split_m > 0.0f && envelope_within(*m.maps, in.camera.position, march.split_m);
-  TextureHandle shape = m.import(graph, "clouds.envelope.shape", m.shape);
-  TextureHandle steps = m.import(graph, "clouds.envelope.steps", m.steps);
-  TextureHandle aux = m.import(graph, "clouds.envelope.aux", m.aux);
-  TextureHandle base = m.import(graph, "clouds.envelope.base_noise", m.base);
-  TextureHandle detail = m.import(graph, "clouds.envelope.detail_noise", m.detail);
   gpu::Pipeline* pipe = march.cone_stepping ? m.march_cone : m.march_fixed;
   Impl* mp = &m;
 
@@ -513,29 +517,20 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
     const uint32_t bw = (full.width + block - 1) / block, bh = (full.height + block - 1) / block;
     TextureHandle color = graph.create_texture(color_name, TextureDesc::absolute(VK_FORMAT_R16G16B16A16_SFLOAT, bw, bh));
     TextureHandle depth = graph.create_texture(depth_name, TextureDesc::absolute(VK_FORMAT_R32G32B32A32_SFLOAT, bw, bh));
-    const VkBuffer ubo_h = ubo.handle();
+    const CloudFrameInputs::EnvelopeMedium density = m.density_inputs(graph, ubo.handle());
     const uint32_t fw = full.width, fh = full.height;
     graph.add_pass(
         pass, Queue::Compute,
         [&](PassBuilder& b) {
-          b.read(shape, Usage::Sampled);
-          b.read(steps, Usage::Sampled);
-          b.read(aux, Usage::Sampled);
-          b.read(base, Usage::Sampled);
-          b.read(detail, Usage::Sampled);
+          Impl::read_density(b, density);
           b.read(scene_depth, Usage::Sampled);
           color = b.write(color, Usage::StorageWrite);
           depth = b.write(depth, Usage::StorageWrite);
         },
-        [mp, pipe, ubo_h, shape, steps, aux, base, detail, scene_depth, color, depth, fw, fh, block, offset](PassContext& c) {
+        [mp, pipe, density, scene_depth, color, depth, fw, fh, block, offset](PassContext& c) {
           pipe->bind(c.cmd());
-          gpu::DescriptorWriter()
-              .uniform_buffer(ENV_BINDING_PARAMS, ubo_h, 0, sizeof(shared::EnvelopeParams))
-              .sampled_image(ENV_BINDING_SHAPE, c.view(shape), mp->linear_clamp, c.layout(shape))
-              .sampled_image(ENV_BINDING_STEPS, c.view(steps), mp->nearest_clamp, c.layout(steps))
-              .sampled_image(ENV_BINDING_AUX, c.view(aux), mp->linear_clamp, c.layout(aux))
-              .sampled_image(ENV_BINDING_BASE_NOISE, c.view(base), mp->linear_repeat, c.layout(base))
-              .sampled_image(ENV_BINDING_DETAIL_NOISE, c.view(detail), mp->linear_repeat, c.layout(detail))
+          gpu::DescriptorWriter w;
+          mp->bind_density(w, c, density)
               .sampled_image(ENV_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
               .storage_image(ENV_BINDING_OUT_COLOR, c.view(color))
               .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth))

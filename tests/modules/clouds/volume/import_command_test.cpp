@@ -105,6 +105,13 @@ TEST(ImportCommand, FailedImportLeavesThePreviousSetUntouched) {
   fs::remove_all(root);
 }
 
+// `n` copies of one TGA as sdf.0.tga .. sdf.<n-1>.tga (plain writes: an fsync each would make the tests slow).
+void write_slices(const fs::path& dir, const std::vector<uint8_t>& bytes, int n) {
+  for (int k = 0; k < n; ++k)
+    std::ofstream(dir / ("sdf." + std::to_string(k) + ".tga"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
 TEST(ImportCommand, SliceStackOverTheMemoryBudgetIsRefusedBeforeDecoding) {
   // 64 slices of 1024 x 1024 (one RLE colour each, 40 KB a file): 3.8 GB of pixels and volumes before any volume work,
   // against a budget of 64 MB.
@@ -115,9 +122,7 @@ TEST(ImportCommand, SliceStackOverTheMemoryBudgetIsRefusedBeforeDecoding) {
   slice.width = slice.height = 1024;
   slice.rgba.assign(size_t(1024) * 1024 * 4, 128);
   const std::vector<uint8_t> bytes = encode_tga(slice, true);
-  for (int k = 0; k < 64; ++k)  // plain writes: 64 fsyncs would make the test slow
-    std::ofstream(root / "field" / ("sdf." + std::to_string(k) + ".tga"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  write_slices(root / "field", bytes, 64);
   const char* old = std::getenv("CUMULO_MEMORY_BUDGET_MB");
   const std::string saved = old ? old : "";
   setenv("CUMULO_MEMORY_BUDGET_MB", "64", 1);
@@ -144,9 +149,7 @@ TEST(ImportCommand, ASliceThatIsNoTgaIsNamed) {
   slice.width = slice.height = 8;
   slice.rgba.assign(8 * 8 * 4, 200);
   const std::vector<uint8_t> bytes = encode_tga(slice, false);
-  for (int k = 0; k < 4; ++k)
-    std::ofstream(root / "field" / ("sdf." + std::to_string(k) + ".tga"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  write_slices(root / "field", bytes, 4);
   std::ofstream(root / "field" / "sdf.2.tga") << "This is a text file, not an image: it only has a .tga name.\n";
   auto error_of = [&] {
     try {
