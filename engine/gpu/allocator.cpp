@@ -1,5 +1,7 @@
 #include "engine/gpu/allocator.h"
 
+#include "engine/gpu/live_objects.h"
+
 #include <algorithm>
 
 #include "engine/core/error.h"
@@ -245,6 +247,7 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& req, MemoryUsag
   stats_.allocated_bytes += size;
   stats_.peak_allocated_bytes = std::max(stats_.peak_allocated_bytes, stats_.allocated_bytes);
   stats_.allocation_count++;
+  detail::note_allocation(a.memory, a.offset, a.size, debug_name);
   return a;
 }
 
@@ -255,6 +258,7 @@ void MemoryAllocator::free(Allocation& a) {
     fail("gpu: freeing an allocation this allocator does not own");
   Block& b = blocks_[a.block];
   b.ranges->free(a.offset, a.size);
+  detail::note_free(a.memory, a.offset);
   stats_.allocated_bytes -= a.size;
   stats_.allocation_count--;
   if (b.ranges->empty()) {

@@ -5,6 +5,7 @@
 #include "engine/core/error.h"
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/live_objects.h"
 
 namespace cumulo::gpu {
 
@@ -15,12 +16,14 @@ Buffer::Buffer(Context& ctx, const BufferDesc& desc) : ctx_(&ctx), size_(desc.si
   info.usage = desc.usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &buffer_));
+  detail::count_live(detail::LiveKind::Buffer, 1);
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
   try {
     allocation_ = ctx.allocator().allocate(req, desc.memory, desc.name);
   } catch (...) {
     vkDestroyBuffer(ctx.device(), buffer_, nullptr);
+    detail::count_live(detail::LiveKind::Buffer, -1);
     buffer_ = VK_NULL_HANDLE;
     throw;
   }
@@ -43,7 +46,10 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 }
 
 void Buffer::reset() {
-  if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
+  if (buffer_) {
+    vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
+    detail::count_live(detail::LiveKind::Buffer, -1);
+  }
   if (allocation_) ctx_->allocator().free(allocation_);
   buffer_ = VK_NULL_HANDLE;
   size_ = 0;

@@ -2,6 +2,7 @@
 
 #include "engine/core/error.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/live_objects.h"
 #include "engine/gpu/pipeline.h"
 
 namespace cumulo::gpu {
@@ -82,9 +83,14 @@ DescriptorPool::DescriptorPool(Context& ctx, uint32_t max_sets, uint32_t per_typ
   info.poolSizeCount = uint32_t(std::size(sizes));
   info.pPoolSizes = sizes;
   VK_CHECK(vkCreateDescriptorPool(ctx.device(), &info, nullptr, &pool_));
+  detail::count_live(detail::LiveKind::DescriptorPool, 1);
 }
 
-DescriptorPool::~DescriptorPool() { vkDestroyDescriptorPool(ctx_.device(), pool_, nullptr); }
+DescriptorPool::~DescriptorPool() {
+  vkDestroyDescriptorPool(ctx_.device(), pool_, nullptr);
+  detail::count_live(detail::LiveKind::DescriptorPool, -1);
+  detail::count_live(detail::LiveKind::DescriptorSet, -int64_t(sets_));
+}
 
 VkDescriptorSet DescriptorPool::allocate(VkDescriptorSetLayout layout) {
   VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -95,9 +101,15 @@ VkDescriptorSet DescriptorPool::allocate(VkDescriptorSetLayout layout) {
   VkResult r = vkAllocateDescriptorSets(ctx_.device(), &info, &set);
   if (r != VK_SUCCESS)
     fail("gpu: descriptor pool exhausted (%s); reset it per frame or make it larger", vk_result_name(r));
+  ++sets_;
+  detail::count_live(detail::LiveKind::DescriptorSet, 1);
   return set;
 }
 
-void DescriptorPool::reset() { vkResetDescriptorPool(ctx_.device(), pool_, 0); }
+void DescriptorPool::reset() {
+  vkResetDescriptorPool(ctx_.device(), pool_, 0);
+  detail::count_live(detail::LiveKind::DescriptorSet, -int64_t(sets_));
+  sets_ = 0;
+}
 
 }  // namespace cumulo::gpu

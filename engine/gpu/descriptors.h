@@ -64,6 +64,7 @@ class DescriptorPool {
  private:
   Context& ctx_;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  uint64_t sets_ = 0;  // allocated since the last reset (gpu/live_objects.h)
 };
 
 }  // namespace cumulo::gpu

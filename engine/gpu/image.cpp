@@ -7,6 +7,7 @@
 #include "engine/gpu/buffer.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/format.h"
+#include "engine/gpu/live_objects.h"
 
 namespace cumulo::gpu {
 
@@ -48,6 +49,7 @@ void Image::create(Context& ctx, const ImageDesc& desc) {
          desc.extent.width, desc.extent.height, desc.extent.depth, desc_.mips, desc.layers, format_name(desc.format));
   desc_.usage = info.usage;
   VK_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &image_));
+  detail::count_live(detail::LiveKind::Image, 1);
   if (desc.name) ctx.set_name(image_, desc.name);
 }
 
@@ -109,7 +111,10 @@ void Image::reset() {
     if (v) vkDestroyImageView(ctx_->device(), v, nullptr);
   mip_views_.clear();
   if (view_) vkDestroyImageView(ctx_->device(), view_, nullptr);
-  if (image_) vkDestroyImage(ctx_->device(), image_, nullptr);
+  if (image_) {
+    vkDestroyImage(ctx_->device(), image_, nullptr);
+    detail::count_live(detail::LiveKind::Image, -1);
+  }
   if (allocation_) ctx_->allocator().free(allocation_);
   view_ = VK_NULL_HANDLE;
   image_ = VK_NULL_HANDLE;

@@ -5,6 +5,7 @@
 #include "engine/core/error.h"
 #include "engine/gpu/context.h"
 #include "engine/gpu/detail/spirv_reflect.h"
+#include "engine/gpu/live_objects.h"
 #include "engine/gpu/pipeline_cache.h"
 
 namespace cumulo::gpu {
@@ -60,7 +61,10 @@ Pipeline& Pipeline::operator=(Pipeline&& o) noexcept {
 void Pipeline::reset() {
   if (!ctx_) return;
   VkDevice d = ctx_->device();
-  if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
+  if (pipeline_) {
+    vkDestroyPipeline(d, pipeline_, nullptr);
+    detail::count_live(detail::LiveKind::Pipeline, -1);
+  }
   if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
   for (auto l : set_layouts_)
     if (l) vkDestroyDescriptorSetLayout(d, l, nullptr);
@@ -156,6 +160,7 @@ Pipeline Pipeline::compute(Context& ctx, const CompiledShader& shader, const std
   info.layout = p.layout_;
   VkResult r = vkCreateComputePipelines(ctx.device(), ctx.pipeline_cache().handle(), 1, &info, nullptr, &p.pipeline_);
   if (r != VK_SUCCESS) fail("%s: vkCreateComputePipelines failed: %s", shader.display_name.c_str(), vk_result_name(r));
+  detail::count_live(detail::LiveKind::Pipeline, 1);
   ctx.set_name(p.pipeline_, p.name_);
   return p;
 }
@@ -261,6 +266,7 @@ Pipeline Pipeline::graphics(Context& ctx, const CompiledShader& vs, const Compil
   info.layout = p.layout_;
   VkResult r = vkCreateGraphicsPipelines(ctx.device(), ctx.pipeline_cache().handle(), 1, &info, nullptr, &p.pipeline_);
   if (r != VK_SUCCESS) fail("pipeline '%s': vkCreateGraphicsPipelines failed: %s", p.name_.c_str(), vk_result_name(r));
+  detail::count_live(detail::LiveKind::Pipeline, 1);
   ctx.set_name(p.pipeline_, p.name_);
   return p;
 }

@@ -270,6 +270,10 @@ const char* stage_name(Stage stage) {
 
 const CompiledGraph& FrameRenderer::last_compiled() const { return impl_->executor.compiled(); }
 bool FrameRenderer::has_recorded() const { return impl_->executor.has_executed(); }
+FrameRenderer::GraphCache FrameRenderer::graph_cache() const {
+  const Executor& e = impl_->executor;
+  return {e.shape_count(), e.compile_count(), uint64_t(e.transient_bytes())};
+}
 
 std::vector<std::pair<std::string, double>> FrameRenderer::pass_timings() const {
   std::vector<std::pair<std::string, double>> out;

@@ -62,6 +62,14 @@ class FrameRenderer {
   // The compiled graph of the last recorded frame.
   const CompiledGraph& last_compiled() const;  // throws before the first frame
   bool has_recorded() const;                     // a frame was recorded (last_compiled() is there)
+  // The render graph's cache of compiled shapes (one per budget mode, debug view, effect present...): how many,
+  // how often a graph was compiled, and the device memory their transient images and buffers hold.
+  struct GraphCache {
+    size_t shapes = 0;
+    uint32_t compiles = 0;
+    uint64_t transient_bytes = 0;
+  };
+  GraphCache graph_cache() const;
 
   // Windowed runs: recompiles changed shader files; a failure logs the error and keeps the old pipeline.
   // Returns true when a pipeline was rebuilt.

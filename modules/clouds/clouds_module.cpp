@@ -5,6 +5,7 @@
 #include "modules/clouds/bake/bake_command.h"
 #include "modules/clouds/bake/grow/grow_command.h"
 #include "modules/clouds/bench/bench_command.h"
+#include "modules/clouds/soak/soak_command.h"
 #include "modules/clouds/envelope/orographic_clouds.h"
 #include "modules/clouds/frame/cloud_extraction.h"
 #include "modules/clouds/gameplay/lightning.h"
@@ -35,6 +36,7 @@ void CloudsModule::register_run_commands(CommandRegistry& registry, const app::M
   register_bench_command(registry, run);
   register_reference_command(registry, run);
   register_fidelity_command(registry, run);
+  register_soak_command(registry, run);
 }
 
 void CloudsModule::register_components(ecs::ComponentRegistry& registry) {

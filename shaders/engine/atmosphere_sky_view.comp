@@ -5,6 +5,7 @@
 // of the index (the air is densest near the viewer).
 #extension GL_GOOGLE_include_directive : require
 #include "engine/atmosphere_common.glsl"
+#include "engine/runtime_uniform.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = ATMOSPHERE_PARAMS_BINDING, std140) uniform AtmosphereBlock { AtmosphereGpuParams A; };
@@ -47,13 +48,16 @@ void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, ivec2(ATMOSPHERE_SKY_VIEW_W, ATMOSPHERE_SKY_VIEW_H)))) return;
   vec2 uv = (vec2(p) + 0.5) / vec2(ATMOSPHERE_SKY_VIEW_W, ATMOSPHERE_SKY_VIEW_H);
-  vec3 sun = normalize(A.sun.xyz);
+  // Values from the parameters alone, kept in variables: runtime_uniform.glsl says why they take a zero (here also
+  // why a flying camera made lavapipe keep a compiled copy of this shader per altitude: `cumulo soak` measured it).
+  float z = runtime_zero();
+  vec3 sun = normalize(A.sun.xyz + z);
   vec3 dir = atm_sky_view_dir(uv, sun);
-  float Rb = A.radii.x, Rt = A.radii.y;
-  float r = clamp(Rb + max(A.view.x, 0.001), Rb, Rt - 0.001);
+  float Rb = A.radii.x + z, Rt = A.radii.y + z;
+  float r = clamp(Rb + max(A.view.x + z, 0.001), Rb, Rt - 0.001);
   bool ground = atm_hits_ground(r, dir.y, Rb);
   float t_max = ground ? atm_distance_to_ground(r, dir.y, Rb) : atm_distance_to_sphere(r, dir.y, Rt);
-  vec3 L = scatter(dir, sun, A.albedo.w * A.sun.w, r, t_max, ground) +
-           scatter(dir, normalize(A.moon.xyz), A.albedo.w * A.moon.w, r, t_max, ground) + A.ozone.w * vec3(1.0, 1.2, 2.0);
+  vec3 L = scatter(dir, sun, A.albedo.w * A.sun.w + z, r, t_max, ground) +
+           scatter(dir, normalize(A.moon.xyz + z), A.albedo.w * A.moon.w + z, r, t_max, ground) + A.ozone.w * vec3(1.0, 1.2, 2.0);
   imageStore(lut, p, vec4(L, 1.0));
 }
