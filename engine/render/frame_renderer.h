@@ -68,6 +68,7 @@ class FrameRenderer {
     size_t shapes = 0;
     uint32_t compiles = 0;
     uint64_t transient_bytes = 0;
+    size_t transient_images = 0;
   };
   GraphCache graph_cache() const;
 

@@ -61,6 +61,12 @@ const CompiledGraph& Executor::compiled() const {
 }
 
 size_t Executor::shape_count() const { return shapes_.size(); }
+size_t Executor::transient_image_count() const {
+  size_t n = 0;
+  for (const auto& shape : shapes_)
+    for (const gpu::Image& i : shape->images) n += i ? 1 : 0;
+  return n;
+}
 
 const PhysicalTexture& Executor::texture(uint32_t resource) const { return textures_.at(resource); }
 

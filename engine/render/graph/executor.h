@@ -85,6 +85,7 @@ class Executor {
   uint32_t memory_blocks_created() const { return blocks_created_; }
   VkDeviceSize transient_bytes() const;  // memory held by the transient blocks and buffers of every cached shape
   size_t shape_count() const;            // compiled shapes cached
+  size_t transient_image_count() const;  // transient images held by the cached shapes
   // The physical object behind a resource of the last execute() (imported ones as imported).
   const PhysicalTexture& texture(uint32_t resource) const;
 
