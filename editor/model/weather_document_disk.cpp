@@ -6,6 +6,7 @@
 #include "editor/model/weather_document.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/log.h"
 #include "engine/core/png.h"
 #include "modules/clouds/weather/weather_fields.h"
 
@@ -85,6 +86,9 @@ WeatherDocument::Entry WeatherDocument::disk_entry(const std::string& id, const 
 
 WeatherDocument WeatherDocument::open(const fs::path& folder, MapMaker make_map) {
   WeatherDocument doc(folder, std::move(make_map));
+  // A save killed midway (by a crash, a power cut, SIGKILL): its journal finishes it, its stray temporaries go. Said
+  // in the log, so the person knows which files the last save left.
+  for (const std::string& line : recover_file_sets(folder)) LOG_INFO("%s", line.c_str());
   std::error_code ec;
   fs::directory_iterator it(folder, ec);
   if (ec) fail("%s: cannot list the weather folder: %s", folder.c_str(), ec.message().c_str());

@@ -330,6 +330,70 @@ TEST_F(EditorRun, AShaderThatFailsToHotReloadIsShownAndTheOldPipelineKeepsRunnin
 }
 
 // These fail before any window opens.
+// Issue 25: `cumulo edit` killed (SIGKILL) at every step of a save of two states (each state's file and its .bak copy
+// written to temporaries, the journal, the four renames, the journal removed). Whatever the step, the folder the next
+// session opens holds the whole old set or the whole new set, no temporary and no journal; and the next `cumulo edit`
+// says in its log what it finished or removed.
+TEST_F(EditorRun, AnEditorKilledAtAnyStepOfASaveLeavesTheOldSetOrTheNewOne) {
+  const std::string clear0 = cumulo::read_file_text(weather_ / "clear.json");
+  const std::string storm0 = cumulo::read_file_text(weather_ / "storm.json");
+  const fs::path script = write_script(dir_, "save_two.json", R"([
+    {"do": "select_state", "name": "clear"},
+    {"do": "set", "param": "coverage", "value": 0.2},
+    {"do": "select_state", "name": "storm"},
+    {"do": "set", "param": "coverage", "value": 0.3},
+    {"do": "save"},
+    {"do": "quit"}])");
+  const fs::path pristine = dir_ / "pristine";
+  fs::copy(weather_, pristine, fs::copy_options::recursive);
+  // A first session with nothing to save: whatever the level bakes on first use is in the cache before the steps
+  // are counted (a bake's writes are file sets too).
+  const fs::path quit = write_script(dir_, "quit.json", R"([{"do": "quit"}])");
+  ASSERT_EQ(run_edit_in_xvfb(args(quit)).exit_code, 0);
+  int killed = 0, mixed_on_disk = 0;
+  for (int step = 1; step <= 12; ++step) {
+    fs::remove_all(weather_);
+    fs::copy(pristine, weather_, fs::copy_options::recursive);
+    const CliResult r = run_edit_in_xvfb(args(script), "CUMULO_KILL_AT_SAVE_STEP=" + std::to_string(step));
+    const bool completed = r.exit_code == 0;
+    if (!completed) ++killed;
+    // Straight after the kill the renames may be half done (the journal says how to finish them).
+    const bool clear_new = cumulo::read_file_text(weather_ / "clear.json") != clear0;
+    const bool storm_new = cumulo::read_file_text(weather_ / "storm.json") != storm0;
+    if (clear_new != storm_new) ++mixed_on_disk;
+    // The next session opens the folder: the same code `cumulo edit` opens it with.
+    const std::vector<std::string> recovered = cumulo::recover_file_sets(weather_);
+    const auto doc = cumulo::editor::WeatherDocument::open(weather_, cumulo::editor::test::fake_map);
+    EXPECT_TRUE(doc.problems().empty()) << step;
+    const float clear = cumulo::clouds::weather::load_weather_state(weather_ / "clear.json").coverage;
+    const float storm = cumulo::clouds::weather::load_weather_state(weather_ / "storm.json").coverage;
+    const bool all_new = clear == 0.2f && storm == 0.3f;
+    const bool all_old = cumulo::read_file_text(weather_ / "clear.json") == clear0 &&
+                         cumulo::read_file_text(weather_ / "storm.json") == storm0;
+    EXPECT_TRUE(all_new || all_old) << "step " << step << ": clear " << clear << ", storm " << storm << "\n" << r.output;
+    if (completed) EXPECT_TRUE(all_new) << step;
+    for (const auto& e : fs::directory_iterator(weather_)) {
+      EXPECT_NE(e.path().extension(), ".tmp") << "step " << step << ": " << e.path();
+      EXPECT_NE(e.path().filename(), cumulo::kFileSetJournal) << "step " << step;
+    }
+    if (completed) break;  // past the last step
+  }
+  EXPECT_GE(killed, 10) << "a save of two states and their backups has at least ten steps";
+  EXPECT_GT(mixed_on_disk, 0) << "no kill fell between two renames: the test would not see a journal at work";
+
+  // The log of the next session: kill between the renames, then open the folder with `cumulo edit` itself.
+  fs::remove_all(weather_);
+  fs::copy(pristine, weather_, fs::copy_options::recursive);
+  run_edit_in_xvfb(args(script), "CUMULO_KILL_AT_SAVE_STEP=6");
+  ASSERT_TRUE(fs::exists(weather_ / cumulo::kFileSetJournal));
+  const CliResult reopened = run_edit_in_xvfb(args(quit));
+  ASSERT_EQ(reopened.exit_code, 0) << reopened.output;
+  EXPECT_NE(reopened.output.find("finished an interrupted save"), std::string::npos) << reopened.output;
+  EXPECT_FALSE(fs::exists(weather_ / cumulo::kFileSetJournal));
+  EXPECT_FLOAT_EQ(cumulo::clouds::weather::load_weather_state(weather_ / "clear.json").coverage, 0.2f);
+  EXPECT_FLOAT_EQ(cumulo::clouds::weather::load_weather_state(weather_ / "storm.json").coverage, 0.3f);
+}
+
 // A new user's game: content/ copied, the copied level edited and saved. The save lands in the copy's
 // weather folder (the level's "folders": {"weather": "../../weather"}); the repository's states stay as shipped.
 TEST_F(EditorRun, ACopiedLevelSavesIntoItsOwnWeatherFolder) {

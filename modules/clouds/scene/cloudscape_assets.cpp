@@ -71,6 +71,13 @@ fs::path bake_cache_folder(const fs::path& recipe) {
 fs::path prepare_cloudscape_asset(const fs::path& asset, const std::string& where) {
   std::error_code ec;
   if (fs::is_directory(asset, ec)) {
+    // A `cumulo bake` or `cumulo import` killed while it replaced the folder's files: finished or undone first, so the
+    // assets read are one bake's, never a mix of two.
+    try {
+      for (const std::string& line : recover_file_sets(asset)) LOG_INFO("%s", line.c_str());
+    } catch (const Error& e) {
+      fail("%s: %s", where.c_str(), e.what());
+    }
     if (!complete_folder(asset)) {
       std::string missing;
       for (const char* f : kAssetFiles)

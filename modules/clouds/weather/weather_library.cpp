@@ -4,6 +4,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/log.h"
 
 namespace cumulo::clouds::weather {
 
@@ -12,6 +13,8 @@ std::filesystem::path WeatherLibrary::default_folder() { return repo_root() / "c
 WeatherLibrary WeatherLibrary::load(const std::filesystem::path& folder) {
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec)) fail("%s: no such folder of weather states", folder.string().c_str());
+  // An editor killed in the middle of a save: its set is finished (or undone) before any state is read.
+  for (const std::string& line : recover_file_sets(folder)) LOG_INFO("%s", line.c_str());
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(folder, ec))
     if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path());
