@@ -1,5 +1,6 @@
 #include "engine/gpu/allocator.h"
 
+#include "engine/gpu/gpu_budget.h"
 #include "engine/gpu/live_objects.h"
 
 #include <algorithm>
@@ -219,6 +220,15 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& req, MemoryUsag
   VkDeviceSize alignment = std::max<VkDeviceSize>(req.alignment, granularity_);
   VkDeviceSize size = detail::align_up(std::max<VkDeviceSize>(req.size, 1), granularity_);
   std::lock_guard lock(mutex_);
+  // Read at each allocation (they are few, and a test may set it per process or per case).
+  const uint64_t budget = gpu_memory_budget_bytes();
+  if (budget && stats_.allocated_bytes + size > budget) {
+    const double mib = double(1 << 20);
+    throw GpuBudgetError(strf("%s needs %.1f MiB of GPU memory, but %.1f of the %.1f MiB budget are in use "
+                              "(CUMULO_GPU_MEMORY_BUDGET_MB)",
+                              debug_name && *debug_name ? debug_name : "an unnamed resource", double(size) / mib,
+                              double(stats_.allocated_bytes) / mib, double(budget) / mib));
+  }
   uint32_t block = UINT32_MAX;
   std::optional<uint64_t> offset;
   if (size > block_size_ / 2) {

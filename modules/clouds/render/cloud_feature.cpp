@@ -7,6 +7,8 @@
 
 #include "engine/core/error.h"
 #include "engine/gpu/context.h"
+#include "engine/gpu/gpu_budget.h"
+#include "engine/core/log.h"
 #include "engine/render/budget_mode.h"
 #include "modules/clouds/scene/cloudscape_assets.h"
 
@@ -65,6 +67,31 @@ gpu::PipelineLibrary& CloudFeature::pipeline_library() {
 
 uint64_t CloudFeature::asset_gpu_bytes() const { return cache_ ? cache_->gpu_bytes() : 0; }
 
+// An asset the GPU memory budget cannot hold: drawn from the compressed set when it is not already and the device
+// samples BC1 (a quarter of the memory), else not drawn; the level goes on without it, and says so once.
+std::shared_ptr<const CloudAsset> CloudFeature::asset_within_budget(const std::filesystem::path& folder,
+                                                                    const CloudFormats& formats) {
+  for (const auto& [f, drawn] : over_budget_)
+    if (f == folder) return drawn ? cache_->cloudscape(folder, *drawn) : nullptr;
+  try {
+    return cache_->cloudscape(folder, formats);
+  } catch (const gpu::GpuBudgetError& e) {
+    const CloudFormats compressed = CloudFormats::from_set(CloudFormatSet::Compressed);
+    if (formats != compressed && ctx_->info().texture_compression_bc) {
+      try {
+        auto asset = cache_->cloudscape(folder, compressed);
+        LOG_WARN("clouds: %s: drawn from its compressed (BC1) files: %s", folder.string().c_str(), e.what());
+        over_budget_.emplace_back(folder, compressed);
+        return asset;
+      } catch (const gpu::GpuBudgetError&) {
+      }
+    }
+    LOG_WARN("clouds: %s: not drawn: %s", folder.string().c_str(), e.what());
+    over_budget_.emplace_back(folder, std::nullopt);
+    return nullptr;
+  }
+}
+
 CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame) {
   const cumulo::render::FrameSnapshot& s = f.snapshot;
   const CloudFormats formats = CloudFormats::from_set(options_.formats.value_or(default_format_set(ctx_->info())));
@@ -75,8 +102,8 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   for (const CloudInstanceFrame& i : frame.instances) {
     CloudInstance ci;
     static_cast<CloudPlacement&>(ci) = i;
-    ci.asset = cache_->cloudscape(i.folder, formats);
-    in.instances.push_back(std::move(ci));
+    ci.asset = asset_within_budget(i.folder, formats);
+    if (ci.asset) in.instances.push_back(std::move(ci));
   }
   in.lights = frame.lights;
   in.terrain_depth = f.light_depth.texture;

@@ -74,6 +74,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   void add_steps_readback(cumulo::render::StageContext& f, cumulo::render::TextureHandle depth, VkExtent2D size);
   // This frame's inputs from the snapshot (once per frame, at Stage::BeforeScene: the camera-cut state).
   CloudFrameInputs frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame);
+  std::shared_ptr<const CloudAsset> asset_within_budget(const std::filesystem::path& folder, const CloudFormats& formats);
   // Between the stages of one frame: its inputs and light passes (handles of that frame's graph).
   std::optional<CloudFrameInputs> inputs_;
   CloudLightOutputs light_;
@@ -92,6 +93,9 @@ class CloudFeature : public cumulo::render::RenderFeature {
   bool measure_steps_ = false;
   CloudFrameOverride* reference_ = nullptr;
   bool restart_ = false;
+  // Assets the GPU memory budget could not hold (gpu/gpu_budget.h): folder -> the formats it is drawn from, or
+  // nullopt when it is not drawn at all; each said once, never retried.
+  std::vector<std::pair<std::filesystem::path, std::optional<CloudFormats>>> over_budget_;
   HdrCapture* hdr_capture_ = nullptr;
   gpu::Buffer steps_buffer_;
   uint64_t steps_pixels_ = 0;

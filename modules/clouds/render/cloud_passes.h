@@ -48,7 +48,9 @@ struct CloudResources {
     glm::vec3 sun{0.0f};  // sun direction (asset space) of the last full rebuild
     uint64_t key = 0;     // what the grid depends on besides the sun (asset, transform, density)
     glm::vec3 last_sun{0.0f};       // sun direction of the last frame (asset space)
-    uint32_t frames_same_sun = 0;   // frames since the sun last moved (the sweep is current after a cycle)
+    uint32_t frames_same_sun = 0;   // frames since the sun or the weather last moved (the sweep is current after a cycle)
+    glm::vec3 weather{0.0f};        // the instance's density, dissipation and coverage at the last full rebuild
+    glm::vec3 last_weather{0.0f};   // ... of the last frame
   };
   // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow,
   // coverage texture (the BC1 modeling NVDF), the solved multiple scattering (MS_FIELD)

@@ -100,6 +100,7 @@ struct EnvelopeLayer::Impl {
   std::array<float, 13> combined_key{};  // what the combined map was made of (the voxel map's version, both planes)
   glm::vec3 shadow_scroll{0.0f};
   uint32_t shadow_marches = 0;
+  uint64_t shadow_frame = 0;  // the frame the envelope's map was last marched
   VkSampler linear_clamp = VK_NULL_HANDLE, linear_repeat = VK_NULL_HANDLE, nearest_clamp = VK_NULL_HANDLE;
 
   Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
@@ -350,7 +351,21 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
   const float texel_m = env_map.size.x / float(m.env_shadow.extent().width);
   const std::array<float, 11> key = {l.x, l.y, l.z, env_map.origin.x, env_map.origin.y, env_map.size.x, height,
                                   p.heights.w, p.noise.w, p.heights.z, p.wind.w};
-  const bool stale = march.shadow_every_frame || key != m.shadow_key ||
+  // The light and the plane exactly; the weather's density and coverage (7..10: they change every frame while the
+  // weather turns) within 10 %, or a change of any size once it is kShadowWeatherFrames old. Before, a turning
+  // weather re-marched the map every frame on a CPU device (`cumulo soak`: 115 ms a frame on lavapipe).
+  constexpr uint64_t kShadowWeatherFrames = 8;
+  bool geometry_same = true, weather_near = true, weather_same = true;
+  for (size_t k = 0; k < key.size(); ++k) {
+    if (k < 7) {
+      geometry_same = geometry_same && key[k] == m.shadow_key[k];
+    } else {
+      weather_same = weather_same && key[k] == m.shadow_key[k];
+      weather_near = weather_near && std::abs(key[k] - m.shadow_key[k]) <= 0.1f * std::max(std::abs(m.shadow_key[k]), 1e-3f);
+    }
+  }
+  const bool weather_stale = !weather_same && (!weather_near || in.frame_index >= m.shadow_frame + kShadowWeatherFrames);
+  const bool stale = march.shadow_every_frame || !geometry_same || weather_stale ||
                      glm::length(glm::vec3(p.wind) - m.shadow_scroll) > 0.5f * texel_m;
   TextureHandle env = graph.import_persistent(m.env_shadow_tex);
   if (stale) {
@@ -384,6 +399,7 @@ cumulo::render::LightShadowMap EnvelopeLayer::add_shadow_passes(cumulo::render::
         });
     m.shadow_key = key;
     m.shadow_scroll = glm::vec3(p.wind);
+    m.shadow_frame = in.frame_index;
     ++m.shadow_marches;
   }
   cumulo::render::LightShadowMap out = env_map;
