@@ -2,7 +2,7 @@
 // A GPU memory budget that makes the device look small (issue 25): $CUMULO_GPU_MEMORY_BUDGET_MB caps the device
 // memory the process's allocators hand out (the sum of live suballocations, every memory type). An allocation that
 // would pass it throws GpuBudgetError naming the resource, what it needs, what is in use and the budget; callers
-// that can do with less catch it (the clouds skip an asset that does not fit and say so), the rest let it reach the
+// that can do with less catch it (the clouds draw the level without an asset that does not fit, and say so), the rest let it reach the
 // command's one-line error. Host memory has its own budget (core/memory_budget.h, CUMULO_MEMORY_BUDGET_MB).
 //
 //   try { ... ctx.allocator().allocate(req, usage, "clouds.light_grid") ... }

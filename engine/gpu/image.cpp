@@ -14,6 +14,8 @@ namespace cumulo::gpu {
 void Image::create(Context& ctx, const ImageDesc& desc) {
   ctx_ = &ctx;
   desc_ = desc;
+  name_ = desc.name ? desc.name : "";
+  desc_.name = name_.c_str();
   const char* name = desc.name ? desc.name : "(unnamed)";
   if (desc.extent.width == 0 || desc.extent.height == 0 || desc.extent.depth == 0)
     fail("gpu: image '%s' has a zero extent %ux%ux%u", name, desc.extent.width, desc.extent.height, desc.extent.depth);
@@ -92,6 +94,8 @@ Image& Image::operator=(Image&& o) noexcept {
     reset();
     ctx_ = o.ctx_;
     desc_ = o.desc_;
+    name_ = std::move(o.name_);
+    desc_.name = name_.c_str();
     image_ = o.image_;
     view_ = o.view_;
     mip_views_ = std::move(o.mip_views_);
@@ -175,10 +179,11 @@ void Image::upload(std::span<const MipData> mips, VkImageLayout final_layout) {
     offsets.push_back(total);
     total += want;
   }
+  const std::string staging_name = (name_.empty() ? std::string("an image") : name_) + " (upload staging)";
   Buffer staging(*ctx_, {.size = total,
                          .usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                          .memory = MemoryUsage::Upload,
-                         .name = "image staging"});
+                         .name = staging_name.c_str()});
   std::vector<VkBufferImageCopy> regions;
   for (uint32_t m = 0; m < mips.size(); ++m) {
     std::memcpy(staging.mapped_as<char>() + offsets[m], mips[m].data, mips[m].bytes);

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "engine/gpu/allocator.h"
@@ -110,7 +111,8 @@ class Image {
   VkImageView make_view(uint32_t base_mip, uint32_t mip_count) const;
 
   Context* ctx_ = nullptr;
-  ImageDesc desc_;
+  ImageDesc desc_;    // desc_.name points into name_ (the caller's may not outlive the image)
+  std::string name_;  // for messages about the image after its creation (its upload's staging memory)
   VkImage image_ = VK_NULL_HANDLE;
   VkImageView view_ = VK_NULL_HANDLE;
   std::vector<VkImageView> mip_views_;

@@ -67,27 +67,17 @@ gpu::PipelineLibrary& CloudFeature::pipeline_library() {
 
 uint64_t CloudFeature::asset_gpu_bytes() const { return cache_ ? cache_->gpu_bytes() : 0; }
 
-// An asset the GPU memory budget cannot hold: drawn from the compressed set when it is not already and the device
-// samples BC1 (a quarter of the memory), else not drawn; the level goes on without it, and says so once.
+// An asset the GPU memory budget cannot hold is not drawn: the level goes on without it, and says so once (the
+// instances of one frame share one format set, so a compressed fallback for one asset alone is not an option).
 std::shared_ptr<const CloudAsset> CloudFeature::asset_within_budget(const std::filesystem::path& folder,
                                                                     const CloudFormats& formats) {
-  for (const auto& [f, drawn] : over_budget_)
-    if (f == folder) return drawn ? cache_->cloudscape(folder, *drawn) : nullptr;
+  for (const std::filesystem::path& f : over_budget_)
+    if (f == folder) return nullptr;
   try {
     return cache_->cloudscape(folder, formats);
   } catch (const gpu::GpuBudgetError& e) {
-    const CloudFormats compressed = CloudFormats::from_set(CloudFormatSet::Compressed);
-    if (formats != compressed && ctx_->info().texture_compression_bc) {
-      try {
-        auto asset = cache_->cloudscape(folder, compressed);
-        LOG_WARN("clouds: %s: drawn from its compressed (BC1) files: %s", folder.string().c_str(), e.what());
-        over_budget_.emplace_back(folder, compressed);
-        return asset;
-      } catch (const gpu::GpuBudgetError&) {
-      }
-    }
     LOG_WARN("clouds: %s: not drawn: %s", folder.string().c_str(), e.what());
-    over_budget_.emplace_back(folder, std::nullopt);
+    over_budget_.push_back(folder);
     return nullptr;
   }
 }
@@ -99,11 +89,14 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
   settings.split_distance_m = split_distance_for_device(options_, ctx_->info().is_cpu());
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
-  for (const CloudInstanceFrame& i : frame.instances) {
+  for (uint32_t k = 0; k < frame.instances.size(); ++k) {
+    const CloudInstanceFrame& i = frame.instances[k];
     CloudInstance ci;
     static_cast<CloudPlacement&>(ci) = i;
     ci.asset = asset_within_budget(i.folder, formats);
-    if (ci.asset) in.instances.push_back(std::move(ci));
+    if (!ci.asset) continue;
+    in.instances.push_back(std::move(ci));
+    in.frame_instances.push_back(k);
   }
   in.lights = frame.lights;
   in.terrain_depth = f.light_depth.texture;

@@ -93,9 +93,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   bool measure_steps_ = false;
   CloudFrameOverride* reference_ = nullptr;
   bool restart_ = false;
-  // Assets the GPU memory budget could not hold (gpu/gpu_budget.h): folder -> the formats it is drawn from, or
-  // nullopt when it is not drawn at all; each said once, never retried.
-  std::vector<std::pair<std::filesystem::path, std::optional<CloudFormats>>> over_budget_;
+  // Assets the GPU memory budget could not hold (gpu/gpu_budget.h): not drawn, said once, never retried.
+  std::vector<std::filesystem::path> over_budget_;
   HdrCapture* hdr_capture_ = nullptr;
   gpu::Buffer steps_buffer_;
   uint64_t steps_pixels_ = 0;

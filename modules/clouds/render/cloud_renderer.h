@@ -330,6 +330,9 @@ struct CloudFrameInputs {
   float haze_density = 0.0f, haze_falloff = 0.001f;
   glm::vec3 sky_zenith{0.0f}, sky_horizon{0.0f};
   std::vector<CloudInstance> instances;       // at most kMaxInstances, of at most kMaxAssets assets
+  // Each instance's index in the frame's CloudFrame::instances (an asset the GPU memory budget cannot hold is left
+  // out, so the two lists need not line up).
+  std::vector<uint32_t> frame_instances;
   std::vector<CloudPointLight> lights;        // at most kMaxPointLights
   // The 2.5D sky's half-resolution result (SkyLayer::add_passes), composited with the voxel clouds in
   // the order of their depths; invalid: no 2.5D sky.

@@ -30,8 +30,8 @@ class WeatherEffectsPass final : public CloudFramePass {
     fx.rain_light = in.ambient_color * 0.3f + in.sun_color * 0.01f;  // under the cloud: mostly shadowed
     // Rain columns under precipitating clouds: below the centre of the box, 0.3 of its smaller side wide,
     // from the cloud base to sea level (the scene depth stops them at the terrain), fading with dissipation.
-    for (size_t k = 0; k < c.frame.instances.size() && options_->rain; ++k) {
-      const CloudInstanceFrame& i = c.frame.instances[k];
+    for (size_t k = 0; k < in.instances.size() && options_->rain; ++k) {
+      const CloudInstanceFrame& i = c.frame.instances.at(in.frame_instances.at(k));
       const float intensity = i.rain * (1.0f - std::clamp(i.dissipation, 0.0f, 1.0f));
       if (!(intensity > 0.0f)) continue;
       const CloudAsset& a = *in.instances[k].asset;
