@@ -2,12 +2,22 @@
 // and become a one-line message and exit code 1; nothing crashes on bad input.
 #include <cstdio>
 #include <exception>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "app/commands.h"
 #include "engine/core/command.h"
 #include "engine/core/error.h"
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // A fixed threshold: blocks of 1 MiB and more are mapped on their own and go back to the system when freed. By
+  // default glibc raises the threshold to the size of the largest block freed, so the render graph's transients (and,
+  // on a CPU device, every image's memory) cycled through the heap afterwards and left it fragmented: `cumulo soak`
+  // measured resident memory 19 MB higher from its second lap on.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   const cumulo::app::Modules modules = cumulo::make_modules();
   cumulo::CommandRegistry registry;
   cumulo::register_all_commands(registry, modules);

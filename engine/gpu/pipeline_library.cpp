@@ -18,6 +18,12 @@ struct PipelineLibrary::Entry {
   std::string error;                                            // latest rebuild error, empty when current
 };
 
+std::vector<std::string> PipelineLibrary::keys() const {
+  std::vector<std::string> k;
+  for (const auto& e : entries_) k.push_back(e->key);
+  return k;
+}
+
 static std::string defines_key(const std::vector<ShaderDefine>& d) {
   std::string k;
   for (auto& x : d) k += x.name + "=" + x.value + ";";

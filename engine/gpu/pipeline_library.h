@@ -47,6 +47,8 @@ class PipelineLibrary {
   std::string last_error() const;
   // Number of pipelines and how many reloads succeeded / failed so far.
   size_t size() const { return entries_.size(); }
+  // Each pipeline's key (its shaders and defines), in creation order: what a run made (the soak's windows).
+  std::vector<std::string> keys() const;
   uint32_t reload_count() const { return reloads_; }
   uint32_t reload_failures() const { return failures_; }
   ShaderCompiler& compiler() { return compiler_; }

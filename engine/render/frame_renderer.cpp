@@ -119,8 +119,13 @@ struct FrameRenderer::Impl {
   void prepare_geometry(const FrameSnapshot& s, uint32_t frame) {
     for (const ModelDraw& draw : s.models) {
       const GpuModel& gm = scene.get(draw.model);
-      for (const scene::MeshInstance& inst : draw.model->instances)
-        geometry_variant(frame | mesh_variant(gm.meshes[inst.mesh], gm.material(draw.model->meshes[inst.mesh].material)));
+      for (const scene::MeshInstance& inst : draw.model->instances) {
+        const uint32_t v = frame | mesh_variant(gm.meshes[inst.mesh], gm.material(draw.model->meshes[inst.mesh].material));
+        geometry_variant(v);
+        // Its twin with (or without) a lightning flash's point lights too: the first flash of the night (no shadow
+        // map) compiled one mid-game, a hitch `cumulo soak` saw as a pipeline made in its seventh lap.
+        geometry_variant(v ^ kPointLights);
+      }
     }
   }
   gpu::GraphicsPipelineDesc sky_desc() const {

@@ -71,10 +71,10 @@ struct LapPlan {
     if (u >= sweep_from && u < sweep_to) return float(17.5 + (u - sweep_from) / (sweep_to - sweep_from));
     return float(3 * std::min(7, int(u * 8)));
   }
-  // The weather state forced at frame k (index into the library's ids), or -1.
+  // The weather state forced at frame k (index into the library's ids), or -1: one every lap / states frames.
   int forced_state(uint32_t k) const {
     for (size_t i = 0; i < states; ++i)
-      if (k == uint32_t((uint64_t(2 * i + 1) * lap) / (2 * states))) return int(i);
+      if (i > 0 && k == uint32_t((uint64_t(i) * lap) / states)) return int(i);  // the first: the lap's restart
     return -1;
   }
   double seconds() const {  // of play: 1 / mode each frame
@@ -104,6 +104,7 @@ struct Window {
   std::set<std::string> states;
   uint32_t events = 0;
   std::map<std::string, double> pass_ms;  // summed over the window's frames
+  std::vector<std::string> new_pipelines;  // made in this window (keys: shaders and defines)
 };
 
 double mean_of(const std::vector<double>& v) {
@@ -213,6 +214,7 @@ nlohmann::ordered_json window_json(const Window& x) {
   j["graph_transient_bytes"] = x.graph.transient_bytes;
   j["graph_transient_images"] = x.graph.transient_images;
   j["pipelines"] = x.pipelines;
+  j["pipelines_made"] = x.new_pipelines;
   j["descriptor_pools"] = x.objects.descriptor_pools;
   j["descriptor_sets"] = x.objects.descriptor_sets;
   j["images"] = x.objects.images;
@@ -302,7 +304,7 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
   uint64_t errors_before = session.ctx().validation_errors(), warnings_before = session.ctx().validation_warnings();
   cumulo::render::NonFiniteProbe::Counts probe_before;
   double step_debt = 0.0;
-  uint64_t lightning_fired = 0;
+  size_t pipelines_seen = 0;
   const Stopwatch total;
   for (uint32_t f = 0; f < o.frames; ++f) {
     const uint32_t k = f % o.lap;
@@ -312,12 +314,25 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       app::schedule_event(world, name, sim.sim_seconds());
       ++cur.events;
     };
+    // Which lightning event by the frame of the lap, so every lap strikes the same way at the same hours (a count
+    // over the run made the second lap's night strikes other bolts, whose pipelines only that lap made).
     if (k % kLightningEvery == kLightningEvery / 2 && !gameplay.lightning.empty())
-      fire(gameplay.lightning[lightning_fired++ % gameplay.lightning.size()]);
+      fire(gameplay.lightning[(k / kLightningEvery) % gameplay.lightning.size()]);
     if (k == o.lap * 3 / 10)
       for (const std::string& e : gameplay.killed) fire(e);
     if (k == o.lap * 7 / 10)
       for (const std::string& e : gameplay.reset) fire(e);
+    // Every lap plays the same: the weather restarts in the first state with its random stream seeded again, and the
+    // level's triggers are re-armed (a trigger that fires once, the storm's entry, fires once a lap).
+    if (k == 0) {
+      world.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& w) {
+        if (states.empty()) return;
+        w.started = false;
+        w.start = states.front();
+        w.encounter_active = false;
+      });
+      world.view<gameplay::Trigger>().each([](gameplay::Trigger& t) { t.inside = t.fired = t.primed = false; });
+    }
     if (const int s = plan.forced_state(k); s >= 0)
       world.view<weather::WeatherScheduler>().each([&](weather::WeatherScheduler& w) { weather::force_state(w, states[size_t(s)]); });
     if (o.fly) world.get<scene::Transform>(camera) = path.transform(double(k) / o.lap);
@@ -353,6 +368,9 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       cur.gpu_by_name = gpu::live_memory_by_name();
       cur.graph = session.renderer().graph_cache();
       cur.pipelines = session.renderer().pipeline_library().size();
+      const std::vector<std::string> keys = session.renderer().pipeline_library().keys();
+      cur.new_pipelines.assign(keys.begin() + std::ptrdiff_t(std::min(keys.size(), pipelines_seen)), keys.end());
+      pipelines_seen = keys.size();
       cur.objects = gpu::live_objects();
       cur.validation_errors = session.ctx().validation_errors() - errors_before;
       cur.validation_warnings = session.ctx().validation_warnings() - warnings_before;
