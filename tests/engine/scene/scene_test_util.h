@@ -53,6 +53,7 @@ inline void register_sample_level_components(ecs::ComponentRegistry& reg) {
   register_stand_in<2>(reg, "StormbirdDissipation");
   register_stand_in<3>(reg, "Trigger");
   register_stand_in<4>(reg, "OrographicClouds");
+  register_stand_in<5>(reg, "WeatherZone");
 }
 
 }  // namespace cumulo::scene::test
