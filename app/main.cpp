@@ -17,9 +17,6 @@ int main(int argc, char** argv) {
   // on a CPU device, every image's memory) cycled through the heap afterwards and left it fragmented: `cumulo soak`
   // measured resident memory 19 MB higher from its second lap on.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  // Two arenas: glibc makes another (and keeps its pages) whenever two threads meet in malloc, up to 8 per core; the
-  // soak saw resident memory step up 22 MB once, at a random lap, and stay there.
-  mallopt(M_ARENA_MAX, 2);
 #endif
   const cumulo::app::Modules modules = cumulo::make_modules();
   cumulo::CommandRegistry registry;
