@@ -69,6 +69,7 @@ class FrameRenderer {
     uint32_t compiles = 0;
     uint64_t transient_bytes = 0;
     size_t transient_images = 0;
+    size_t seen = 0;  // distinct shapes compiled since the start: more than the cache holds makes it recompile
   };
   GraphCache graph_cache() const;
 

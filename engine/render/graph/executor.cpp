@@ -208,6 +208,7 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
       physical_ = seen->get();
     } else {
       rebuild(graph);
+      seen_.insert(hash);
     }
   }
   physical_->last_used = frame_;

@@ -29,6 +29,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "engine/render/graph/render_graph.h"
@@ -86,6 +87,7 @@ class Executor {
   VkDeviceSize transient_bytes() const;  // memory held by the transient blocks and buffers of every cached shape
   size_t shape_count() const;            // compiled shapes cached
   size_t transient_image_count() const;  // transient images held by the cached shapes
+  size_t shapes_seen() const { return seen_.size(); }  // distinct shapes (hashes) compiled since construction
   // The physical object behind a resource of the last execute() (imported ones as imported).
   const PhysicalTexture& texture(uint32_t resource) const;
 
@@ -98,6 +100,7 @@ class Executor {
   gpu::Context& ctx_;
   std::vector<std::unique_ptr<Physical>> shapes_;
   Physical* physical_ = nullptr;  // the shape of the last execute()
+  std::unordered_set<uint64_t> seen_;
   std::vector<PhysicalTexture> textures_;  // by resource index, resolved per frame
   std::vector<PhysicalBuffer> buffers_;
   VkQueryPool pools_[kTimestampSlots] = {};

@@ -1,5 +1,6 @@
 #include "modules/clouds/soak/soak_command.h"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -39,6 +40,7 @@ struct SoakOptions {
   uint32_t frames = 10000, lap = 1000, width = 160, height = 90;
   std::string out;
   bool strict_timing = false;
+  bool trace_heap = false;
   std::vector<int> modes = {30, 40, 60};  // the budget modes a lap switches between
   bool debug_views = true, weather = true, gameplay = true, day = true, fly = true;
 };
@@ -91,16 +93,46 @@ uint64_t resident_bytes() {
   return resident * uint64_t(sysconf(_SC_PAGESIZE));
 }
 
+// Where resident memory sits, to tell a leak from fragmentation: bytes malloc hands out (in use), bytes its heaps hold
+// from the system (arena; what is free inside them only fragments), and large blocks it mapped on its own. What
+// resident memory holds beyond those (code, a JIT's output, mapped files) is mapped outside malloc.
+struct HeapStats {
+  uint64_t in_use = 0, arena = 0, mapped = 0;
+};
+HeapStats heap_stats() {
+  const struct mallinfo2 m = mallinfo2();
+  return {uint64_t(m.uordblks) + uint64_t(m.hblkhd), uint64_t(m.arena), uint64_t(m.hblkhd)};
+}
+
+struct Times {
+  double mean = 0, median = 0;
+};
+
+// The window being played: what is sampled every frame, in storage reserved once, so that the soak's own records
+// allocate nothing during a lap (a block the heap hands out mid-lap can pin the top of a heap that a driver's
+// compile grew, and resident memory then steps up for the soak's sake, not the engine's).
+struct FrameSamples {
+  std::vector<double> cpu, gpu, wall;
+  std::map<std::string, double> pass_ms;  // summed; values zeroed at a window's end, names kept
+  std::map<std::string, uint64_t> states;  // frames in each weather state; zeroed at a window's end, names kept
+  void reserve(size_t frames) {
+    cpu.reserve(frames);
+    gpu.reserve(frames);
+    wall.reserve(frames);
+  }
+};
+
 struct Window {
   uint64_t first_frame = 0, frames = 0;
   uint64_t rss = 0, gpu_allocated = 0, gpu_reserved = 0;
+  HeapStats heap;
   std::map<std::string, uint64_t> gpu_by_name;
   cumulo::render::FrameRenderer::GraphCache graph;
   size_t pipelines = 0;
   gpu::LiveObjects objects;
   uint64_t validation_errors = 0, validation_warnings = 0;  // in this window
   uint64_t nonfinite_frames = 0, nonfinite_pixels = 0, probed_frames = 0;
-  std::vector<double> cpu, gpu, wall;
+  Times cpu, gpu, wall;  // ms over the window's frames
   std::set<std::string> states;
   uint32_t events = 0;
   std::map<std::string, double> pass_ms;  // summed over the window's frames
@@ -192,7 +224,7 @@ std::vector<Check> run_checks(const std::vector<Window>& w, bool validation, boo
       validation);
   add("0 non-finite frames", bad == 0, std::to_string(bad) + " frames");
   if (w.size() >= 3) {
-    const double second = mean_of(w[1].wall), last = mean_of(w.back().wall);
+    const double second = w[1].wall.mean, last = w.back().wall.mean;
     const double change = second > 0 ? (last - second) / second : 0.0;
     char text[96];
     std::snprintf(text, sizeof text, "%.2f -> %.2f ms (%+.1f %%)", second, last, 100.0 * change);
@@ -206,11 +238,15 @@ nlohmann::ordered_json window_json(const Window& x) {
   j["first_frame"] = x.first_frame;
   j["frames"] = x.frames;
   j["resident_bytes"] = x.rss;
+  j["heap_in_use_bytes"] = x.heap.in_use;
+  j["heap_arena_bytes"] = x.heap.arena;
+  j["heap_mapped_bytes"] = x.heap.mapped;
   j["gpu_allocated_bytes"] = x.gpu_allocated;
   j["gpu_reserved_bytes"] = x.gpu_reserved;
   j["gpu_bytes_by_resource"] = x.gpu_by_name;
   j["graph_shapes"] = x.graph.shapes;
   j["graph_compiles"] = x.graph.compiles;
+  j["graph_shapes_seen"] = x.graph.seen;
   j["graph_transient_bytes"] = x.graph.transient_bytes;
   j["graph_transient_images"] = x.graph.transient_images;
   j["pipelines"] = x.pipelines;
@@ -225,9 +261,9 @@ nlohmann::ordered_json window_json(const Window& x) {
   j["nonfinite_frames"] = x.nonfinite_frames;
   j["nonfinite_pixels"] = x.nonfinite_pixels;
   j["probed_frames"] = x.probed_frames;
-  j["cpu_ms"] = {{"mean", mean_of(x.cpu)}, {"median", median_of(x.cpu)}};
-  j["gpu_ms"] = {{"mean", mean_of(x.gpu)}, {"median", median_of(x.gpu)}};
-  j["frame_ms"] = {{"mean", mean_of(x.wall)}, {"median", median_of(x.wall)}};
+  j["cpu_ms"] = {{"mean", x.cpu.mean}, {"median", x.cpu.median}};
+  j["gpu_ms"] = {{"mean", x.gpu.mean}, {"median", x.gpu.median}};
+  j["frame_ms"] = {{"mean", x.wall.mean}, {"median", x.wall.median}};
   j["weather_states"] = x.states;
   j["events_fired"] = x.events;
   // The passes' mean GPU ms over the window's frames (a pass absent from a frame counts 0 there), dearest first.
@@ -240,17 +276,17 @@ nlohmann::ordered_json window_json(const Window& x) {
 }
 
 void print_table(const std::vector<Window>& windows) {
-  std::printf("| frames | resident MB | GPU MB | graph shapes (compiles) | pipelines | descriptor sets | images | buffers | "
+  std::printf("| frames | resident MB | heap MB (in use / held) | GPU MB | graph shapes (compiles) | pipelines | descriptor sets | images | buffers | "
               "CPU ms | GPU ms | frame ms (mean / median) | validation | non-finite frames | weather states |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Window& x : windows) {
     std::string states;
     for (const std::string& s : x.states) states += (states.empty() ? "" : ", ") + s;
-    std::printf("| %llu-%llu | %.2f | %.2f | %zu (%u) | %zu | %lld | %lld | %lld | %.2f | %.2f | %.2f / %.2f | %llu | %llu | %s |\n",
+    std::printf("| %llu-%llu | %.2f | %.2f / %.2f | %.2f | %zu (%u) | %zu | %lld | %lld | %lld | %.2f | %.2f | %.2f / %.2f | %llu | %llu | %s |\n",
                 (unsigned long long)x.first_frame + 1, (unsigned long long)(x.first_frame + x.frames), x.rss / 1e6,
-                x.gpu_allocated / 1e6, x.graph.shapes, x.graph.compiles, x.pipelines, (long long)x.objects.descriptor_sets,
-                (long long)x.objects.images, (long long)x.objects.buffers, median_of(x.cpu), median_of(x.gpu), mean_of(x.wall),
-                median_of(x.wall), (unsigned long long)x.validation_errors, (unsigned long long)x.nonfinite_frames,
+                x.heap.in_use / 1e6, (x.heap.arena + x.heap.mapped) / 1e6, x.gpu_allocated / 1e6, x.graph.shapes, x.graph.compiles, x.pipelines, (long long)x.objects.descriptor_sets,
+                (long long)x.objects.images, (long long)x.objects.buffers, x.cpu.median, x.gpu.median, x.wall.mean,
+                x.wall.median, (unsigned long long)x.validation_errors, (unsigned long long)x.nonfinite_frames,
                 states.c_str());
   }
 }
@@ -301,10 +337,13 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
 
   std::vector<Window> windows;
   Window cur;
+  FrameSamples samples;
+  samples.reserve(o.lap);
   uint64_t errors_before = session.ctx().validation_errors(), warnings_before = session.ctx().validation_warnings();
   cumulo::render::NonFiniteProbe::Counts probe_before;
   double step_debt = 0.0;
   size_t pipelines_seen = 0;
+  uint64_t heap_high = 0;
   const Stopwatch total;
   for (uint32_t f = 0; f < o.frames; ++f) {
     const uint32_t k = f % o.lap;
@@ -345,23 +384,59 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
     sim.step(steps);
     cumulo::render::FrameSnapshot snapshot = session.extract(camera, cumulo::render::BudgetMode(hz));
     session.submit(snapshot);
-    cur.cpu.push_back(wall.ms());
+    samples.cpu.push_back(wall.ms());
     session.wait_frame();
-    cur.wall.push_back(wall.ms());
+    samples.wall.push_back(wall.ms());
     double gpu_ms = 0;
     for (const auto& [name, ms] : session.pass_timings()) {
       gpu_ms += ms;
-      cur.pass_ms[name] += ms;
+      samples.pass_ms[name] += ms;
     }
-    cur.gpu.push_back(gpu_ms);
+    samples.gpu.push_back(gpu_ms);
+    if (o.trace_heap) {
+      const uint64_t in_use = heap_stats().in_use;
+      if (f >= o.lap && in_use >= heap_high + 8192) {
+        std::string passes;
+        char text[160];
+        for (const auto& [name, ms] : session.pass_timings()) {
+          std::snprintf(text, sizeof text, "%s%s %.1f ms", passes.empty() ? "" : ", ", name.c_str(), ms);
+          passes += text;
+        }
+        std::string state;
+        world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) { state = w.current; });
+        std::fprintf(stderr, "cumulo soak: heap: frame %u (lap %u, frame %u of it): in use +%.1f KB to %.2f MB; %d Hz, "
+                     "debug view %s, weather %s, %.2f h; passes: %s\n", f + 1, f / o.lap + 1, k + 1,
+                     (in_use - heap_high) / 1024.0, in_use / 1e6, hz, render::debug_view_name(plan.debug(k)),
+                     state.c_str(), plan.hours(k, start_hours), passes.c_str());
+      }
+      heap_high = std::max(heap_high, in_use);
+    }
     world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) {
-      if (!w.current.empty()) cur.states.insert(w.current);
+      if (!w.current.empty()) ++samples.states[w.current];
     });
 
     if ((f + 1) % o.lap == 0 || f + 1 == o.frames) {
-      cur.first_frame = f + 1 - uint64_t(cur.wall.size());
-      cur.frames = cur.wall.size();
+      cur.first_frame = f + 1 - uint64_t(samples.wall.size());
+      cur.frames = samples.wall.size();
+      auto times = [](std::vector<double>& v) {
+        Times t{mean_of(v), median_of(v)};
+        v.clear();  // keeps its storage for the next window
+        return t;
+      };
+      const double frame_median = median_of(samples.wall);
+      cur.cpu = times(samples.cpu);
+      cur.gpu = times(samples.gpu);
+      cur.wall = times(samples.wall);
+      for (auto& [name, ms] : samples.pass_ms) {
+        if (ms > 0) cur.pass_ms[name] = ms;
+        ms = 0;
+      }
+      for (auto& [state, frames] : samples.states) {
+        if (frames > 0) cur.states.insert(state);
+        frames = 0;
+      }
       cur.rss = resident_bytes();
+      cur.heap = heap_stats();
       const gpu::MemoryStats m = session.ctx().allocator().stats();
       cur.gpu_allocated = m.allocated_bytes;
       cur.gpu_reserved = m.reserved_bytes;
@@ -382,10 +457,11 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       cur.nonfinite_pixels = counts.bad_pixels - probe_before.bad_pixels;
       probe_before = counts;
       std::fprintf(stderr,
-                   "cumulo soak: [%llu/%u] %.0f s: resident %.2f MB, GPU %.2f MB, %zu graph shapes, %zu pipelines, "
+                   "cumulo soak: [%llu/%u] %.0f s: resident %.2f MB (heap: %.2f MB in use, %.2f MB held), GPU %.2f MB, %zu graph shapes (%zu seen), %zu pipelines, "
                    "%lld images, frame %.2f ms (median), %llu validation errors, %llu non-finite frames\n",
-                   (unsigned long long)(f + 1), o.frames, total.seconds(), cur.rss / 1e6, cur.gpu_allocated / 1e6,
-                   cur.graph.shapes, cur.pipelines, (long long)cur.objects.images, median_of(cur.wall),
+                   (unsigned long long)(f + 1), o.frames, total.seconds(), cur.rss / 1e6, cur.heap.in_use / 1e6,
+                   (cur.heap.arena + cur.heap.mapped) / 1e6, cur.gpu_allocated / 1e6,
+                   cur.graph.shapes, cur.graph.seen, cur.pipelines, (long long)cur.objects.images, frame_median,
                    (unsigned long long)cur.validation_errors, (unsigned long long)cur.nonfinite_frames);
       windows.push_back(std::move(cur));
       cur = Window{};
@@ -458,7 +534,11 @@ void register_soak_command(CommandRegistry& registry, const CloudsRun& clouds) {
                       .option("--gameplay", "on|off", "lightning and the Stormbird's kill and reset (default on)", &gameplay)
                       .option("--fly", "on|off", "fly the loop (default on; off: the level's first camera stands still)", &fly)
                       .option("--day", "on|off", "a day each lap (default on; off: the level's time of day)", &day)
-                      .flag("--strict-timing", "the frame-time check decides the exit code too", &o.strict_timing);
+                      .flag("--strict-timing", "the frame-time check decides the exit code too", &o.strict_timing)
+                      .flag("--trace-heap",
+                            "after the first lap, print each frame where malloc's bytes in use reach a new high (by 8 KB "
+                            "or more), with what the frame did: where a leak or a driver's cache grows",
+                            &o.trace_heap);
                   clouds.add_run_options(p);
                   if (!p.parse(argc, argv)) return 0;
                   if (!level.empty()) o.level = level;
