@@ -19,6 +19,7 @@ namespace cumulo::clouds::grow {
 
 inline constexpr float kGravity = 9.81f;        // m/s^2
 inline constexpr float kGasConstantAir = 287.0f;  // J / (kg K)
+inline constexpr float kVapourGasConstant = 461.5f;  // J / (kg K)
 inline constexpr float kHeatCapacityAir = 1005.0f;  // cp, J / (kg K)
 inline constexpr float kLatentHeat = 2.501e6f;  // J/kg, vaporisation
 inline constexpr float kKappa = 0.286f;         // R / cp

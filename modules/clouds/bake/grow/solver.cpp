@@ -11,8 +11,6 @@ namespace cumulo::clouds::grow {
 
 namespace {
 
-constexpr float kVapourGasConstant = 461.5f;  // J / (kg K)
-
 template <class F>
 void for_slices(int nz, size_t slice_cells, F&& f) {
   parallel_for(size_t(nz), [&](size_t b, size_t e) {

@@ -69,6 +69,8 @@ struct WaterBudget {
 
 class PoissonSolver;
 
+inline constexpr float kCondensationMemory = 300.0f;  // s: CloudSolver::condensation_memory's default
+
 class CloudSolver {
  public:
   explicit CloudSolver(const SolverSettings& s);
@@ -96,10 +98,18 @@ class CloudSolver {
   std::vector<float> vertical_velocity() const;  // m/s, cell centres
   std::vector<float> speed() const;              // m/s, cell centres
 
+  // The raw state, for a solver that continues from it (grow_gpu::GpuCloudSolver::upload).
+  const SolverSettings& settings() const { return s_; }
+  const std::vector<float>& velocity_u() const { return u_; }  // m/s on x faces: (nx+1) ny nz
+  const std::vector<float>& velocity_v() const { return v_; }  // on y faces: nx (ny+1) nz
+  const std::vector<float>& velocity_w() const { return w_; }  // on z faces: nx ny (nz+1)
+  const std::vector<float>& pressure() const { return pressure_; }  // the last solve's (the next one's warm start)
+  const std::vector<float>& previous_cloud_water() const { return qc_prev_; }  // qc at the last growth update
+
   WaterBudget budget() const;
   int last_pressure_iterations() const { return last_cg_; }
   float max_velocity() const;
-  float condensation_memory = 300.0f;  // s
+  float condensation_memory = kCondensationMemory;  // s
 
   // The phase change alone (public for the conservation test).
   void phase_change();
