@@ -8,6 +8,7 @@
 #include "modules/clouds/soak/soak_command.h"
 #include "modules/clouds/envelope/orographic_clouds.h"
 #include "modules/clouds/frame/cloud_extraction.h"
+#include "modules/clouds/gameplay/cloud_growth.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
 #include "modules/clouds/gameplay/triggers.h"
@@ -43,6 +44,7 @@ void CloudsModule::register_components(ecs::ComponentRegistry& registry) {
   register_cloudscape_component(registry);
   envelope::register_orographic_clouds_component(registry);
   gameplay::register_stormbird_component(registry);
+  gameplay::register_cloud_growth_component(registry);
   gameplay::register_lightning_component(registry);
   gameplay::register_trigger_component(registry);
   registry.register_component<weather::WeatherScheduler>(
@@ -84,6 +86,11 @@ void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
     orographic = true;
     first_orographic = c.where;
   });
+  world.view<gameplay::CloudGrowth>().each([&](ecs::Entity e, gameplay::CloudGrowth& g) {
+    if (!world.try_get<Cloudscape>(e))
+      fail("%s: a CloudGrowth grows the cloud of its entity's Cloudscape, and this entity has none", g.where.c_str());
+    gameplay::resolve_cloud_growth(g, level.directory);
+  });
   feature_.on_level_loaded(any, scheduler, orographic);
 }
 
@@ -95,6 +102,7 @@ void CloudsModule::register_systems(ecs::Scheduler& s) {
   gameplay::add_trigger_system(s);
   gameplay::add_stormbird_system(s);
   weather::add_weather_scheduler_system(s);
+  gameplay::add_cloud_growth_system(s);  // after the schedulers: their states start it
   gameplay::add_lightning_system(s);  // after the schedulers: their weather sets the lightning's
 }
 

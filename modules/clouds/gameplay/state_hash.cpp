@@ -4,6 +4,7 @@
 #include <string>
 
 #include "engine/core/hash.h"
+#include "modules/clouds/gameplay/cloud_growth.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
 #include "modules/clouds/gameplay/triggers.h"
@@ -40,6 +41,9 @@ uint64_t cloud_state_hash(const ecs::World& world) {
   if (const auto* lw = world.try_resource<LightningWeather>()) x.pod(lw->rng.state), x.pod(lw->per_minute);
   world.view<const Cloudscape>().each([&](const Cloudscape& c) { x.pod(c.dissipation), x.pod(c.density); });
   world.view<const StormbirdDissipation>().each([&](const StormbirdDissipation& d) { x.pod(d.progress), x.pod(d.active); });
+  world.view<const CloudGrowth>().each([&](const CloudGrowth& g) {
+    x.pod(g.running), x.pod(g.ended), x.pod(g.sim_seconds), x.pod(g.target_steps), x.pod(g.generation);
+  });
   world.view<const Trigger>().each([&](const Trigger& t) { x.pod(t.inside), x.pod(t.fired), x.pod(t.primed); });
   return x.h;
 }
