@@ -1,0 +1,342 @@
+#include "modules/clouds/grow_gpu/grown_asset_gpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "engine/core/error.h"
+#include "engine/gpu/barrier.h"
+#include "engine/gpu/context.h"
+#include "engine/gpu/descriptors.h"
+#include "engine/gpu/image.h"
+#include "engine/gpu/pipeline.h"
+#include "engine/gpu/pipeline_library.h"
+#include "engine/gpu/readback.h"
+#include "engine/gpu/timestamps.h"
+#include "modules/clouds/bake/grow/grow_spec.h"
+#include "modules/clouds/bake/grow/grown_attributes.h"
+#include "modules/clouds/grow_gpu/gpu_solver.h"
+#include "modules/clouds/grow_gpu/grow_dispatch.h"
+#include "modules/clouds/volume/volume.h"
+
+namespace cumulo::clouds::grow_gpu {
+
+namespace {
+
+constexpr VkFormat kModelingFormat = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat kFieldFormat = VK_FORMAT_R16_UNORM;
+// grown_attributes.cpp's percentile floors: max(percentile, floor) for |condensation|, |w|, |growth|, the median.
+constexpr float kFloors[GROWN_QUANTITIES] = {1e-12f, 1e-6f, 1e-14f, 1e-9f};
+constexpr float kQuantiles[GROWN_QUANTITIES] = {0.9f, 0.9f, 0.9f, 0.5f};
+constexpr int kDilationRings = 4;  // grown_attributes.cpp's dilate(..., 4, 0.5)
+
+gpu::Buffer storage(gpu::Context& ctx, size_t bytes, const char* name) {
+  return gpu::Buffer(ctx,
+                     {std::max<size_t>(bytes, 4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::GpuOnly, name});
+}
+
+gpu::Image storage_image(gpu::Context& ctx, glm::ivec3 d, VkFormat format, const char* name) {
+  VkFormatProperties props{};
+  vkGetPhysicalDeviceFormatProperties(ctx.physical_device(), format, &props);
+  const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
+                                    VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+  if ((props.optimalTilingFeatures & need) != need)
+    fail("grow_gpu: %s cannot be a linearly sampled storage image on %s (%s)", name, ctx.info().name.c_str(),
+         format == kFieldFormat ? "R16 unorm" : "RGBA8 unorm");
+  return gpu::Image(ctx, gpu::ImageDesc::tex3d(uint32_t(d.x), uint32_t(d.y), uint32_t(d.z), format,
+                                               VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                               1, name));
+}
+
+}  // namespace
+
+GrownAssetSettings grown_asset_settings(const grow::GrowSpec& spec, float voxel_size) {
+  GrownAssetSettings s;
+  s.cell_game = spec.cell_game;
+  s.iso = spec.iso;
+  s.voxel_size = voxel_size;
+  return s;
+}
+
+GrownAssetGrid grown_asset_grid(glm::ivec3 cells, const GrownAssetSettings& s) {
+  if (!(s.cell_game > 0.0f) || !(s.voxel_size > 0.0f))
+    fail("grow_gpu: a grown asset needs a cell and a voxel size > 0 (got %g and %g m)", s.cell_game, s.voxel_size);
+  GrownAssetGrid g;
+  g.cells = cells;
+  g.per_cell = std::max(1, int(std::ceil(s.cell_game / s.voxel_size - 1e-4f)));  // derive_modeling's f
+  g.voxel = s.cell_game / float(g.per_cell);
+  g.voxels = (cells - 1) * g.per_cell + 1;
+  g.origin = s.default_origin ? glm::vec3((0.5f - 0.5f * float(cells.x)) * s.cell_game, 0.5f * s.cell_game,
+                                          (0.5f - 0.5f * float(cells.z)) * s.cell_game)
+                              : s.origin;
+  g.bounds_min = g.origin - 0.5f * g.voxel;
+  g.bounds_max = g.origin + (glm::vec3(g.voxels) - 0.5f) * g.voxel;
+  return g;
+}
+
+GpuGrownAsset::GpuGrownAsset(gpu::Context& ctx, gpu::PipelineLibrary& library, glm::ivec3 cells,
+                             const GrownAssetSettings& settings)
+    : ctx_(ctx),
+      s_(settings),
+      grid_(grown_asset_grid(cells, settings)),
+      params_(ctx, {sizeof(shared::GrownAssetParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Dynamic,
+                    "grown_asset.params"}) {
+  const glm::ivec3 n = grid_.voxels;
+  if (cells.x < 2 || cells.y < 2 || cells.z < 2)
+    fail("grow_gpu: a grown asset needs at least 2 cells per axis (got %dx%dx%d)", cells.x, cells.y, cells.z);
+  if (n.x > GROWN_MAX_VOXELS_PER_AXIS || n.y > GROWN_MAX_VOXELS_PER_AXIS || n.z > GROWN_MAX_VOXELS_PER_AXIS)
+    fail("grow_gpu: a grown asset of %dx%dx%d voxels (%g m) has more than %d along an axis: raise the voxel size", n.x,
+         n.y, n.z, grid_.voxel, GROWN_MAX_VOXELS_PER_AXIS);
+  auto pipe = [&](const char* shader, const char* name) {
+    return &library.compute({.shader = std::string("clouds/grow/") + shader, .name = name});
+  };
+  pipes_.resample = pipe("sdf_resample.comp", "grown.sdf_resample");
+  pipes_.jfa = pipe("sdf_jfa.comp", "grown.sdf_jfa");
+  pipes_.distance = pipe("sdf_distance.comp", "grown.sdf_distance");
+  pipes_.store_field = pipe("sdf_store.comp", "grown.sdf_store");
+  pipes_.histogram = pipe("attr_histogram.comp", "grown.attr_histogram");
+  pipes_.select = pipe("attr_select.comp", "grown.attr_select");
+  pipes_.column = pipe("attr_column.comp", "grown.attr_column");
+  pipes_.rates = pipe("attr_rates.comp", "grown.attr_rates");
+  pipes_.dilate = pipe("attr_dilate.comp", "grown.attr_dilate");
+  pipes_.blur = pipe("attr_blur.comp", "grown.attr_blur");
+  pipes_.depth = pipe("attr_depth.comp", "grown.attr_depth");
+  pipes_.store_modeling = pipe("attr_store.comp", "grown.attr_store");
+
+  const size_t voxels = grid_.count(), cell_count = size_t(cells.x) * cells.y * cells.z;
+  fine_ = storage(ctx, voxels * sizeof(float), "grown.cloud_water resampled");
+  seeds_a_ = storage(ctx, voxels * sizeof(uint32_t), "grown.seeds a / depth a");
+  seeds_b_ = storage(ctx, voxels * sizeof(uint32_t), "grown.seeds b / depth b");
+  distance_ = storage(ctx, voxels * sizeof(float), "grown.distance");
+  select_ = storage(ctx, (GROWN_SELECT_HEADER + GROWN_QUANTITIES * GROWN_BINS) * sizeof(uint32_t), "grown.select");
+  columns_ = storage(ctx, size_t(cells.x) * cells.z * sizeof(glm::ivec2), "grown.columns");
+  attributes_a_ = storage(ctx, cell_count * sizeof(glm::vec4), "grown.attributes a");
+  attributes_b_ = storage(ctx, cell_count * sizeof(glm::vec4), "grown.attributes b");
+
+  // Jump flooding: N/2, N/4, ..., 1 for N the power of two at or above the longest axis, then the extra passes
+  // (3: steps 4, 2, 1).
+  int top = 1;
+  while (top < std::max(n.x, std::max(n.y, n.z))) top *= 2;
+  for (int k = top / 2; k >= 1; k /= 2) jfa_steps_.push_back(k);
+  if (s_.flood_extra_passes < 0 || s_.flood_extra_passes > 8)
+    fail("grow_gpu: flood_extra_passes %d is outside 0..8", s_.flood_extra_passes);
+  if (s_.flood_extra_passes > 0)
+    for (int k = 1 << (s_.flood_extra_passes - 1); k >= 1; k /= 2) jfa_steps_.push_back(k);
+
+  shared::GrownAssetParams p{};
+  p.cells = glm::ivec4(cells, int(cell_count));
+  p.voxels = glm::ivec4(n, int(voxels));
+  p.grid = glm::vec4(float(grid_.per_cell), grid_.voxel, s_.iso, 0.5f * grid_.voxel);
+  if (!(s_.safety_margin >= 0.0f) || !(s_.safety_fraction >= 0.0f) || !(s_.safety_fraction < 1.0f))
+    fail("grow_gpu: the field's safety margin must be >= 0 m and its fraction in [0, 1) (got %g m, %g)",
+         s_.safety_margin, s_.safety_fraction);
+  p.field = glm::vec4(kSdfRangeMin, kSdfRangeMax, s_.safety_fraction, s_.safety_margin);
+  p.profile = glm::vec4(grow::kThicknessFactor, grow::kMinProfileDepth, grow::kMaxProfileDepth, s_.profile_exponent);
+  p.detail = glm::vec4(grow::kGrowthWeight, grow::kCondensationWeight, grow::kUpdraftWeight, grow::kHeightWeight);
+  p.quantiles = glm::vec4(kQuantiles[0], kQuantiles[1], kQuantiles[2], kQuantiles[3]);
+  p.floors = glm::vec4(kFloors[0], kFloors[1], kFloors[2], kFloors[3]);
+  // derive_modeling's thickness radius in voxels.
+  p.radii = glm::ivec4(std::max(1, int(std::ceil(grow::kThicknessRadius / grid_.voxel))), 0, 0, 0);
+  p.coverage = glm::vec4(std::clamp(s_.coverage, 0.0f, 1.0f), 0.0f, 0.0f, 0.0f);
+  std::memcpy(params_.mapped(), &p, sizeof p);
+
+  modeling_ = storage_image(ctx, n, kModelingFormat, "grown.modeling");
+  field_ = storage_image(ctx, n, kFieldFormat, "grown.field");
+  // No fair-weather field: one texel at the decode minimum (cloud_assets.cpp's stand-in).
+  field_fair_ = gpu::Image(
+      ctx, gpu::ImageDesc::tex3d(1, 1, 1, kFieldFormat, VK_IMAGE_USAGE_SAMPLED_BIT, 1, "grown.field_fair (none)"));
+  const uint16_t inside = 0;
+  field_fair_.upload({gpu::MipData{&inside, sizeof inside}});
+  clear_images();
+}
+
+GpuGrownAsset::~GpuGrownAsset() = default;
+
+GrownAssetView GpuGrownAsset::view() const {
+  GrownAssetView v;
+  v.modeling = &modeling_, v.field = &field_, v.field_fair = &field_fair_;
+  v.dims = glm::uvec3(grid_.voxels);
+  v.voxel_size = grid_.voxel;
+  v.bounds_min = grid_.bounds_min, v.bounds_max = grid_.bounds_max;
+  v.gpu_bytes = uint64_t(grid_.count()) * (4 + 2);
+  return v;
+}
+
+// Before the first update: no cloud (the field's maximum everywhere, modeling 0), ready to sample.
+void GpuGrownAsset::clear_images() {
+  ctx_.submit_and_wait([&](VkCommandBuffer cmd) {
+    for (gpu::Image* img : {&field_, &modeling_}) {
+      img->cmd_transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+      const VkClearColorValue value = {{img == &field_ ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f}};
+      const VkImageSubresourceRange range = img->full_range();
+      vkCmdClearColorImage(cmd, img->handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+      img->cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    }
+  });
+}
+
+uint32_t GpuGrownAsset::voxel_groups() const {
+  return uint32_t((grid_.count() + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE);
+}
+uint32_t GpuGrownAsset::cell_groups() const {
+  const size_t cells = size_t(grid_.cells.x) * grid_.cells.y * grid_.cells.z;
+  return uint32_t((cells + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE);
+}
+
+// The parameter block at binding 0, the buffers from binding 1 in the order given, the images at their bindings
+// (those the shader declares), the push constants; then `groups` work groups.
+void GpuGrownAsset::pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, std::initializer_list<VkBuffer> buffers,
+                         uint32_t groups, int pass_x, int axis, int radix) const {
+  pipe.bind(cmd);
+  gpu::DescriptorWriter writer;
+  if (pipe.find_binding(0, GROWN_BINDING_PARAMS)) writer.uniform_buffer(GROWN_BINDING_PARAMS, params_.handle());
+  uint32_t binding = GROWN_BINDING_PARAMS + 1;
+  for (VkBuffer b : buffers) {
+    if (pipe.find_binding(0, binding)) writer.storage_buffer(binding, b);
+    ++binding;
+  }
+  if (pipe.find_binding(0, GROWN_BINDING_FIELD_IMAGE))
+    writer.storage_image(GROWN_BINDING_FIELD_IMAGE, field_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  if (pipe.find_binding(0, GROWN_BINDING_MODELING_IMAGE))
+    writer.storage_image(GROWN_BINDING_MODELING_IMAGE, modeling_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  for (const gpu::PipelineBinding& b : pipe.bindings())
+    if (b.set == 0 && b.binding >= binding && b.binding != GROWN_BINDING_FIELD_IMAGE &&
+        b.binding != GROWN_BINDING_MODELING_IMAGE)
+      fail("grow_gpu: pass '%s' declares binding %u, not given", pipe.name().c_str(), b.binding);
+  writer.push(ctx_, cmd, pipe);
+  const shared::GrownAssetPush push{glm::ivec4(pass_x, axis, radix, 0)};
+  if (pipe.push_constant_size() >= sizeof(push)) pipe.push_constants(cmd, push);
+  vkCmdDispatch(cmd, groups, 1, 1);
+}
+
+void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer) {
+  if (solver.dims() != grid_.cells)
+    fail("grow_gpu: a grown asset for %dx%dx%d cells updated from a %dx%dx%d solver", grid_.cells.x, grid_.cells.y,
+         grid_.cells.z, solver.dims().x, solver.dims().y, solver.dims().z);
+  const VkBuffer qc = solver.buffer(Field::CloudWater), cond = solver.buffer(Field::Condensation),
+                 growth = solver.buffer(Field::Growth), v = solver.buffer(Field::V);
+  const uint32_t vg = voxel_groups(), cg = cell_groups();
+  gpu::ScopedLabel label(ctx_, cmd, "grown_asset.update");
+  uint32_t range = UINT32_MAX;
+  auto stage = [&](const char* name) {  // timestamps between the update's stages (barrier intervals)
+    if (!timer) return;
+    if (range != UINT32_MAX) timer->end(cmd, range);
+    range = name ? timer->begin(cmd, name) : UINT32_MAX;
+  };
+  stage("grown.classify");
+
+  // The images' old contents are discarded (every texel is written); the percentiles' histograms start at zero.
+  field_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
+  modeling_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
+  field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+  modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+  vkCmdFillBuffer(cmd, select_.handle(), 0, VK_WHOLE_SIZE, 0u);
+  grow_barrier(cmd);  // after the solver's steps and the fill
+
+  // The distance: resample and classify, jump flooding, the distance and the iso-crossing.
+  pass(cmd, *pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg);
+  // The attributes' passes on the cells run beside the flooding (they read the solver's buffers only).
+  pass(cmd, *pipes_.column, {qc, columns_.handle()},
+       uint32_t((grid_.cells.x * grid_.cells.z + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE));
+  const uint32_t histogram_groups = uint32_t(
+      (size_t(grid_.cells.x) * grid_.cells.y * grid_.cells.z + GROWN_HISTOGRAM_CELLS - 1) / GROWN_HISTOGRAM_CELLS);
+  pass(cmd, *pipes_.histogram, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, 0);
+  grow_barrier(cmd);
+  // The percentiles' radix select (a select after each histogram, four of each) runs beside the floods: each of
+  // its steps shares a barrier interval with one flood pass (they touch different buffers).
+  struct RadixStep {
+    const gpu::Pipeline* pipe;
+    int radix;
+  };
+  const RadixStep radix_steps[] = {{pipes_.select, 0}, {pipes_.histogram, 1}, {pipes_.select, 1}, {pipes_.histogram, 2},
+                                   {pipes_.select, 2}, {pipes_.histogram, 3}, {pipes_.select, 3}};
+  auto radix_step = [&](const RadixStep& r) {
+    if (r.pipe == pipes_.select)
+      pass(cmd, *r.pipe, {select_.handle()}, 1, 0, 0, r.radix);
+    else
+      pass(cmd, *r.pipe, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, r.radix);
+  };
+  stage("grown.flood");
+  const gpu::Buffer* from = &seeds_a_;
+  const gpu::Buffer* to = &seeds_b_;
+  const size_t steps = std::max(jfa_steps_.size(), std::size(radix_steps));
+  for (size_t i = 0; i < steps; ++i) {
+    if (i < jfa_steps_.size()) {
+      pass(cmd, *pipes_.jfa, {from->handle(), to->handle()}, vg, jfa_steps_[i]);
+      std::swap(from, to);
+    }
+    if (i < std::size(radix_steps)) radix_step(radix_steps[i]);
+    grow_barrier(cmd);
+  }
+  stage("grown.distance");
+  pass(cmd, *pipes_.distance, {from->handle(), fine_.handle(), distance_.handle()}, vg);
+  pass(cmd, *pipes_.rates, {qc, cond, growth, v, select_.handle(), columns_.handle(), attributes_a_.handle()}, cg);
+  grow_barrier(cmd);
+
+  stage("grown.store");
+  // The field image (conservative), the profile depth (x, y, z max filters: the distance -> a -> b -> a), the
+  // attributes' dilation (4 rings) and blur (3 axes), the modeling image.
+  pass(cmd, *pipes_.store_field, {distance_.handle()}, vg);
+  pass(cmd, *pipes_.depth, {distance_.handle(), seeds_a_.handle()}, vg, 0, 0);
+  const gpu::Buffer* a = &attributes_a_;
+  const gpu::Buffer* b = &attributes_b_;
+  pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
+  std::swap(a, b);
+  grow_barrier(cmd);
+  pass(cmd, *pipes_.depth, {seeds_a_.handle(), seeds_b_.handle()}, vg, 0, 1);
+  for (int ring = 1; ring < kDilationRings; ++ring) {
+    pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
+    std::swap(a, b);
+    grow_barrier(cmd);
+  }
+  pass(cmd, *pipes_.depth, {seeds_b_.handle(), seeds_a_.handle()}, vg, 0, 2);
+  for (int axis = 0; axis < 3; ++axis) {
+    pass(cmd, *pipes_.blur, {a->handle(), b->handle()}, cg, 0, axis);
+    std::swap(a, b);
+    grow_barrier(cmd);
+  }
+  pass(cmd, *pipes_.store_modeling, {distance_.handle(), seeds_a_.handle(), a->handle()}, vg);
+
+  // Sampled from here on (the march, the light grid) or read back.
+  field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  stage(nullptr);
+  ++updates_;
+}
+
+std::vector<uint8_t> GpuGrownAsset::read_modeling() const { return gpu::read_image_bytes(ctx_, modeling_); }
+
+std::vector<uint16_t> GpuGrownAsset::read_field() const {
+  const std::vector<uint8_t> bytes = gpu::read_image_bytes(ctx_, field_);
+  std::vector<uint16_t> out(bytes.size() / 2);
+  std::memcpy(out.data(), bytes.data(), out.size() * 2);
+  return out;
+}
+
+std::vector<float> GpuGrownAsset::read_cloud_water() const {
+  std::vector<float> out(grid_.count());
+  fine_.download(out.data(), out.size() * sizeof(float));
+  return out;
+}
+
+std::vector<float> GpuGrownAsset::read_distance() const {
+  std::vector<float> out(grid_.count());
+  distance_.download(out.data(), out.size() * sizeof(float));
+  return out;
+}
+
+std::array<float, GROWN_QUANTITIES> GpuGrownAsset::read_percentiles() const {
+  uint32_t state[GROWN_SELECT_HEADER];
+  select_.download(state, sizeof state);
+  std::array<float, GROWN_QUANTITIES> out{};
+  for (int q = 0; q < GROWN_QUANTITIES; ++q) {
+    const uint32_t* s = state + q * GROWN_SELECT_STRIDE;
+    float v = 0.0f;
+    if (s[GROWN_SELECT_COUNT] > 0) std::memcpy(&v, &s[GROWN_SELECT_PREFIX], sizeof v);
+    out[size_t(q)] = v;
+  }
+  return out;
+}
+
+}  // namespace cumulo::clouds::grow_gpu
