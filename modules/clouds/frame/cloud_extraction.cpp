@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "engine/scene/components.h"
+#include "modules/clouds/gameplay/cloud_growth.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/scene/cloudscape.h"
 #include "modules/clouds/weather/level_weather.h"
@@ -87,6 +88,8 @@ void extract_cloud_frame(const ecs::World& world, cumulo::render::FrameSnapshot&
     i.wind_speed = c.wind_speed;
     i.dissipation = c.dissipation;
     i.rain = c.rain;
+    if (const auto* g = world.try_get<gameplay::CloudGrowth>(e); g && !g->resolved_spec.empty())
+      i.growth = CloudGrowthFrame{g->resolved_spec, e.bits(), g->target_steps, g->generation};
     frame.instances.push_back(std::move(i));
   });
   world.view<const envelope::OrographicClouds>().each([&](ecs::Entity, const envelope::OrographicClouds& c) {

@@ -17,10 +17,20 @@
 
 namespace cumulo::clouds {
 
+// A cloud grown during play (gameplay::CloudGrowth on the entity): the renderer steps its simulation toward
+// `target_steps` (at most a few steps a frame) and draws it in place of the folder's asset.
+struct CloudGrowthFrame {
+  std::filesystem::path spec;  // the grow spec, resolved
+  uint64_t key = 0;            // the entity: one simulation per growing cloud
+  int target_steps = 0;
+  uint32_t generation = 0;     // a new one: the simulation starts again from its first step
+};
+
 // One Cloudscape entity, its weather applied (density x voxel_density, coverage, wind).
 struct CloudInstanceFrame : CloudPlacement {
   std::filesystem::path folder;  // resolved NVDF folder
   float rain = 0.0f;             // Cloudscape "rain" (0..1), before dissipation
+  std::optional<CloudGrowthFrame> growth;
 };
 
 // At most this many point lights a frame: the march's CLOUD_MAX_POINT_LIGHTS (cloud_renderer.h checks).
