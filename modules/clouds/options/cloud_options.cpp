@@ -74,6 +74,11 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "the envelope clouds' far pass marches 1 of N pixels per frame and reprojects the rest: 1 every pixel (the "
               "talk's way), 4, 16, auto (default: 1 on a GPU; on a CPU device 4 at 30 Hz, 16 for the 40/60 Hz far pass)",
               &o.envelope_block)
+      .option("--cloud-growth-steps-per-frame", "N",
+              "a growing cloud (CloudGrowth) takes at most N simulation steps a frame toward where its component says it "
+              "should be (default 1; 0: the clouds do not grow)",
+              &o.growth_steps_per_frame)
+      .range(0.0, 64.0)
       .on_off("--cloud-sky-occlusion",
               "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",
               &o.sky_occlusion)

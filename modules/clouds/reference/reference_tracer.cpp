@@ -229,7 +229,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
     for (size_t a = 0; a < slot_assets.size(); ++a) {
       Majorant& m = majorants_[slot_assets[a]];
       if (!m.image) {
-        const VkExtent3D e = slot_assets[a]->modeling.extent();
+        const VkExtent3D e = slot_assets[a]->modeling_image().extent();
         const glm::uvec3 cells((e.width + REF_MAJORANT_CELL - 1) / REF_MAJORANT_CELL, (e.height + REF_MAJORANT_CELL - 1) / REF_MAJORANT_CELL,
                                (e.depth + REF_MAJORANT_CELL - 1) / REF_MAJORANT_CELL);
         m.image = gpu::Image(ctx_, gpu::ImageDesc::tex3d(cells.x, cells.y, cells.z, VK_FORMAT_R32_SFLOAT,

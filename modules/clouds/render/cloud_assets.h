@@ -59,15 +59,26 @@ inline CloudFormats default_cloud_formats(const gpu::DeviceInfo& device) {
   return CloudFormats::from_set(default_format_set(device));
 }
 
-// One cloudscape asset on the GPU (immutable once loaded; shared by every instance that names it).
+// One cloudscape asset on the GPU (immutable once loaded; shared by every instance that names it). A grown cloud's
+// asset (cloud_growth_runtime.h) borrows its images instead: `borrowed` names images owned elsewhere, which change
+// as the cloud grows. Whatever reads the images goes through modeling_image(), field_image(), field_fair_image().
 struct CloudAsset {
-  std::filesystem::path folder;  // canonical
+  std::filesystem::path folder;  // canonical (a grown cloud: its grow spec, for messages)
   CloudFormats formats;
   gpu::Image modeling;  // 3D: r profile, g detail type, b density scale (RGBA8: a coverage threshold)
   gpu::Image coverage;  // 3D R8: the coverage thresholds of the BC1 modeling (compressed only; 1 texel of 0 without the file)
   gpu::Image field;     // 3D: signed distance (R16 0..1 <-> -256..4096 m, or conservative BC1 rgb)
   gpu::Image field_fair;  // 3D R16: the fair-weather field (volume/nvdf.h); 1 texel of -256 m without the file
   bool has_field_fair = false;
+  // Images owned elsewhere (null: the owned ones above), live as long as this asset, uncompressed formats.
+  struct Borrowed {
+    const gpu::Image* modeling = nullptr;
+    const gpu::Image* field = nullptr;
+    const gpu::Image* field_fair = nullptr;
+  } borrowed;
+  const gpu::Image& modeling_image() const { return borrowed.modeling ? *borrowed.modeling : modeling; }
+  const gpu::Image& field_image() const { return borrowed.field ? *borrowed.field : field; }
+  const gpu::Image& field_fair_image() const { return borrowed.field_fair ? *borrowed.field_fair : field_fair; }
   glm::uvec3 dims{0};
   float voxel_size = 0.0f;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // the asset's own world box (metres)

@@ -34,6 +34,7 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   ctx_ = &g.ctx;
   library_ = &g.library;
   cache_ = std::make_unique<CloudAssetCache>(g.ctx);
+  growth_ = std::make_unique<CloudGrowthRuntimes>(g.ctx, g.library);
   if (noise_file_.empty()) return;  // the level has no clouds
   // The talk's 256x256x32 grid, or on CPU devices a smaller one (its eighth per frame would cost about
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
@@ -54,7 +55,9 @@ void CloudFeature::destroy_gpu() {
   steps_pixels_ = 0;
   for (CloudFramePass* p : drawn_passes_) p->destroy_gpu();
   drawn_passes_.clear();
+  growth_work_.clear();
   resources_.reset();
+  growth_.reset();
   cache_.reset();
   ctx_ = nullptr;
   library_ = nullptr;
@@ -84,16 +87,41 @@ std::shared_ptr<const CloudAsset> CloudFeature::asset_within_budget(const std::f
 
 CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& f, const CloudFrame& frame) {
   const cumulo::render::FrameSnapshot& s = f.snapshot;
-  const CloudFormats formats = CloudFormats::from_set(options_.formats.value_or(default_format_set(ctx_->info())));
+  // A grown cloud's images are uncompressed (grown_asset_gpu.h) and the instances of one frame share one format set:
+  // a frame with one draws every cloudscape uncompressed (unless --cloud-formats says otherwise, which import_cloud_assets
+  // then refuses, naming both).
+  const bool growing = std::any_of(frame.instances.begin(), frame.instances.end(),
+                                   [](const CloudInstanceFrame& i) { return i.growth.has_value(); });
+  const CloudFormats formats = CloudFormats::from_set(
+      options_.formats.value_or(growing ? CloudFormatSet::Uncompressed : default_format_set(ctx_->info())));
   CloudSettings settings = cloud_settings(options_);
   settings.split_distance_m = split_distance_for_device(options_, ctx_->info().is_cpu());
   // Camera, time, budget mode, the sun (pi x the engine's Lambertian radiance) and the sky's ambient.
   CloudFrameInputs in = cloud_inputs_from_snapshot(s, f.slot, settings);
+  growth_work_.clear();
   for (uint32_t k = 0; k < frame.instances.size(); ++k) {
     const CloudInstanceFrame& i = frame.instances[k];
     CloudInstance ci;
     static_cast<CloudPlacement&>(ci) = i;
-    ci.asset = asset_within_budget(i.folder, formats);
+    if (i.growth) {
+      // Drawn from its simulation's images (stepped by this frame's growth passes), not the folder's asset. One the
+      // GPU memory budget cannot hold is not drawn, as an asset (said once, never retried).
+      if (std::find(over_budget_.begin(), over_budget_.end(), i.growth->spec) != over_budget_.end()) continue;
+      CloudGrowthRuntime* g = nullptr;
+      try {
+        g = &growth_->runtime(*i.growth);
+      } catch (const gpu::GpuBudgetError& e) {
+        LOG_WARN("clouds: %s: not grown: %s", i.growth->spec.string().c_str(), e.what());
+        over_budget_.push_back(i.growth->spec);
+        continue;
+      }
+      const CloudGrowthRuntime::Plan plan = g->plan(*i.growth, options_.growth_steps_per_frame);
+      growth_work_.push_back({g, plan});
+      ci.asset = g->asset();
+      ci.asset_changed = plan.update;
+    } else {
+      ci.asset = asset_within_budget(i.folder, formats);
+    }
     if (!ci.asset) continue;
     in.instances.push_back(std::move(ci));
     in.frame_instances.push_back(k);
@@ -130,6 +158,9 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
   // Before the scene: the light grid and the shadow map (the geometry reads it); after it, the rest.
   if (stage == Stage::BeforeScene) {
     inputs_ = frame_inputs(f, *frame);
+    // The growing clouds' steps and images first: the light passes import the images (cloud_growth_runtime.h).
+    add_cloud_growth_passes(f.graph, growth_work_);
+    growth_work_.clear();
     light_ = add_cloud_light_passes(*resources_, f.graph, *inputs_);
     cumulo::render::LightShadowMap shadow = light_.shadow;
     for (CloudFramePass* p : drawn_passes_) p->add_before_scene(f, *frame, *inputs_, shadow);

@@ -19,6 +19,7 @@
 #include "engine/render/render_feature.h"
 #include "modules/clouds/frame/cloud_frame.h"
 #include "modules/clouds/render/cloud_frame_pass.h"
+#include "modules/clouds/render/cloud_growth_runtime.h"
 #include "modules/clouds/render/cloud_render_options.h"
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/render/hdr_capture.h"
@@ -54,6 +55,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   const CloudResources* resources() const { return resources_.get(); }
   uint64_t asset_gpu_bytes() const;
   CloudAssetCache* asset_cache() { return cache_.get(); }
+  // A growing cloud's runtime (CloudGrowthFrame::key; null before its first frame): for tests and the bench.
+  const CloudGrowthRuntime* growth_runtime(uint64_t key) const { return growth_ ? growth_->find(key) : nullptr; }
   // The renderer's pipeline library (after create_gpu): passes added from outside share its hot reload.
   gpu::PipelineLibrary& pipeline_library();
   void set_measure_steps(bool on) { measure_steps_ = on; }
@@ -83,6 +86,8 @@ class CloudFeature : public cumulo::render::RenderFeature {
   gpu::Context* ctx_ = nullptr;
   gpu::PipelineLibrary* library_ = nullptr;
   std::unique_ptr<CloudAssetCache> cache_;
+  std::unique_ptr<CloudGrowthRuntimes> growth_;  // the growing clouds (cloud_growth_runtime.h)
+  std::vector<CloudGrowthWork> growth_work_;     // this frame's, planned by frame_inputs
   CloudResourcesPtr resources_;
   std::vector<std::unique_ptr<CloudFramePass>> frame_passes_ = make_cloud_frame_passes();
   std::vector<CloudFramePass*> drawn_passes_;  // those created for this run, in order

@@ -107,9 +107,9 @@ CloudLightOutputs import_cloud_assets(CloudResources& res, RenderGraph& graph, c
   };
   for (size_t a = 0; a < assets.size(); ++a) {
     const std::string suffix = a ? "." + std::to_string(a) : "";
-    out.modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling));
-    out.fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field));
-    out.fairs.push_back(import_3d("clouds.field_fair" + suffix, assets[a]->field_fair));
+    out.modelings.push_back(import_3d("clouds.modeling" + suffix, assets[a]->modeling_image()));
+    out.fields.push_back(import_3d("clouds.field" + suffix, assets[a]->field_image()));
+    out.fairs.push_back(import_3d("clouds.field_fair" + suffix, assets[a]->field_fair_image()));
     if (out.coverage_texture) out.coverages.push_back(import_3d("clouds.coverage" + suffix, assets[a]->coverage));
   }
   out.noise = import_3d("clouds.noise", res.noise->image);
@@ -149,8 +149,8 @@ LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in) 
     const glm::vec3 weather(inst.density, inst.dissipation, inst.coverage);
     const glm::vec3 weather_change = glm::abs(weather - g.weather);
     const bool weather_far = glm::any(glm::greaterThan(weather_change, 0.1f * glm::max(glm::abs(g.weather), glm::vec3(0.05f))));
-    const bool rebuild = !g.valid || in.rebuild_light_grid || key != g.key || glm::dot(sun_asset, g.sun) < cos_threshold ||
-                         weather_far;
+    const bool rebuild = !g.valid || in.rebuild_light_grid || inst.asset_changed || key != g.key ||
+                         glm::dot(sun_asset, g.sun) < cos_threshold || weather_far;
     const uint32_t slab = gs.z / res.desc.light_grid_divisions;
     // The sweep amortizes by levels over the whole grid (light_grid_sweep.comp says why).
     const uint32_t levels_per_frame = (gs.y + res.desc.light_grid_divisions - 1) / res.desc.light_grid_divisions;

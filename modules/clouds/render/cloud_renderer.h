@@ -309,6 +309,8 @@ inline uint32_t near_reprojection_block(const CloudSettings& s) {
 // scene/density_query.h, which the CPU density query shares) plus the asset on the GPU.
 struct CloudInstance : CloudPlacement {
   std::shared_ptr<const CloudAsset> asset;
+  // Its asset's images changed this frame (a grown cloud stepped, cloud_growth_runtime.h): its light grid is rebuilt.
+  bool asset_changed = false;
 };
 
 // Its block of CloudParams (transform, box, sun and sky in asset space, density, dissipation, wind

@@ -673,7 +673,7 @@ DensityComparison CloudRender::compare_density(const CloudInstance& inst, const 
     pipe.bind(cmd);
     gpu::DescriptorWriter()
         .uniform_buffer(CLOUD_BINDING_PARAMS, ubo.handle(), 0, sizeof params)
-        .sampled_image(CLOUD_BINDING_MODELING, inst.asset->modeling.view(), ctx().samplers().get(gpu::SamplerDesc::linear_clamp()))
+        .sampled_image(CLOUD_BINDING_MODELING, inst.asset->modeling_image().view(), ctx().samplers().get(gpu::SamplerDesc::linear_clamp()))
         .sampled_image(CLOUD_BINDING_NOISE, noise->view(), ctx().samplers().get(gpu::SamplerDesc::linear_repeat()))
         .storage_buffer(10, in_buf.handle())
         .storage_buffer(11, out_buf.handle())

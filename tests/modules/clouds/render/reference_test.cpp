@@ -219,7 +219,7 @@ TEST_F(Reference, TheMajorantGridBoundsAnAssetOfAnySize) {
   const fs::path dir = test_data().root / "odd_cloudscape";
   bake::write_bake_outputs(r, bake::bake_recipe(r, settings), dir);
   const auto odd = asset({}, dir);
-  ASSERT_NE(odd->modeling.extent().width % 8, 0u);
+  ASSERT_NE(odd->modeling_image().extent().width % 8, 0u);
   set_size(32, 18);
   CloudFrameInputs in = inputs(odd, camera());
   ReferenceSettings& s = tracer_->settings();

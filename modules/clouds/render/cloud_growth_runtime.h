@@ -1,0 +1,122 @@
+#pragma once
+// A cloud grown during play (issue 26), on the renderer's side: gameplay::CloudGrowth says when and how far the
+// simulation runs (CloudGrowthFrame: its spec, target steps and generation); the renderer owns the simulation's GPU
+// state and its images, steps it toward the target and draws it in place of the Cloudscape's folder.
+//
+//   CloudGrowthRuntimes growth(ctx, library);                 // one per CloudFeature (level lifetime)
+//   CloudGrowthRuntime& g = growth.runtime(*instance.growth);  // one per growing cloud (CloudGrowthFrame::key)
+//   CloudGrowthRuntime::Plan plan = g.plan(*instance.growth, options.growth_steps_per_frame);
+//   ci.asset = g.asset();  ci.asset_changed = plan.update;    // the instance draws the grown images
+//   add_cloud_growth_passes(graph, {{&g, plan}});             // before the light passes
+//
+// Index:  CloudGrowthRuntime  CloudGrowthRuntimes  CloudGrowthWork  add_cloud_growth_passes
+//
+// The images are shared, not copied: GpuGrownAsset owns the modeling (RGBA8) and field (R16) images and the runtime's
+// CloudAsset borrows them (CloudAsset::borrowed; the renderer reads every asset's images through its accessors), in
+// the uncompressed formats, with the grown grid's dims, voxel size and box in the cloud's local frame (x/z centred on
+// the solver's box, y = 0 at its floor; the instance's Transform places it). The asset's pointer stays the same for
+// the runtime's life: an instance's light grid is keyed by it, and rebuilt by CloudInstance::asset_changed instead.
+//
+// Synchronization: the images are imported into the render graph by the light passes as sampled (SHADER_READ_ONLY
+// at the frame's start and end). The growth passes come first in the graph (declaration order is execution order)
+// and GpuGrownAsset::record_update brackets its writes with full barriers (ALL_COMMANDS -> ALL_COMMANDS, layout
+// SHADER_READ_ONLY -> GENERAL -> SHADER_READ_ONLY): the first orders them after every earlier read, this frame's and
+// the frames' still in flight (earlier submissions on the one queue), the last makes them visible to every later
+// read. The solver's buffers are read by nothing outside the growth passes. A restart (a new generation) uploads
+// from the host and waits for the GPU first.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "engine/render/graph/render_graph.h"
+#include "modules/clouds/bake/grow/grow_spec.h"
+#include "modules/clouds/frame/cloud_frame.h"
+#include "modules/clouds/render/cloud_assets.h"
+
+namespace cumulo::gpu {
+class Context;
+class PipelineLibrary;
+}  // namespace cumulo::gpu
+namespace cumulo::clouds::grow_gpu {
+class GpuCloudSolver;
+class GpuGrownAsset;
+}  // namespace cumulo::clouds::grow_gpu
+
+namespace cumulo::clouds::render {
+
+class CloudGrowthRuntime {
+ public:
+  // Loads the spec (throws naming it), builds the simulation at its first step on the GPU and the images (no cloud
+  // until the first update).
+  CloudGrowthRuntime(gpu::Context& ctx, gpu::PipelineLibrary& library, const std::filesystem::path& spec);
+  ~CloudGrowthRuntime();
+  CloudGrowthRuntime(const CloudGrowthRuntime&) = delete;
+  CloudGrowthRuntime& operator=(const CloudGrowthRuntime&) = delete;
+
+  // This frame's work toward `frame`: a new generation starts again from the first step (now: waits for the GPU);
+  // then up to `max_steps` steps toward target_steps (never back: a lower target holds), and an update of the images
+  // after any step (or after a restart).
+  struct Plan {
+    int steps = 0;
+    bool update = false;  // the images change this frame
+  };
+  Plan plan(const CloudGrowthFrame& frame, int max_steps);
+  // What the passes record (in the frame's command buffer, before anything samples the images).
+  void record_steps(VkCommandBuffer cmd, int steps);
+  void record_update(VkCommandBuffer cmd);
+
+  std::shared_ptr<const CloudAsset> asset() const { return asset_; }
+  const grow::GrowSpec& spec() const { return spec_; }
+  const std::filesystem::path& spec_file() const { return spec_file_; }
+  const grow_gpu::GpuCloudSolver& solver() const { return *solver_; }
+  const grow_gpu::GpuGrownAsset& grown() const { return *grown_; }
+  int steps_done() const;  // recorded since the last (re)start
+  uint32_t generation() const { return generation_; }
+  int restarts() const { return restarts_; }  // new generations seen (the first start not counted)
+
+ private:
+  void restart();  // the simulation back at its first step (the GPU must be idle)
+
+  gpu::Context& ctx_;
+  std::filesystem::path spec_file_;
+  grow::GrowSpec spec_;
+  std::unique_ptr<grow_gpu::GpuCloudSolver> solver_;
+  std::unique_ptr<grow_gpu::GpuGrownAsset> grown_;
+  std::shared_ptr<CloudAsset> asset_;
+  uint32_t generation_ = 0;
+  bool started_ = false;
+  bool dirty_ = true;  // the images do not show the solver's state yet
+  int restarts_ = 0;
+};
+
+// The level's growing clouds, by CloudGrowthFrame::key (they live as long as the renderer's GPU objects).
+class CloudGrowthRuntimes {
+ public:
+  CloudGrowthRuntimes(gpu::Context& ctx, gpu::PipelineLibrary& library) : ctx_(ctx), library_(library) {}
+  ~CloudGrowthRuntimes();
+  // The cloud's runtime: made on first sight, made anew when its spec file changed (waits for the GPU).
+  CloudGrowthRuntime& runtime(const CloudGrowthFrame& g);
+  const CloudGrowthRuntime* find(uint64_t key) const;
+  size_t size() const { return runtimes_.size(); }
+
+ private:
+  gpu::Context& ctx_;
+  gpu::PipelineLibrary& library_;
+  std::map<uint64_t, std::unique_ptr<CloudGrowthRuntime>> runtimes_;
+};
+
+// One growing cloud's work this frame.
+struct CloudGrowthWork {
+  CloudGrowthRuntime* runtime = nullptr;
+  CloudGrowthRuntime::Plan plan;
+};
+// The side-effect passes "clouds.grow" (the steps) and "clouds.grow_asset" (the images from the new state), added
+// for every growing cloud of the frame even with no work (one graph shape whether the clouds grow or hold). Declare
+// them before the light passes, which import the images.
+inline constexpr const char* kGrowPass = "clouds.grow";
+inline constexpr const char* kGrowAssetPass = "clouds.grow_asset";
+void add_cloud_growth_passes(cumulo::render::RenderGraph& graph, const std::vector<CloudGrowthWork>& work);
+
+}  // namespace cumulo::clouds::render

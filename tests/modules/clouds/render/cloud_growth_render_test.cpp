@@ -1,0 +1,199 @@
+// A cloud grown during play (issue 26) through the whole renderer (FrameRenderer + CloudFeature) on lavapipe with
+// validation and synchronization validation, 64x36: the frame's CloudGrowthFrame drives the runtime
+// (cloud_growth_runtime.h), which steps the solver on the GPU and draws its images.
+//   - TheCloudBuildsAsItSteps: no cloud at the first step; after 20 steps (10 a frame) cloud pixels where there were
+//     none, the steps taken as the frames asked, before the light grid (rebuilt) in the frame's graph;
+//   - AHeldCloudGivesTheSameFrame: with the target reached, two frames at a still camera give the same bytes and the
+//     solver's and the images' bytes do not change (no step, no update);
+//   - ANewGenerationStartsAgain: a new generation takes the simulation back to its first step.
+// The spec: a mediocris thermal on 16x12x16 cells of 24 game m (GrowGpu's) in moist air with 30 s steps, so cloud
+// forms by step 10-20 (~100 cells of 3072 above the iso at step 15 on the CPU).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "engine/gpu/context.h"
+#include "engine/gpu/frames.h"
+#include "engine/gpu/readback.h"
+#include "engine/render/frame_renderer.h"
+#include "engine/render/sky_model.h"
+#include "engine/scene/camera.h"
+#include "engine/scene/sun.h"
+#include "modules/clouds/frame/cloud_frame.h"
+#include "modules/clouds/grow_gpu/gpu_solver.h"
+#include "modules/clouds/grow_gpu/grown_asset_gpu.h"
+#include "modules/clouds/render/cloud_feature.h"
+#include "tests/engine/gpu/gpu_test_util.h"
+#include "tests/support/render_offscreen.h"
+#include "tests/support/temp_dir.h"
+
+using namespace cumulo;
+using namespace cumulo::clouds;
+using namespace cumulo::clouds::render;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kSpec = R"({"preset": "mediocris", "seed": 3, "grid": {"cells": [16, 12, 16], "cell": 24},
+  "time": {"steps": 80, "dt": 30}, "atmosphere": {"humidity": [0.95, 0.9]}})";
+constexpr uint64_t kKey = 7;
+constexpr uint32_t kWidth = 64, kHeight = 36;
+
+class CloudGrowthRender : public gpu::test::GpuTest {
+ protected:
+  void SetUp() override {
+    GpuTest::SetUp();
+    if (HasFatalFailure()) return;
+    dir_ = cumulo::test::fresh_temp_dir(cumulo::test::test_temp_name("cumulo_growth_render"));
+    spec_ = dir_ / "growth.json";
+    std::ofstream(spec_) << kSpec;
+    CloudRenderOptions& o = feature_.options();
+    o.noise_size = 32;
+    o.temporal = false;    // each frame whole: two frames of the same state are the same picture
+    o.talk_jitter = true;  // a static jitter beyond 250 m (the cloud is 500 m away and more)
+    o.light_shafts = false;
+    o.rain = false;
+    feature_.on_level_loaded(true, false);
+    renderer_ = std::make_unique<cumulo::render::FrameRenderer>(ctx());
+    renderer_->add_feature(feature_);
+  }
+  void TearDown() override {
+    renderer_.reset();  // waits for the device and destroys the feature's GPU objects
+    GpuTest::TearDown();
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  // One frame of the growing cloud at `target` steps and `generation`, from a still camera 700 m away.
+  gpu::Rgba8Image frame(int target, uint32_t generation = 0) {
+    cumulo::render::FrameSnapshot s;
+    s.width = kWidth;
+    s.height = kHeight;
+    scene::TimeOfDay tod;
+    tod.hours = 11.0f;
+    s.sun = scene::sun_light(tod, scene::Sun{});
+    s.lighting = cumulo::render::sky_lighting(s.sun);
+    s.camera = scene::make_camera_view(scene::Transform::look_at({0, 160, 700}, {0, 160, 0}), scene::Camera{},
+                                       float(kWidth) / float(kHeight));
+    s.camera_name = "test";
+    CloudFrame cf;
+    CloudInstanceFrame inst;
+    inst.folder = dir_;  // not loaded: the growing cloud draws its own images
+    inst.growth = CloudGrowthFrame{spec_, kKey, target, generation};
+    cf.instances.push_back(inst);
+    s.extensions.set(std::move(cf));
+    const auto t0 = std::chrono::steady_clock::now();
+    gpu::Rgba8Image img = cumulo::test::render_offscreen(ctx(), *renderer_, s);
+    last_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return img;
+  }
+  double pass_ms(const std::string& name) const {
+    for (const auto& [n, ms] : renderer_->pass_timings())
+      if (n == name) return ms;
+    return -1.0;
+  }
+  const CloudGrowthRuntime& runtime() const {
+    const CloudGrowthRuntime* r = feature_.growth_runtime(kKey);
+    if (!r) throw std::runtime_error("no growth runtime");
+    return *r;
+  }
+  static size_t changed_pixels(const gpu::Rgba8Image& a, const gpu::Rgba8Image& b) {
+    size_t n = 0;
+    for (size_t i = 0; i + 3 < a.pixels.size(); i += 4) {
+      int d = 0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c])));
+      n += d > 4;
+    }
+    return n;
+  }
+
+  fs::path dir_, spec_;
+  CloudFeature feature_;
+  std::unique_ptr<cumulo::render::FrameRenderer> renderer_;
+  double last_ms_ = 0.0;
+};
+
+size_t cells_above(const std::vector<float>& qc, float iso) {
+  size_t n = 0;
+  for (float q : qc) n += q > iso;
+  return n;
+}
+
+TEST_F(CloudGrowthRender, TheCloudBuildsAsItSteps) {
+  feature_.options().growth_steps_per_frame = 10;
+  const gpu::Rgba8Image start = frame(0);
+  EXPECT_EQ(runtime().steps_done(), 0);
+  EXPECT_EQ(runtime().grown().updates_recorded(), 1);  // the start state's images
+  EXPECT_EQ(cells_above(runtime().solver().read(grow_gpu::Field::CloudWater), runtime().spec().iso), 0u);
+  frame(20);
+  EXPECT_EQ(runtime().steps_done(), 10);  // at most 10 a frame
+  // The steps and the images' update come before anything samples the images (the light grid, rebuilt: it changed).
+  std::vector<std::string> order;
+  for (const cumulo::render::CompiledPass& p : renderer_->last_compiled().passes) order.push_back(p.name);
+  auto at = [&](const std::string& name) { return std::find(order.begin(), order.end(), name) - order.begin(); };
+  ASSERT_LT(at(kGrowAssetPass), ptrdiff_t(order.size()));
+  EXPECT_LT(at(kGrowPass), at(kGrowAssetPass));
+  EXPECT_LT(at(kGrowAssetPass), at("clouds.light_grid"));
+  std::printf("growth: 10 steps %.1f ms, the images' update %.1f ms, the light grid %.1f ms (frame %.0f ms wall)\n",
+              pass_ms(kGrowPass), pass_ms(kGrowAssetPass), pass_ms("clouds.light_grid"), last_ms_);
+  const gpu::Rgba8Image grown = frame(20);
+  EXPECT_EQ(runtime().steps_done(), 20);
+  EXPECT_EQ(runtime().grown().updates_recorded(), 3);
+  const size_t cells = cells_above(runtime().solver().read(grow_gpu::Field::CloudWater), runtime().spec().iso);
+  EXPECT_GT(cells, 20u);
+  if (const char* dir = std::getenv("CUMULO_CLOUD_TEST_IMAGES"); dir && *dir) {  // for a person to look at
+    fs::create_directories(dir);
+    gpu::write_png(fs::path(dir) / "growth_step0.png", start);
+    gpu::write_png(fs::path(dir) / "growth_step20.png", grown);
+  }
+  const size_t changed = changed_pixels(start, grown);
+  std::printf("growth: %zu cells above the iso at step 20, %zu of %u pixels changed from step 0\n", cells, changed,
+              kWidth * kHeight);
+  EXPECT_GT(changed, 20u);
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+TEST_F(CloudGrowthRender, AHeldCloudGivesTheSameFrame) {
+  feature_.options().growth_steps_per_frame = 8;
+  frame(16);
+  frame(16);
+  ASSERT_EQ(runtime().steps_done(), 16);
+  const gpu::Rgba8Image a = frame(16);  // held: no step, no update (the light grid rests)
+  const std::vector<float> qc = runtime().solver().read(grow_gpu::Field::CloudWater);
+  const std::vector<float> u = runtime().solver().read(grow_gpu::Field::U);
+  const std::vector<uint8_t> modeling = runtime().grown().read_modeling();
+  const std::vector<uint16_t> field = runtime().grown().read_field();
+  const int updates = runtime().grown().updates_recorded();
+  const gpu::Rgba8Image b = frame(16);
+  EXPECT_EQ(runtime().steps_done(), 16);
+  EXPECT_EQ(runtime().grown().updates_recorded(), updates);
+  EXPECT_TRUE(a.pixels == b.pixels) << changed_pixels(a, b) << " pixels differ";
+  EXPECT_TRUE(qc == runtime().solver().read(grow_gpu::Field::CloudWater));
+  EXPECT_TRUE(u == runtime().solver().read(grow_gpu::Field::U));
+  EXPECT_TRUE(modeling == runtime().grown().read_modeling());
+  EXPECT_TRUE(field == runtime().grown().read_field());
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+TEST_F(CloudGrowthRender, ANewGenerationStartsAgain) {
+  feature_.options().growth_steps_per_frame = 3;
+  frame(6);
+  frame(6);
+  ASSERT_EQ(runtime().steps_done(), 6);
+  frame(6, 1);  // reset: back to the first step, then (the target still 6) up to 3 steps again
+  EXPECT_EQ(runtime().restarts(), 1);
+  EXPECT_EQ(runtime().generation(), 1u);
+  EXPECT_EQ(runtime().steps_done(), 3);
+  frame(0, 2);  // reset and held at the first step
+  EXPECT_EQ(runtime().restarts(), 2);
+  EXPECT_EQ(runtime().steps_done(), 0);
+  EXPECT_EQ(cells_above(runtime().solver().read(grow_gpu::Field::CloudWater), runtime().spec().iso), 0u);
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+}  // namespace
