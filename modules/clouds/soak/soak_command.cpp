@@ -423,7 +423,6 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
         v.clear();  // keeps its storage for the next window
         return t;
       };
-      const double frame_median = median_of(samples.wall);
       cur.cpu = times(samples.cpu);
       cur.gpu = times(samples.gpu);
       cur.wall = times(samples.wall);
@@ -461,7 +460,7 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
                    "%lld images, frame %.2f ms (median), %llu validation errors, %llu non-finite frames\n",
                    (unsigned long long)(f + 1), o.frames, total.seconds(), cur.rss / 1e6, cur.heap.in_use / 1e6,
                    (cur.heap.arena + cur.heap.mapped) / 1e6, cur.gpu_allocated / 1e6,
-                   cur.graph.shapes, cur.graph.seen, cur.pipelines, (long long)cur.objects.images, frame_median,
+                   cur.graph.shapes, cur.graph.seen, cur.pipelines, (long long)cur.objects.images, cur.wall.median,
                    (unsigned long long)cur.validation_errors, (unsigned long long)cur.nonfinite_frames);
       windows.push_back(std::move(cur));
       cur = Window{};
