@@ -10,6 +10,7 @@
 #include "editor/editor.h"
 #include "editor/panels/panels.h"
 #include "engine/app/game_events.h"
+#include "modules/clouds/gameplay/cloud_growth.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/gameplay/stormbird.h"
 #include "modules/clouds/gameplay/triggers.h"
@@ -29,6 +30,10 @@ std::vector<std::string> level_events(const ecs::World& w) {
   w.view<const clouds::gameplay::StormbirdDissipation>().each([&](const clouds::gameplay::StormbirdDissipation& s) {
     names.insert(s.event);
     names.insert(s.reset_event);
+  });
+  w.view<const clouds::gameplay::CloudGrowth>().each([&](const clouds::gameplay::CloudGrowth& g) {
+    names.insert(g.event);
+    names.insert(g.reset_event);
   });
   names.erase("");
   return {names.begin(), names.end()};
@@ -78,6 +83,37 @@ void draw_volume(const Editor& e, ImDrawList* dl, const clouds::gameplay::Trigge
   else draw_box(e, dl, v.min, v.max, colour);
 }
 
+// The clouds that grow during play (issue 26): where each simulation is (its step of the spec's last, the physical
+// time simulated), and pause, a single step while paused, start and reset. The component's system does the rest
+// (cloud_growth.h): the renderer follows its target step.
+void draw_growths(Editor& e, ecs::World& w) {
+  w.view<clouds::gameplay::CloudGrowth>().each([&](ecs::Entity ent, clouds::gameplay::CloudGrowth& g) {
+    ImGui::PushID(&g);
+    const char* state = g.ended ? "ended" : !g.running ? "not started" : g.paused ? "paused" : "growing";
+    const auto* n = w.try_get<ecs::Name>(ent);
+    ImGui::Text("%s: step %d / %d (%.0f s simulated), %s", n ? n->value.c_str() : "growing cloud", g.target_steps,
+                g.last_step, g.sim_seconds, state);
+    if (!g.running && !g.ended) {
+      if (ImGui::SmallButton("Start")) g.running = true;
+      item_tooltip("Starts the growth now (its event or weather state would too).");
+      ImGui::SameLine();
+    }
+    if (ImGui::Checkbox("Paused", &g.paused)) e.message(EditorMessage::Level::Info, g.paused ? "growth paused" : "growth resumed");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!g.paused || g.ended || !g.running);
+    if (ImGui::SmallButton("Step")) g.step_once = true;
+    ImGui::EndDisabled();
+    item_tooltip("While paused: one more simulation step.");
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Reset")) {
+      if (!g.reset_event.empty()) app::schedule_event(w, g.reset_event, e.sim_time);
+      else clouds::gameplay::restart_cloud_growth(g);
+    }
+    item_tooltip("Back to the first step (its reset event when it has one).");
+    ImGui::PopID();
+  });
+}
+
 }  // namespace
 
 void draw_events_panel(Editor& e, PanelInfo& panel) {
@@ -124,6 +160,7 @@ void draw_events_panel(Editor& e, PanelInfo& panel) {
     }
   });
   if (!flashes) ImGui::TextDisabled("no live lightning");
+  draw_growths(e, w);
   if (ImGui::TreeNode("Triggers")) {
     w.view<const clouds::gameplay::Trigger>().each([&](ecs::Entity ent, const clouds::gameplay::Trigger& t) {
       const auto* n = w.try_get<ecs::Name>(ent);

@@ -69,6 +69,12 @@ void CloudsModule::on_level_loaded(ecs::World& world, const scene::LevelInfo& le
   if (!level_weather_folder_.empty() && simulation_.weather_dir.empty() && !std::filesystem::is_directory(level_weather_folder_, ec))
     fail("%s: $.folders.weather: %s is not a folder (of weather states)", level.file.string().c_str(),
          level_weather_folder_.string().c_str());
+  world.view<Cloudscape>().each([&](ecs::Entity e, Cloudscape& c) {
+    if (c.asset.empty() && !world.try_get<gameplay::CloudGrowth>(e))
+      fail("%s: expected \"asset\": a recipe (.json) or a folder of .nvdf files (only a cloud grown during play, an "
+           "entity with a CloudGrowth, has none)",
+           c.where.c_str());
+  });
   const bool any = resolve_cloudscapes(world, level.directory);
   weather::load_level_weather(world, level.file, weather_folder(), simulation_.weather,
                               gameplay::trigger_weather_references(world, level.file));

@@ -36,6 +36,10 @@ layout(set = 0, binding = CLOUD_BINDING_NOISE) uniform sampler3D noise_tex;
 layout(set = 0, binding = CLOUD_BINDING_MODELING_1) uniform sampler3D modeling_tex_1;
 layout(set = 0, binding = CLOUD_BINDING_FIELD_1) uniform sampler3D field_tex_1;
 #endif
+#if CLOUD_ASSET_SLOTS > 2  // a third (wind_offset.w 2)
+layout(set = 0, binding = CLOUD_BINDING_MODELING_2) uniform sampler3D modeling_tex_2;
+layout(set = 0, binding = CLOUD_BINDING_FIELD_2) uniform sampler3D field_tex_2;
+#endif
 #ifndef COVERAGE_TEXTURE
 #define COVERAGE_TEXTURE 0
 #endif
@@ -43,6 +47,9 @@ layout(set = 0, binding = CLOUD_BINDING_FIELD_1) uniform sampler3D field_tex_1;
 layout(set = 0, binding = CLOUD_BINDING_COVERAGE) uniform sampler3D coverage_tex;
 #if CLOUD_ASSET_SLOTS > 1
 layout(set = 0, binding = CLOUD_BINDING_COVERAGE_1) uniform sampler3D coverage_tex_1;
+#endif
+#if CLOUD_ASSET_SLOTS > 2
+layout(set = 0, binding = CLOUD_BINDING_COVERAGE_2) uniform sampler3D coverage_tex_2;
 #endif
 #define CLOUD_MODELING_PARAMS sampler3D modeling, sampler3D coverage
 #define CLOUD_MODELING(m, c) m, c
@@ -52,6 +59,7 @@ layout(set = 0, binding = CLOUD_BINDING_COVERAGE_1) uniform sampler3D coverage_t
 #endif
 #define CLOUD_ASSET_0 CLOUD_MODELING(modeling_tex, coverage_tex)
 #define CLOUD_ASSET_1 CLOUD_MODELING(modeling_tex_1, coverage_tex_1)
+#define CLOUD_ASSET_2 CLOUD_MODELING(modeling_tex_2, coverage_tex_2)
 
 // lavapipe (LAVAPIPE.md) runs both sides of an `if` for its 8-lane group even when no lane takes it,
 // but stops a loop once every lane is done. So an expensive block that is often empty for the whole

@@ -75,6 +75,9 @@ layout(set = 0, binding = CLOUD_BINDING_FIELD_FAIR) uniform sampler3D field_fair
 #if CLOUD_ASSET_SLOTS > 1
 layout(set = 0, binding = CLOUD_BINDING_FIELD_FAIR_1) uniform sampler3D field_fair_tex_1;
 #endif
+#if CLOUD_ASSET_SLOTS > 2
+layout(set = 0, binding = CLOUD_BINDING_FIELD_FAIR_2) uniform sampler3D field_fair_tex_2;
+#endif
 
 // The distance the march steps through air by: in fair weather (inst.weather.y, CLOUD_COVERAGE_BAND) the
 // fair-weather field's, which ignores the clouds the weather has removed; where that reads inside (or without
@@ -90,6 +93,9 @@ float march_distance(sampler3D field, sampler3D fair, CloudInstanceParams inst, 
 float instance_distance(int i, vec3 world_pos) {
   CloudInstanceParams inst = P.instances[i];
   vec3 uvw = asset_uvw(inst, (inst.world_to_asset * vec4(world_pos, 1.0)).xyz);
+#if CLOUD_ASSET_SLOTS > 2
+  if (inst.wind_offset.w > 1.5) return march_distance(field_tex_2, field_fair_tex_2, inst, uvw) * inst.bounds_min.w;
+#endif
 #if CLOUD_ASSET_SLOTS > 1
   if (inst.wind_offset.w > 0.5) return march_distance(field_tex_1, field_fair_tex_1, inst, uvw) * inst.bounds_min.w;
 #endif
@@ -482,9 +488,14 @@ void main() {
       for (uint k = 0u; k < n; ++k) {
         int i = order[k];
         if (enter[i] > a || leave[i] < b) continue;  // not in this interval
+#if CLOUD_ASSET_SLOTS > 2
+        if (P.instances[i].wind_offset.w > 1.5)
+          march_instance(CLOUD_ASSET_2, field_tex_2, field_fair_tex_2, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
+        else
+#endif
 #if CLOUD_ASSET_SLOTS > 1
-        // A lane marching the other slot's instance leaves this call's loop at once (lavapipe runs a loop
-        // only while some lane is in it), so the two calls cost about one march.
+        // A lane marching another slot's instance leaves this call's loop at once (lavapipe runs a loop
+        // only while some lane is in it), so the calls cost about one march.
         if (P.instances[i].wind_offset.w > 0.5)
           march_instance(CLOUD_ASSET_1, field_tex_1, field_fair_tex_1, i, ro, rd, p0, p1, hash_animated, hash_static, t_front, mean_noise, px);
         else

@@ -50,6 +50,9 @@ layout(set = 0, binding = REF_BINDING_MAJORANT) uniform sampler3D majorant_tex;
 #if CLOUD_ASSET_SLOTS > 1
 layout(set = 0, binding = REF_BINDING_MAJORANT_1) uniform sampler3D majorant_tex_1;
 #endif
+#if CLOUD_ASSET_SLOTS > 2
+layout(set = 0, binding = REF_BINDING_MAJORANT_2) uniform sampler3D majorant_tex_2;
+#endif
 #endif
 layout(set = 0, binding = CLOUD_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
 layout(set = 0, binding = REF_BINDING_TERRAIN) uniform sampler2D terrain_tex;
@@ -119,18 +122,27 @@ float transmittance(vec3 o, vec3 d, float tmax) {
 #else
 float medium_albedo() { return P.march.y; }
 ivec3 majorant_size(CloudInstanceParams inst) {
+#if CLOUD_ASSET_SLOTS > 2
+  if (inst.wind_offset.w > 1.5) return textureSize(majorant_tex_2, 0);
+#endif
 #if CLOUD_ASSET_SLOTS > 1
   if (inst.wind_offset.w > 0.5) return textureSize(majorant_tex_1, 0);
 #endif
   return textureSize(majorant_tex, 0);
 }
 ivec3 modeling_size(CloudInstanceParams inst) {
+#if CLOUD_ASSET_SLOTS > 2
+  if (inst.wind_offset.w > 1.5) return textureSize(modeling_tex_2, 0);
+#endif
 #if CLOUD_ASSET_SLOTS > 1
   if (inst.wind_offset.w > 0.5) return textureSize(modeling_tex_1, 0);
 #endif
   return textureSize(modeling_tex, 0);
 }
 float majorant_at(CloudInstanceParams inst, ivec3 c) {
+#if CLOUD_ASSET_SLOTS > 2
+  if (inst.wind_offset.w > 1.5) return texelFetch(majorant_tex_2, c, 0).r;
+#endif
 #if CLOUD_ASSET_SLOTS > 1
   if (inst.wind_offset.w > 0.5) return texelFetch(majorant_tex_1, c, 0).r;
 #endif
@@ -140,6 +152,9 @@ float majorant_at(CloudInstanceParams inst, ivec3 c) {
 float instance_sigma(CloudInstanceParams inst, vec3 q, vec3 x) {
   float dist = distance(x, P.camera_pos.xyz);
   float mip = noise_mip(dist);
+#if CLOUD_ASSET_SLOTS > 2
+  if (inst.wind_offset.w > 1.5) return sample_density(CLOUD_ASSET_2, inst, q, dist, mip, true).full * P.march.x;
+#endif
 #if CLOUD_ASSET_SLOTS > 1
   if (inst.wind_offset.w > 0.5) return sample_density(CLOUD_ASSET_1, inst, q, dist, mip, true).full * P.march.x;
 #endif

@@ -15,7 +15,7 @@ CUMULO_SHARED_BEGIN
 // ---- Limits and binding numbers (set 0, push descriptors) ----------------------------------------
 #define CLOUD_MAX_INSTANCES 4  // instances drawn by one march (each has its own light grid)
 #define CLOUD_MAX_POINT_LIGHTS 4
-#define CLOUD_MAX_ASSETS 2  // distinct cloudscape assets in one frame (define CLOUD_ASSET_SLOTS: 1 or 2)
+#define CLOUD_MAX_ASSETS 3  // distinct cloudscape assets in one frame (define CLOUD_ASSET_SLOTS: 1, 2 or 3)
 #define CLOUD_LOCAL_SIZE 8  // 8x8 work groups for the 2D passes (lavapipe runs 8 lanes at a time)
 
 // light_grid_update.comp and march_render.comp
@@ -49,6 +49,12 @@ CUMULO_SHARED_BEGIN
 // other instances' summed density toward the sun and the sky, z the own sky sum, w the own sum away from the sun
 #define CLOUD_BINDING_LIGHT_LOCAL 31  // sampler3D (march_render.comp)
 #define CLOUD_BINDING_LOCAL_OUT 32    // image3D rgba16f (light_grid_local.comp)
+// A third asset (CLOUD_ASSET_SLOTS 3: a cloudscape, a hero cloud and a cloud grown during play); 32..37 are the
+// envelope's in reference_trace.comp (ENV_BINDING_REFERENCE_OFFSET)
+#define CLOUD_BINDING_MODELING_2 40
+#define CLOUD_BINDING_FIELD_2 41
+#define CLOUD_BINDING_COVERAGE_2 42
+#define CLOUD_BINDING_FIELD_FAIR_2 43
 // shadow_map.comp (reads PARAMS and LIGHT_GRID)
 #define CLOUD_BINDING_SHADOW_OUT 12  // image2D r16f: the key light's transmittance on the shadow plane
 // temporal_accumulate.comp

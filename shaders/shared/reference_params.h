@@ -13,6 +13,7 @@ CUMULO_SHARED_BEGIN
 #define REF_BINDING_PARAMS 14     // uniform ReferenceParams
 #define REF_BINDING_MAJORANT 15   // sampler3D r16f/r32f: slot 0's majorant grid (max density per coarse cell)
 #define REF_BINDING_MAJORANT_1 16 // sampler3D: slot 1's
+#define REF_BINDING_MAJORANT_2 44 // sampler3D: slot 2's (CLOUD_BINDING_*_2 take 40..43)
 #define REF_BINDING_TERRAIN 17    // sampler2D rgba32f: x height (world y), yzw albedo (linear)
 #define REF_BINDING_ENV 18        // sampler2D rgba32f: sky radiance, latitude-longitude (ReferenceParams::env)
 #define REF_BINDING_AERIAL 19     // sampler3D: the atmosphere's aerial-perspective froxels (REF_FLAG_AERIAL)

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "engine/app/headless_session.h"
@@ -17,6 +18,7 @@
 #include "engine/core/time.h"
 #include "engine/gpu/context.h"
 #include "engine/render/frame_renderer.h"
+#include "modules/clouds/bench/bench_growth.h"
 #include "modules/clouds/bench/bench_runs.h"
 #include "modules/clouds/bench/bench_tables.h"
 
@@ -139,7 +141,8 @@ double measure_simulation(app::HeadlessSession& session, uint32_t frames) {
 }
 
 void report(const BenchOptions& o, const gpu::DeviceInfo& device, const nlohmann::ordered_json& memory,
-            const std::vector<Run>& runs, const std::vector<Run>& moving, double simulation_ms) {
+            const std::vector<Run>& runs, const std::vector<Run>& moving, double simulation_ms,
+            const GrowthFigures* growth) {
   std::printf("## cumulo bench: %s, %ux%u, %u frames per run (the full method's %u) x %u rounds (median, after %u warm-up "
               "frames)\n\n",
               device.name.c_str(), o.width, o.height, o.frames, measured_frames(o, CloudAblation::Full), o.rounds, o.warmup);
@@ -152,11 +155,13 @@ void report(const BenchOptions& o, const gpu::DeviceInfo& device, const nlohmann
   std::printf("CPU per frame: the simulation %.3f ms (60 Hz steps, timed apart after the matrix); extraction, graph and "
               "recording are the CPU ms above.\n\n",
               simulation_ms);
+  if (growth) std::printf("%s\n", growth_markdown(*growth, o.width, o.height, o.modes.back()).c_str());
   std::printf("GPU memory (bytes):\n");
   for (auto& [k, v] : memory.items()) std::printf("  %-40s %12llu\n", k.c_str(), (unsigned long long)v.get<uint64_t>());
   if (o.out.empty()) return;
   nlohmann::ordered_json j = bench_json(o, device, memory, runs, sums);
   j["cpu"] = {{"simulation_ms_per_frame_60hz", simulation_ms}};
+  if (growth) j["evolving"] = growth_json(*growth);
   write_file_atomic(o.out, j.dump(2) + "\n");
   std::printf("cumulo bench: wrote %s\n", o.out.c_str());
 }
@@ -232,8 +237,13 @@ int run_bench(const BenchOptions& o, const CloudsRun& clouds) {
   finish_runs(runs, moving);
   const nlohmann::ordered_json memory = measure_memory(session, feature, o);
   const double simulation_ms = measure_simulation(session, 30);
+  std::optional<GrowthFigures> growth;
+  if (o.evolving != "off") {
+    std::fprintf(stderr, "cumulo bench: the evolving view (%s)\n", o.evolving.c_str());
+    growth = measure_growth(session, feature, o.evolving, o.modes.back(), std::max<uint32_t>(o.frames, 4));
+  }
   const int code = session.finish();
-  report(o, session.ctx().info(), memory, runs, moving, simulation_ms);
+  report(o, session.ctx().info(), memory, runs, moving, simulation_ms, growth ? &*growth : nullptr);
   return code;
 }
 
@@ -258,6 +268,10 @@ void register_bench_command(CommandRegistry& registry, const CloudsRun& clouds) 
                       .option("--views", "A,B", "cameras (default ground,mixed,immersed)", &views)
                       .option("--ablations", "A,B", "ablation steps (default base,voxel-lighting,full)", &ablations)
                       .option("--modes", "30,60", "budget modes (default 30,60)", &modes)
+                      .option("--evolving", "CAMERA",
+                              "the evolving view: the level's growing cloud (CloudGrowth) from CAMERA, stepped and "
+                              "rebuilt while measured, in the last budget mode (default squall; off: not measured)",
+                              &o.evolving)
                       .option("--lod-error", "PX", "the terrain's level of detail: a chunk's error within PX pixels (default 3; 0: full detail)",
                               &o.lod_error_px)
                       .range(0, 100);

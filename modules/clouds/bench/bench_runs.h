@@ -29,6 +29,8 @@ struct BenchOptions {
   std::vector<std::string> views{"ground", "mixed", "immersed"};
   std::vector<CloudAblation> ablations{CloudAblation::Base, CloudAblation::VoxelLighting, CloudAblation::Full};
   std::vector<int> modes{30, 60};
+  // The evolving view (bench_growth.h): the camera that sees the level's growing cloud ("off": not measured).
+  std::string evolving = "squall";
   float lod_error_px = cumulo::render::kDefaultLodErrorPx;  // --lod-error: the terrain's level of detail (engine/render/mesh_lod.h)
 };
 

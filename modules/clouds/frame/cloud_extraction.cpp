@@ -75,7 +75,9 @@ float haze_mie_scale(float haze) { return std::max(0.25f, 1.0f + (std::clamp(haz
 void extract_cloud_frame(const ecs::World& world, cumulo::render::FrameSnapshot& snapshot) {
   CloudFrame frame;
   world.view<const Cloudscape>().each([&](ecs::Entity e, const Cloudscape& c) {
-    if (c.resolved.empty()) return;  // added after the level loaded: not resolved (the editor will)
+    const auto* g = world.try_get<gameplay::CloudGrowth>(e);
+    const bool grows = g && !g->resolved_spec.empty();
+    if (c.resolved.empty() && !grows) return;  // added after the level loaded: not resolved (the editor will)
     CloudInstanceFrame i;
     i.folder = c.resolved;
     if (const auto* t = world.try_get<scene::Transform>(e)) {
@@ -88,8 +90,7 @@ void extract_cloud_frame(const ecs::World& world, cumulo::render::FrameSnapshot&
     i.wind_speed = c.wind_speed;
     i.dissipation = c.dissipation;
     i.rain = c.rain;
-    if (const auto* g = world.try_get<gameplay::CloudGrowth>(e); g && !g->resolved_spec.empty())
-      i.growth = CloudGrowthFrame{g->resolved_spec, e.bits(), g->target_steps, g->generation};
+    if (grows) i.growth = CloudGrowthFrame{g->resolved_spec, e.bits(), g->target_steps, g->generation, g->voxel};
     frame.instances.push_back(std::move(i));
   });
   world.view<const envelope::OrographicClouds>().each([&](ecs::Entity, const envelope::OrographicClouds& c) {

@@ -24,11 +24,12 @@ struct CloudGrowthFrame {
   uint64_t key = 0;            // the entity: one simulation per growing cloud
   int target_steps = 0;
   uint32_t generation = 0;     // a new one: the simulation starts again from its first step
+  float voxel = 8.0f;          // the march's voxel, game metres (CloudGrowth "voxel")
 };
 
 // One Cloudscape entity, its weather applied (density x voxel_density, coverage, wind).
 struct CloudInstanceFrame : CloudPlacement {
-  std::filesystem::path folder;  // resolved NVDF folder
+  std::filesystem::path folder;  // resolved NVDF folder (empty for a grown cloud without a Cloudscape asset)
   float rain = 0.0f;             // Cloudscape "rain" (0..1), before dissipation
   std::optional<CloudGrowthFrame> growth;
 };

@@ -17,21 +17,21 @@ std::string event_name(const JsonView& v) {
   return name;
 }
 
-// Back to the first step, stopped: the renderer sees a new generation and starts the simulation again.
-void restart(CloudGrowth& g) {
+}  // namespace
+
+void restart_cloud_growth(CloudGrowth& g) {
   g.running = g.ended = g.step_once = false;
   g.sim_seconds = 0.0;
   g.target_steps = 0;
   ++g.generation;
 }
 
-}  // namespace
-
 CloudGrowth cloud_growth_from_json(const JsonView& v) {
   if (!v.is_object()) v.fail("expected an object");
   for (const std::string& k : v.keys())
-    if (k != "spec" && k != "event" && k != "states" && k != "reset_event" && k != "speed" && k != "start_running")
-      v[k].fail("unknown key \"" + k + "\" (expected spec, event, states, reset_event, speed, start_running)");
+    if (k != "spec" && k != "event" && k != "states" && k != "reset_event" && k != "speed" && k != "voxel" &&
+        k != "start_running")
+      v[k].fail("unknown key \"" + k + "\" (expected spec, event, states, reset_event, speed, voxel, start_running)");
   CloudGrowth g;
   g.where = v.where();
   g.spec = v.get<std::string>("spec");
@@ -45,6 +45,7 @@ CloudGrowth cloud_growth_from_json(const JsonView& v) {
     for (const JsonView& s : states.elements()) g.states.push_back(event_name(s));
   }
   if (v.has("speed")) g.speed = v["speed"].as_float_in(0.01f, 10000.0f);
+  if (v.has("voxel")) g.voxel = v["voxel"].as_float_in(1.0f, 1000.0f);
   g.start_running = v.get<bool>("start_running", false);
   if (g.event.empty() && g.states.empty() && !g.start_running)
     v.fail("nothing starts the growth: give an \"event\", \"states\" or \"start_running\": true");
@@ -53,7 +54,7 @@ CloudGrowth cloud_growth_from_json(const JsonView& v) {
 }
 
 Json cloud_growth_to_json(const CloudGrowth& g) {
-  Json j = {{"spec", g.spec}, {"speed", g.speed}};
+  Json j = {{"spec", g.spec}, {"speed", g.speed}, {"voxel", g.voxel}};
   if (!g.event.empty()) j["event"] = g.event;
   if (!g.states.empty()) j["states"] = g.states;
   if (!g.reset_event.empty()) j["reset_event"] = g.reset_event;
@@ -93,7 +94,7 @@ void add_cloud_growth_system(ecs::Scheduler& s) {
                      [&](const weather::WeatherScheduler& sch) { weather.push_back(sch.current); });
                  w.view<CloudGrowth>().each([&](CloudGrowth& g) {
                    for (const std::string& name : fired) {
-                     if (!g.reset_event.empty() && name == g.reset_event) restart(g);
+                     if (!g.reset_event.empty() && name == g.reset_event) restart_cloud_growth(g);
                      if (!g.event.empty() && name == g.event && !g.running) g.running = true;
                    }
                    for (const std::string& state : weather)

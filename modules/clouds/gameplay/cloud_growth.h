@@ -10,6 +10,8 @@
 //                   "states": ["storm", "stormbird"],          a weather scheduler entering one of these starts it
 //                   "reset_event": "storm_clears",             back to the first step, stopped
 //                   "speed": 12,                               physical seconds simulated per second of play
+//                   "voxel": 8,                                the march's voxel (game m): the simulation's cells
+//                                                              are cut into ceil(cell / voxel) voxels a side
 //                   "start_running": false}                    true: runs from the level's start
 #include <filesystem>
 #include <string>
@@ -27,6 +29,7 @@ struct CloudGrowth {
   std::vector<std::string> states;  // weather states that start it
   std::string reset_event;          // empty: none
   float speed = 12.0f;              // physical s per s of play
+  float voxel = 8.0f;               // the grown images' voxel (game m; 8: the offline bake's)
   bool start_running = false;
   std::string where;                // "level.json: $.entities[3].components.CloudGrowth", for messages
   std::filesystem::path resolved_spec;  // set by resolve_cloud_growth
@@ -51,6 +54,8 @@ void register_cloud_growth_component(ecs::ComponentRegistry& registry);
 void resolve_cloud_growth(CloudGrowth& g, const std::filesystem::path& level_dir);
 // Update phase, after the weather: reacts to the events and the weather states, advances target_steps.
 void add_cloud_growth_system(ecs::Scheduler& s);
+// Back to the first step, stopped: the renderer sees a new generation and starts the simulation again.
+void restart_cloud_growth(CloudGrowth& g);
 // Steps per second of play (speed / dt); 0 until the spec is known.
 double growth_steps_per_second(const CloudGrowth& g);
 

@@ -210,7 +210,8 @@ void GpuGrownAsset::pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, std::in
   vkCmdDispatch(cmd, groups, 1, 1);
 }
 
-void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer) {
+void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer,
+                                  GrownUpdateOrder order) {
   if (solver.dims() != grid_.cells)
     fail("grow_gpu: a grown asset for %dx%dx%d cells updated from a %dx%dx%d solver", grid_.cells.x, grid_.cells.y,
          grid_.cells.z, solver.dims().x, solver.dims().y, solver.dims().z);
@@ -224,7 +225,7 @@ void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& sol
     if (range != UINT32_MAX) timer->end(cmd, range);
     range = name ? timer->begin(cmd, name) : UINT32_MAX;
   };
-  stage("grown.classify");
+  stage(order == GrownUpdateOrder::Apart ? nullptr : "grown.classify");
 
   // The images' old contents are discarded (every texel is written); the percentiles' histograms start at zero.
   field_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
@@ -234,17 +235,9 @@ void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& sol
   vkCmdFillBuffer(cmd, select_.handle(), 0, VK_WHOLE_SIZE, 0u);
   grow_barrier(cmd);  // after the solver's steps and the fill
 
-  // The distance: resample and classify, jump flooding, the distance and the iso-crossing.
-  pass(cmd, *pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg);
-  // The attributes' passes on the cells run beside the flooding (they read the solver's buffers only).
-  pass(cmd, *pipes_.column, {qc, columns_.handle()},
-       uint32_t((grid_.cells.x * grid_.cells.z + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE));
   const uint32_t histogram_groups = uint32_t(
       (size_t(grid_.cells.x) * grid_.cells.y * grid_.cells.z + GROWN_HISTOGRAM_CELLS - 1) / GROWN_HISTOGRAM_CELLS);
-  pass(cmd, *pipes_.histogram, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, 0);
-  grow_barrier(cmd);
-  // The percentiles' radix select (a select after each histogram, four of each) runs beside the floods: each of
-  // its steps shares a barrier interval with one flood pass (they touch different buffers).
+  // The percentiles' radix select: a select after each histogram, four of each.
   struct RadixStep {
     const gpu::Pipeline* pipe;
     int radix;
@@ -257,52 +250,106 @@ void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& sol
     else
       pass(cmd, *r.pipe, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, r.radix);
   };
-  stage("grown.flood");
-  const gpu::Buffer* from = &seeds_a_;
-  const gpu::Buffer* to = &seeds_b_;
-  const size_t steps = std::max(jfa_steps_.size(), std::size(radix_steps));
-  for (size_t i = 0; i < steps; ++i) {
-    if (i < jfa_steps_.size()) {
-      pass(cmd, *pipes_.jfa, {from->handle(), to->handle()}, vg, jfa_steps_[i]);
-      std::swap(from, to);
-    }
-    if (i < std::size(radix_steps)) radix_step(radix_steps[i]);
-    grow_barrier(cmd);
-  }
-  stage("grown.distance");
-  pass(cmd, *pipes_.distance, {from->handle(), fine_.handle(), distance_.handle()}, vg);
-  pass(cmd, *pipes_.rates, {qc, cond, growth, v, select_.handle(), columns_.handle(), attributes_a_.handle()}, cg);
-  grow_barrier(cmd);
-
-  stage("grown.store");
-  // The field image (conservative), the profile depth (x, y, z max filters: the distance -> a -> b -> a), the
-  // attributes' dilation (4 rings) and blur (3 axes), the modeling image.
-  pass(cmd, *pipes_.store_field, {distance_.handle()}, vg);
-  pass(cmd, *pipes_.depth, {distance_.handle(), seeds_a_.handle()}, vg, 0, 0);
-  const gpu::Buffer* a = &attributes_a_;
-  const gpu::Buffer* b = &attributes_b_;
-  pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
-  std::swap(a, b);
-  grow_barrier(cmd);
-  pass(cmd, *pipes_.depth, {seeds_a_.handle(), seeds_b_.handle()}, vg, 0, 1);
-  for (int ring = 1; ring < kDilationRings; ++ring) {
+  auto columns_and_histogram = [&] {
+    pass(cmd, *pipes_.column, {qc, columns_.handle()},
+         uint32_t((grid_.cells.x * grid_.cells.z + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE));
+    pass(cmd, *pipes_.histogram, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, 0);
+  };
+  auto rates = [&] {
+    pass(cmd, *pipes_.rates, {qc, cond, growth, v, select_.handle(), columns_.handle(), attributes_a_.handle()}, cg);
+  };
+  // The profile depth (x, y, z max filters of the distance: -> a -> b -> a) beside the attributes' dilation (4 rings)
+  // and blur (3 axes), then the modeling image.
+  auto depth_dilate_blur_store = [&] {
+    pass(cmd, *pipes_.depth, {distance_.handle(), seeds_a_.handle()}, vg, 0, 0);
+    const gpu::Buffer* a = &attributes_a_;
+    const gpu::Buffer* b = &attributes_b_;
     pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
     std::swap(a, b);
     grow_barrier(cmd);
-  }
-  pass(cmd, *pipes_.depth, {seeds_b_.handle(), seeds_a_.handle()}, vg, 0, 2);
-  for (int axis = 0; axis < 3; ++axis) {
-    pass(cmd, *pipes_.blur, {a->handle(), b->handle()}, cg, 0, axis);
-    std::swap(a, b);
+    pass(cmd, *pipes_.depth, {seeds_a_.handle(), seeds_b_.handle()}, vg, 0, 1);
+    for (int ring = 1; ring < kDilationRings; ++ring) {
+      pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
+      std::swap(a, b);
+      grow_barrier(cmd);
+    }
+    pass(cmd, *pipes_.depth, {seeds_b_.handle(), seeds_a_.handle()}, vg, 0, 2);
+    for (int axis = 0; axis < 3; ++axis) {
+      pass(cmd, *pipes_.blur, {a->handle(), b->handle()}, cg, 0, axis);
+      std::swap(a, b);
+      grow_barrier(cmd);
+    }
+    pass(cmd, *pipes_.store_modeling, {distance_.handle(), seeds_a_.handle(), a->handle()}, vg);
+  };
+  const gpu::Buffer* from = &seeds_a_;
+  const gpu::Buffer* to = &seeds_b_;
+  auto flood_step = [&](size_t i) {
+    pass(cmd, *pipes_.jfa, {from->handle(), to->handle()}, vg, jfa_steps_[i]);
+    std::swap(from, to);
+  };
+
+  if (order == GrownUpdateOrder::Apart) {
+    // For `cumulo bench`: the distance field, then the attributes, each in its own timer range (the same work and
+    // the same bytes as the interleaved order, more barrier intervals).
+    stage("grown.sdf");
+    pass(cmd, *pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg);
     grow_barrier(cmd);
+    for (size_t i = 0; i < jfa_steps_.size(); ++i) {
+      flood_step(i);
+      grow_barrier(cmd);
+    }
+    pass(cmd, *pipes_.distance, {from->handle(), fine_.handle(), distance_.handle()}, vg);
+    grow_barrier(cmd);
+    pass(cmd, *pipes_.store_field, {distance_.handle()}, vg);
+    stage("grown.attributes");
+    columns_and_histogram();
+    grow_barrier(cmd);
+    for (const RadixStep& r : radix_steps) {
+      radix_step(r);
+      grow_barrier(cmd);
+    }
+    rates();
+    grow_barrier(cmd);
+    depth_dilate_blur_store();
+  } else {
+    // The distance: resample and classify, jump flooding, the distance and the iso-crossing. The attributes' passes
+    // on the cells run beside it (they read the solver's buffers only): each radix step shares a barrier interval
+    // with one flood pass (they touch different buffers).
+    pass(cmd, *pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg);
+    columns_and_histogram();
+    grow_barrier(cmd);
+    stage("grown.flood");
+    const size_t steps = std::max(jfa_steps_.size(), std::size(radix_steps));
+    for (size_t i = 0; i < steps; ++i) {
+      if (i < jfa_steps_.size()) flood_step(i);
+      if (i < std::size(radix_steps)) radix_step(radix_steps[i]);
+      grow_barrier(cmd);
+    }
+    stage("grown.distance");
+    pass(cmd, *pipes_.distance, {from->handle(), fine_.handle(), distance_.handle()}, vg);
+    rates();
+    grow_barrier(cmd);
+    stage("grown.store");
+    pass(cmd, *pipes_.store_field, {distance_.handle()}, vg);
+    depth_dilate_blur_store();
   }
-  pass(cmd, *pipes_.store_modeling, {distance_.handle(), seeds_a_.handle(), a->handle()}, vg);
 
   // Sampled from here on (the march, the light grid) or read back.
   field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   stage(nullptr);
   ++updates_;
+}
+
+void GpuGrownAsset::record_modeling_copy(VkCommandBuffer cmd, VkBuffer dst) const {
+  modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  VkBufferImageCopy r{};
+  r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  r.imageExtent = modeling_.extent();
+  vkCmdCopyImageToBuffer(cmd, modeling_.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, 1, &r);
+  modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  gpu::cmd_memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 std::vector<uint8_t> GpuGrownAsset::read_modeling() const { return gpu::read_image_bytes(ctx_, modeling_); }

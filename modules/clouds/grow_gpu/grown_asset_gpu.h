@@ -110,6 +110,11 @@ struct GrownAssetView {
   uint64_t gpu_bytes = 0;                        // texel bytes of the modeling and the field
 };
 
+// How record_update orders its passes: the attributes' passes beside the distance's (fewer barrier intervals; the
+// timer ranges grown.classify, grown.flood, grown.distance, grown.store), or the distance field whole and then the
+// attributes (ranges grown.sdf and grown.attributes: what `cumulo bench` reports apart). Same bytes.
+enum class GrownUpdateOrder { Interleaved, Apart };
+
 class GpuGrownAsset {
  public:
   // `cells`: the solver's grid (GpuCloudSolver::dims()). Creates the images (cleared to "no cloud": the field's
@@ -121,9 +126,13 @@ class GpuGrownAsset {
 
   // Records the recomputation of both images from the solver's current buffers (after the steps recorded before
   // it). Starts with a barrier; the images end in SHADER_READ_ONLY_OPTIMAL, visible to later commands. With a
-  // timer: one range per stage (grown.classify, grown.flood, grown.distance, grown.store).
-  void record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer = nullptr);
+  // timer: one range per stage (GrownUpdateOrder says which).
+  void record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer = nullptr,
+                     GrownUpdateOrder order = GrownUpdateOrder::Interleaved);
   int updates_recorded() const { return updates_; }
+  // Records a copy of the modeling image (RGBA8, x fastest) into `dst` (a host-readable buffer of
+  // grid().count() x 4 bytes), visible to the host once the submission completes; after an update.
+  void record_modeling_copy(VkCommandBuffer cmd, VkBuffer dst) const;
 
   // The images as the march binds them. Their contents change with each update: frames in flight must be done
   // with them first.

@@ -79,6 +79,10 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "should be (default 1; 0: the clouds do not grow)",
               &o.growth_steps_per_frame)
       .range(0.0, 64.0)
+      .on_off("--cloud-growth-spread",
+              "a growing cloud's images and light grid are rebuilt in the frame after its steps, not the same one, so "
+              "no frame pays for both (default on)",
+              &o.growth_spread)
       .on_off("--cloud-sky-occlusion",
               "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",
               &o.sky_occlusion)

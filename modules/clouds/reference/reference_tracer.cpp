@@ -26,6 +26,7 @@ using cumulo::render::Usage;
 
 namespace {
 constexpr VkFormat kAccumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr uint32_t kMajorantBinding[kMaxAssets] = {REF_BINDING_MAJORANT, REF_BINDING_MAJORANT_1, REF_BINDING_MAJORANT_2};
 }
 
 
@@ -86,7 +87,7 @@ gpu::Pipeline& ReferenceTracer::trace_pipeline(bool analytic, int asset_slots, b
                    {"COVERAGE_TEXTURE", coverage ? "1" : "0"},
                    {"ENVELOPE", env ? "1" : "0"}},
        .name = std::string("clouds.reference_trace") +
-               (analytic ? " (analytic medium)" : slots > 1 ? " (2 assets)" : "") + (coverage ? " (coverage texture)" : "") +
+               (analytic ? " (analytic medium)" : slots > 1 ? " (" + std::to_string(slots) + " assets)" : "") + (coverage ? " (coverage texture)" : "") +
                (env ? " (envelope)" : "")});
   trace_pipes_[key] = &p;
   return p;
@@ -221,7 +222,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
   // Without voxel instances (the envelope clouds alone) the instances' loops never run, but their bindings are bound.
   const bool no_instances = !analytic && light.modelings.empty();
 
-  // Majorant grids, one per asset slot (built once per asset).
+  // Majorant grids, one per asset slot (built once per asset, again when a growing cloud's images change).
   std::vector<cumulo::render::TextureHandle> majorants;
   if (!analytic) {
     std::vector<const CloudAsset*> slot_assets(light.modelings.size(), nullptr);
@@ -237,14 +238,14 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
                                                          "clouds.reference.majorant"));
         TextureDesc d = TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, cells.x, cells.y, cells.z);
         d.type = cumulo::render::ImageType::Image3D;
-        m.texture = {"clouds.reference.majorant" + std::string(a ? ".1" : ""), d, m.image.handle(), m.image.view(),
+        m.texture = {"clouds.reference.majorant" + (a ? "." + std::to_string(a) : std::string()), d, m.image.handle(), m.image.view(),
                      ResourceState::undefined()};
       }
       cumulo::render::TextureHandle h = graph.import_persistent(m.texture);
-      if (!m.built) {
+      if (m.revision != slot_assets[a]->revision) {
         const cumulo::render::TextureHandle modeling = light.modelings[a];
         gpu::Pipeline* pipe = majorant_pipe_;
-        graph.add_pass(a ? "clouds.reference_majorant.1" : "clouds.reference_majorant", Queue::Compute,
+        graph.add_pass(a ? "clouds.reference_majorant." + std::to_string(a) : std::string("clouds.reference_majorant"), Queue::Compute,
             [&](PassBuilder& b) {
               b.read(modeling, Usage::Sampled);
               h = b.write(h, Usage::StorageWrite);
@@ -261,7 +262,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
               pipe->push_constants(c.cmd(), pc);
               pipe->dispatch_threads(c.cmd(), e.width, e.height, e.depth);
             });
-        m.built = true;
+        m.revision = slot_assets[a]->revision;
       }
       majorants.push_back(h);
     }
@@ -315,12 +316,11 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
           bind.sampled(CLOUD_BINDING_MODELING, c.view(modelings[0]), linear_clamp_, c.layout(modelings[0]))
               .sampled(CLOUD_BINDING_NOISE, c.view(noise), linear_repeat_, c.layout(noise))
               .sampled(REF_BINDING_MAJORANT, c.view(majorants[0]), nearest_clamp_, c.layout(majorants[0]));
-          if (modelings.size() > 1)
-            bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), linear_clamp_, c.layout(modelings[1]))
-                .sampled(REF_BINDING_MAJORANT_1, c.view(majorants[1]), nearest_clamp_, c.layout(majorants[1]));
+          for (size_t a = 1; a < modelings.size(); ++a)
+            bind.sampled(kModelingBinding[a], c.view(modelings[a]), linear_clamp_, c.layout(modelings[a]))
+                .sampled(kMajorantBinding[a], c.view(majorants[a]), nearest_clamp_, c.layout(majorants[a]));
           for (size_t a = 0; a < coverages.size(); ++a)
-            bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), linear_clamp_,
-                         c.layout(coverages[a]));
+            bind.sampled(kCoverageBinding[a], c.view(coverages[a]), linear_clamp_, c.layout(coverages[a]));
         }
         if (with_envelope) {
           constexpr uint32_t o = ENV_BINDING_REFERENCE_OFFSET;

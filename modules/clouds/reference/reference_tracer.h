@@ -126,7 +126,7 @@ class ReferenceTracer final : public CloudFrameOverride {
   struct Majorant {
     gpu::Image image;
     cumulo::render::PersistentTexture texture;
-    bool built = false;
+    uint64_t revision = ~0ull;  // the asset's revision it was built from (~0: never)
   };
   gpu::Pipeline& trace_pipeline(bool analytic, int asset_slots, bool coverage_texture = false, bool envelope = false);
   void prepare_scene(const cumulo::render::FrameSnapshot& snapshot);

@@ -83,6 +83,9 @@ struct CloudAsset {
   float voxel_size = 0.0f;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // the asset's own world box (metres)
   uint64_t gpu_bytes = 0;                        // texel bytes of both images
+  // +1 whenever the images change under the same asset (a growing cloud's update, from the frame whose graph
+  // rebuilds them): what derives from them beside the light grid (the path tracer's majorant grid) follows it.
+  uint64_t revision = 0;
 };
 
 // The voxel noise: 4 channels (R/G Curly-Alligator low/high, B/A Alligator low/high), full mips,

@@ -115,7 +115,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
         over_budget_.push_back(i.growth->spec);
         continue;
       }
-      const CloudGrowthRuntime::Plan plan = g->plan(*i.growth, options_.growth_steps_per_frame);
+      const CloudGrowthRuntime::Plan plan = g->plan(*i.growth, options_.growth_steps_per_frame, options_.growth_spread, int(f.slot));
       growth_work_.push_back({g, plan});
       ci.asset = g->asset();
       ci.asset_changed = plan.update;

@@ -57,6 +57,7 @@ class CloudFeature : public cumulo::render::RenderFeature {
   CloudAssetCache* asset_cache() { return cache_.get(); }
   // A growing cloud's runtime (CloudGrowthFrame::key; null before its first frame): for tests and the bench.
   const CloudGrowthRuntime* growth_runtime(uint64_t key) const { return growth_ ? growth_->find(key) : nullptr; }
+  CloudGrowthRuntime* growth_runtime(uint64_t key) { return growth_ ? growth_->find(key) : nullptr; }
   // The renderer's pipeline library (after create_gpu): passes added from outside share its hot reload.
   gpu::PipelineLibrary& pipeline_library();
   void set_measure_steps(bool on) { measure_steps_ = on; }

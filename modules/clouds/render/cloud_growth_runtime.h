@@ -30,18 +30,21 @@
 #include <memory>
 #include <vector>
 
+#include "engine/gpu/buffer.h"
 #include "engine/render/graph/render_graph.h"
 #include "modules/clouds/bake/grow/grow_spec.h"
 #include "modules/clouds/frame/cloud_frame.h"
+#include "modules/clouds/grow_gpu/grown_asset_gpu.h"
 #include "modules/clouds/render/cloud_assets.h"
+#include "modules/clouds/volume/volume.h"
 
 namespace cumulo::gpu {
 class Context;
+class GpuTimer;
 class PipelineLibrary;
 }  // namespace cumulo::gpu
 namespace cumulo::clouds::grow_gpu {
 class GpuCloudSolver;
-class GpuGrownAsset;
 }  // namespace cumulo::clouds::grow_gpu
 
 namespace cumulo::clouds::render {
@@ -50,26 +53,41 @@ class CloudGrowthRuntime {
  public:
   // Loads the spec (throws naming it), builds the simulation at its first step on the GPU and the images (no cloud
   // until the first update).
-  CloudGrowthRuntime(gpu::Context& ctx, gpu::PipelineLibrary& library, const std::filesystem::path& spec);
+  CloudGrowthRuntime(gpu::Context& ctx, gpu::PipelineLibrary& library, const std::filesystem::path& spec,
+                     float voxel = 8.0f);
   ~CloudGrowthRuntime();
   CloudGrowthRuntime(const CloudGrowthRuntime&) = delete;
   CloudGrowthRuntime& operator=(const CloudGrowthRuntime&) = delete;
 
   // This frame's work toward `frame`: a new generation starts again from the first step (now: waits for the GPU);
   // then up to `max_steps` steps toward target_steps (never back: a lower target holds), and an update of the images
-  // after any step (or after a restart).
+  // after any step (or after a restart). `spread`: the images are updated in the frame after the steps, never in
+  // the same one (a frame pays for the simulation or for the images and light grid, not both); else in the same.
   struct Plan {
     int steps = 0;
-    bool update = false;  // the images change this frame
+    bool update = false;    // the images change this frame
+    int readback_slot = -1;  // the update's modeling image is copied for the host into this frame slot's buffer
   };
-  Plan plan(const CloudGrowthFrame& frame, int max_steps);
+  // `slot`: the frame slot this frame records in (its previous submission complete): the modeling image copied in
+  // that slot's last frame becomes the host's copy (modeling_readback). -1: no read-backs.
+  Plan plan(const CloudGrowthFrame& frame, int max_steps, bool spread = true, int slot = -1);
   // What the passes record (in the frame's command buffer, before anything samples the images).
   void record_steps(VkCommandBuffer cmd, int steps);
-  void record_update(VkCommandBuffer cmd);
+  // With a timer: the update's stages as ranges (`cumulo bench` times the apart order).
+  void record_update(VkCommandBuffer cmd, gpu::GpuTimer* timer = nullptr,
+                     grow_gpu::GrownUpdateOrder order = grow_gpu::GrownUpdateOrder::Interleaved, int readback_slot = -1);
+
+  // The host's copy of the modeling image (the march's profile, detail type, density scale and coverage, as a
+  // baked modeling NVDF in the cloud's local frame) for the CPU density query (scene/density_query.h): the last
+  // update whose frame has completed, a frame slot or two behind the GPU, so at most a step late when the
+  // cloud grows at a step every other frame. Null until the first arrives.
+  const Volume* modeling_readback() const { return readback_step_ < 0 ? nullptr : &readback_; }
+  int modeling_readback_step() const { return readback_step_; }  // the solver's step it shows (-1: none yet)
 
   std::shared_ptr<const CloudAsset> asset() const { return asset_; }
   const grow::GrowSpec& spec() const { return spec_; }
   const std::filesystem::path& spec_file() const { return spec_file_; }
+  float voxel() const { return voxel_; }
   const grow_gpu::GpuCloudSolver& solver() const { return *solver_; }
   const grow_gpu::GpuGrownAsset& grown() const { return *grown_; }
   int steps_done() const;  // recorded since the last (re)start
@@ -82,12 +100,22 @@ class CloudGrowthRuntime {
   gpu::Context& ctx_;
   std::filesystem::path spec_file_;
   grow::GrowSpec spec_;
+  float voxel_ = 8.0f;
   std::unique_ptr<grow_gpu::GpuCloudSolver> solver_;
   std::unique_ptr<grow_gpu::GpuGrownAsset> grown_;
   std::shared_ptr<CloudAsset> asset_;
   uint32_t generation_ = 0;
   bool started_ = false;
   bool dirty_ = true;  // the images do not show the solver's state yet
+  bool stepped_last_ = false;  // the last plan stepped
+  struct SlotCopy {
+    gpu::Buffer buffer;  // host-readable, the modeling image's bytes
+    int step = -1;       // the solver's step copied into it, not yet taken (-1: none)
+    uint32_t generation = 0;
+  };
+  std::vector<SlotCopy> slot_copies_;
+  Volume readback_;
+  int readback_step_ = -1;
   int restarts_ = 0;
 };
 
@@ -96,9 +124,10 @@ class CloudGrowthRuntimes {
  public:
   CloudGrowthRuntimes(gpu::Context& ctx, gpu::PipelineLibrary& library) : ctx_(ctx), library_(library) {}
   ~CloudGrowthRuntimes();
-  // The cloud's runtime: made on first sight, made anew when its spec file changed (waits for the GPU).
+  // The cloud's runtime: made on first sight, made anew when its spec file or voxel changed (waits for the GPU).
   CloudGrowthRuntime& runtime(const CloudGrowthFrame& g);
   const CloudGrowthRuntime* find(uint64_t key) const;
+  CloudGrowthRuntime* find(uint64_t key);
   size_t size() const { return runtimes_.size(); }
 
  private:

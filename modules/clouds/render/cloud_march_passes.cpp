@@ -66,15 +66,13 @@ void add_march(CloudResources& res, RenderGraph& graph, const CloudFrameInputs& 
         if (front.valid()) bind.sampled(CLOUD_BINDING_NEAR_IN, c.view(front), r->nearest_clamp, c.layout(front));
         if (terrain)
           bind.sampled(CLOUD_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), r->nearest_clamp, c.layout(terrain_depth));
-        if (modelings.size() > 1)
-          bind.sampled(CLOUD_BINDING_MODELING_1, c.view(modelings[1]), r->linear_clamp, c.layout(modelings[1]))
-              .sampled(CLOUD_BINDING_FIELD_1, c.view(fields[1]), r->linear_clamp, c.layout(fields[1]));
+        for (size_t a = 1; a < modelings.size(); ++a)
+          bind.sampled(kModelingBinding[a], c.view(modelings[a]), r->linear_clamp, c.layout(modelings[a]))
+              .sampled(kFieldBinding[a], c.view(fields[a]), r->linear_clamp, c.layout(fields[a]));
         for (size_t a = 0; a < coverages.size(); ++a)
-          bind.sampled(a ? CLOUD_BINDING_COVERAGE_1 : CLOUD_BINDING_COVERAGE, c.view(coverages[a]), r->linear_clamp,
-                       c.layout(coverages[a]));
+          bind.sampled(kCoverageBinding[a], c.view(coverages[a]), r->linear_clamp, c.layout(coverages[a]));
         for (size_t a = 0; a < fairs.size(); ++a)
-          bind.sampled(a ? CLOUD_BINDING_FIELD_FAIR_1 : CLOUD_BINDING_FIELD_FAIR, c.view(fairs[a]), r->linear_clamp,
-                       c.layout(fairs[a]));
+          bind.sampled(kFieldFairBinding[a], c.view(fairs[a]), r->linear_clamp, c.layout(fairs[a]));
         bind.push(r->ctx, c.cmd());
         const VkExtent3D e = c.extent(color);
         if (sub_block > 1) {

@@ -150,7 +150,7 @@ struct CloudResources {
     d.name = std::string("clouds.march (") + ablation_name(a) + ", " + kSegments[segment] + (bc1 ? ", bc1 sdf" : "") +
              (ms_field ? ", solved multiple scattering" : "") +
              (distance_mip ? "" : ", mip 0") + (mean_light_noise ? "" : ", sampled light noise") +
-             (asset_slots > 1 ? ", 2 assets" : "") + (terrain_shadow ? ", terrain shadow" : "") +
+             (asset_slots > 1 ? ", " + std::to_string(asset_slots) + " assets" : "") + (terrain_shadow ? ", terrain shadow" : "") +
              (coverage_texture ? ", coverage texture" : "") + ")";
     gpu::Pipeline& p = library.compute(d);
     march_pipes[key] = &p;

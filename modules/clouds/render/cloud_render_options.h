@@ -64,6 +64,8 @@ struct CloudRenderOptions {
   // --cloud-growth-steps-per-frame: a growing cloud (CloudGrowth) takes at most this many simulation steps a frame
   // toward its target (0: the clouds do not grow). Lavapipe: ~12 ms a step on 16x12x16 cells, 255-350 ms on 64x32x64.
   int growth_steps_per_frame = 1;
+  // --cloud-growth-spread: the images (and the light grid) in the frame after the steps (CloudGrowthRuntime::plan).
+  bool growth_spread = true;
 };
 
 // The march's settings of these options: the lighting preset with its overridden constants, and the rest.

@@ -387,7 +387,15 @@ shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, co
 
 inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
 inline constexpr uint32_t kMaxPointLights = kMaxCloudPointLights;  // CLOUD_MAX_POINT_LIGHTS
-inline constexpr uint32_t kMaxAssets = 2;       // CLOUD_MAX_ASSETS: distinct assets among the instances
+inline constexpr uint32_t kMaxAssets = 3;       // CLOUD_MAX_ASSETS: distinct assets among the instances
+// Each asset slot's bindings in the march and the path tracer (cloud_params.h).
+inline constexpr uint32_t kModelingBinding[kMaxAssets] = {CLOUD_BINDING_MODELING, CLOUD_BINDING_MODELING_1,
+                                                           CLOUD_BINDING_MODELING_2};
+inline constexpr uint32_t kFieldBinding[kMaxAssets] = {CLOUD_BINDING_FIELD, CLOUD_BINDING_FIELD_1, CLOUD_BINDING_FIELD_2};
+inline constexpr uint32_t kCoverageBinding[kMaxAssets] = {CLOUD_BINDING_COVERAGE, CLOUD_BINDING_COVERAGE_1,
+                                                           CLOUD_BINDING_COVERAGE_2};
+inline constexpr uint32_t kFieldFairBinding[kMaxAssets] = {CLOUD_BINDING_FIELD_FAIR, CLOUD_BINDING_FIELD_FAIR_1,
+                                                            CLOUD_BINDING_FIELD_FAIR_2};
 
 struct CloudResourcesDesc {
   // The talk's grid on GPUs; on CPU devices (lavapipe) 96x16x96 (43 x 32 x 43 m voxels over the sample's

@@ -21,10 +21,14 @@ Cloudscape cloudscape_from_json(const JsonView& v) {
   if (!v.is_object()) v.fail("expected an object {\"asset\": PATH, ...}");
   check_keys(v, {"asset", "density", "wind", "dissipation", "rain"});
   Cloudscape c;
-  JsonView asset = v["asset"];
-  c.asset = asset.as<std::string>();
-  if (c.asset.empty()) asset.fail("expected a recipe (.json) or a folder of .nvdf files, got an empty path");
-  c.where = asset.where();
+  if (v.has("asset")) {
+    JsonView asset = v["asset"];
+    c.asset = asset.as<std::string>();
+    if (c.asset.empty()) asset.fail("expected a recipe (.json) or a folder of .nvdf files, got an empty path");
+    c.where = asset.where();
+  } else {
+    c.where = v.where();  // no asset: only a cloud grown during play (CloudGrowth) may leave it out
+  }
   if (v.has("density")) c.density = v["density"].as_float_in(0.0f, 1000.0f);
   if (v.has("dissipation")) c.dissipation = v["dissipation"].as_float_in(0.0f, 1.0f);
   if (v.has("rain")) c.rain = v["rain"].as_float_in(0.0f, 1.0f);
@@ -43,11 +47,12 @@ Cloudscape cloudscape_from_json(const JsonView& v) {
 }
 
 Json cloudscape_to_json(const Cloudscape& c) {
-  return Json{{"asset", c.asset},
-              {"density", c.density},
+  Json j{{"density", c.density},
               {"wind", {{"direction", {c.wind_direction.x, c.wind_direction.y, c.wind_direction.z}}, {"speed", c.wind_speed}}},
               {"dissipation", c.dissipation},
               {"rain", c.rain}};
+  if (!c.asset.empty()) j["asset"] = c.asset;
+  return j;
 }
 
 void register_cloudscape_component(ecs::ComponentRegistry& registry) {

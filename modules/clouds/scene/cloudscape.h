@@ -12,7 +12,8 @@
 //                  "rain": 0.0}                           // 0..1: rain falls under the cloud (a column below
 //                                                         // its box's centre, fading with dissipation)
 //
-// Several entities may name the same asset: they share one GPU copy.
+// Several entities may name the same asset: they share one GPU copy. An entity whose cloud grows during play
+// (gameplay::CloudGrowth, issue 26) may leave "asset" out: the renderer draws its simulation's images.
 #include <filesystem>
 #include <string>
 
@@ -24,7 +25,7 @@
 namespace cumulo::clouds {
 
 struct Cloudscape {
-  std::string asset;  // as written in the level
+  std::string asset;  // as written in the level; empty only on a cloud grown during play (a CloudGrowth's entity)
   float density = 1.0f;
   glm::vec3 wind_direction{1.0f, 0.0f, 0.0f};
   float wind_speed = 0.0f;

@@ -182,9 +182,10 @@ bool resolve_cloudscapes(ecs::World& world, const fs::path& level_dir) {
         fail("%s: a Cloudscape's Transform needs one positive uniform scale, got (%g, %g, %g)", c.where.c_str(), s.x, s.y,
              s.z);
     }
+    any = true;
+    if (c.asset.empty()) return;  // a grown cloud's (CloudGrowth): the clouds module checks it has one
     const fs::path p(c.asset);
     c.resolved = prepare_cloudscape_asset((p.is_absolute() ? p : level_dir / p).lexically_normal(), c.where);
-    any = true;
   });
   return any;
 }

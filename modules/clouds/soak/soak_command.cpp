@@ -26,6 +26,7 @@
 #include "engine/render/frame_renderer.h"
 #include "engine/render/non_finite_probe.h"
 #include "engine/scene/camera.h"
+#include "modules/clouds/gameplay/cloud_growth.h"
 #include "modules/clouds/gameplay/stormbird.h"
 #include "modules/clouds/gameplay/triggers.h"
 #include "modules/clouds/soak/soak_path.h"
@@ -150,9 +151,10 @@ double median_of(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// The level's gameplay the soak drives: events whose triggers strike lightning, the Stormbird's kill and reset.
+// The level's gameplay the soak drives: events whose triggers strike lightning, the Stormbird's kill and reset, and
+// the growing clouds' reset and start (each lap grows them again from their first step).
 struct Gameplay {
-  std::vector<std::string> lightning, killed, reset;
+  std::vector<std::string> lightning, killed, reset, growth_reset, growth_start;
 };
 Gameplay find_gameplay(const ecs::World& world) {
   Gameplay g;
@@ -166,6 +168,10 @@ Gameplay find_gameplay(const ecs::World& world) {
     if (const auto* s = world.try_get<gameplay::StormbirdDissipation>(e)) {
       g.killed.push_back(s->event);
       g.reset.push_back(s->reset_event);
+    }
+    if (const auto* c = world.try_get<gameplay::CloudGrowth>(e)) {
+      if (!c->reset_event.empty()) g.growth_reset.push_back(c->reset_event);
+      if (!c->event.empty()) g.growth_start.push_back(c->event);
     }
   });
   return g;
@@ -361,6 +367,10 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       for (const std::string& e : gameplay.killed) fire(e);
     if (k == o.lap * 7 / 10)
       for (const std::string& e : gameplay.reset) fire(e);
+    if (k == 0) {
+      for (const std::string& e : gameplay.growth_reset) fire(e);
+      for (const std::string& e : gameplay.growth_start) fire(e);
+    }
     // Every lap plays the same: the weather restarts in the first state with its random stream seeded again, and the
     // level's triggers are re-armed (a trigger that fires once, the storm's entry, fires once a lap).
     if (k == 0) {

@@ -34,7 +34,7 @@ inline std::string expect_error(const std::function<void()>& fn, std::initialize
 }
 
 // The sample level also names module components (the clouds module's Cloudscape, WeatherScheduler,
-// StormbirdDissipation, Trigger and OrographicClouds).
+// StormbirdDissipation, Trigger, OrographicClouds, WeatherZone and CloudGrowth).
 // The engine's tests must not link modules, so they accept those as opaque JSON (one stand-in type per
 // component name); the module's own tests check them.
 template <int Tag>
@@ -54,6 +54,7 @@ inline void register_sample_level_components(ecs::ComponentRegistry& reg) {
   register_stand_in<3>(reg, "Trigger");
   register_stand_in<4>(reg, "OrographicClouds");
   register_stand_in<5>(reg, "WeatherZone");
+  register_stand_in<6>(reg, "CloudGrowth");
 }
 
 }  // namespace cumulo::scene::test

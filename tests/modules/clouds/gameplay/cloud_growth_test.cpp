@@ -108,7 +108,8 @@ TEST(CloudGrowth, BadComponentsAndSpecsNameThePlace) {
                        Bad{R"({"spec": "a.json"})", "nothing starts"},
                        Bad{R"({"spec": "a.json", "event": "x", "speed": 0})", "$.speed"},
                        Bad{R"({"spec": "a.json", "event": "x", "sped": 1})", "unknown key \"sped\""},
-                       Bad{R"({"spec": "a.json", "states": "storm"})", "$.states"}}) {
+                       Bad{R"({"spec": "a.json", "states": "storm"})", "$.states"},
+                       Bad{R"({"spec": "a.json", "event": "x", "voxel": 0.5})", "$.voxel"}}) {
     try {
       parse(b.text);
       ADD_FAILURE() << "accepted " << b.text;
@@ -125,6 +126,9 @@ TEST(CloudGrowth, BadComponentsAndSpecsNameThePlace) {
     EXPECT_NE(std::string(e.what()).find("level.json: $"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("no_such_spec.json"), std::string::npos) << e.what();
   }
+  // The voxel round-trips (8 m, the offline bake's, by default).
+  EXPECT_FLOAT_EQ(parse(R"({"spec": "a.json", "event": "x"})").voxel, 8.0f);
+  EXPECT_FLOAT_EQ(parse(cloud_growth_to_json(parse(R"({"spec": "a.json", "event": "x", "voxel": 20})")).dump()).voxel, 20.0f);
   // The committed sample spec resolves: its steps and dt.
   CloudGrowth sample = parse(R"({"spec": "grown/cumulonimbus.json", "event": "x"})");
   resolve_cloud_growth(sample, std::filesystem::path(CUMULO_SOURCE_DIR) / "content/levels/sample");

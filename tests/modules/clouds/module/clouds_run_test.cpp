@@ -180,6 +180,13 @@ TEST_F(CloudsRun, BadFlagsAndLevelsAreRefusedClearly) {
   std::string m = error_of(missing, {});
   EXPECT_NE(m.find("missing.json"), std::string::npos) << m;
   EXPECT_NE(m.find("absent.json"), std::string::npos) << m;
+  // Only a cloud grown during play (a CloudGrowth on the entity) may leave the asset out.
+  fs::path no_asset = level("no_asset", "\"asset\": \"small_cloud.json\"", "\"density\": 1");
+  std::string n = error_of(no_asset, {});
+  EXPECT_NE(n.find("no_asset.json: $.entities"), std::string::npos) << n;
+  EXPECT_NE(n.find("Cloudscape"), std::string::npos) << n;
+  EXPECT_NE(n.find("\"asset\""), std::string::npos) << n;
+  EXPECT_NE(n.find("CloudGrowth"), std::string::npos) << n;
 }
 
 namespace {
@@ -415,4 +422,24 @@ TEST_F(CloudsRun, OrographicCloudsDrawInALevelWithoutACloudscape) {
   EXPECT_NE(g.find("clouds.envelope"), std::string::npos);
   EXPECT_NE(g.find("clouds.composite"), std::string::npos);
   EXPECT_EQ(g.find("clouds.march"), std::string::npos);
+}
+
+// Issue 26 end to end: a Cloudscape without an asset and a CloudGrowth on its entity. Held (nothing started it) the
+// sky is clear where it stands; its event starts the growth, and a few seconds of play later the cloud is there.
+TEST_F(CloudsRun, AGrowingCloudBuildsAfterItsEvent) {
+  write_file_atomic(dir_ / "growth.json",
+                    std::string(R"({"preset": "mediocris", "seed": 3, "grid": {"cells": [16, 12, 16], "cell": 24},
+                                    "time": {"steps": 40, "dt": 30}, "atmosphere": {"humidity": [0.95, 0.9]}})"));
+  const fs::path grows = level("grows", R"("Cloudscape": {"asset": "small_cloud.json"})",
+                               R"("Cloudscape": {"density": 1}, "CloudGrowth": {"spec": "growth.json", "event": "grow_now", "speed": 300, "voxel": 24})");
+  ASSERT_EQ(run(grows, "held.png", {"--start-at", "4", "--cloud-growth-steps-per-frame", "16"}, 6), 0);
+  ASSERT_EQ(run(grows, "grown.png", {"--event", "grow_now@0", "--start-at", "4", "--cloud-growth-steps-per-frame", "16"}, 6), 0);
+  const Png held = load_png(dir_ / "held.png"), grown = load_png(dir_ / "grown.png");
+  // 4 s of play at 300 / 30 = 10 steps a second: the target is the spec's last step (40), reached in 3 frames of up to
+  // 16 steps (spread: a frame steps, the next draws the images).
+  const double d = mean_diff(held, grown);
+  std::printf("growing cloud: mean |grown - held| %.2f per channel\n", d);
+  EXPECT_GT(d, 2.0) << "the grown cloud does not show";
+  const std::string graph = read_file_text(dir_ / "grown.png.txt");
+  EXPECT_NE(graph.find("clouds.grow"), std::string::npos);
 }

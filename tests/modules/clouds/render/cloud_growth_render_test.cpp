@@ -27,6 +27,8 @@
 #include "modules/clouds/grow_gpu/gpu_solver.h"
 #include "modules/clouds/grow_gpu/grown_asset_gpu.h"
 #include "modules/clouds/render/cloud_feature.h"
+#include "modules/clouds/scene/density_query.h"
+#include "modules/clouds/volume/volume.h"
 #include "tests/engine/gpu/gpu_test_util.h"
 #include "tests/support/render_offscreen.h"
 #include "tests/support/temp_dir.h"
@@ -126,6 +128,7 @@ size_t cells_above(const std::vector<float>& qc, float iso) {
 
 TEST_F(CloudGrowthRender, TheCloudBuildsAsItSteps) {
   feature_.options().growth_steps_per_frame = 10;
+  feature_.options().growth_spread = false;  // the steps and their images in one frame
   const gpu::Rgba8Image start = frame(0);
   EXPECT_EQ(runtime().steps_done(), 0);
   EXPECT_EQ(runtime().grown().updates_recorded(), 1);  // the start state's images
@@ -160,6 +163,7 @@ TEST_F(CloudGrowthRender, TheCloudBuildsAsItSteps) {
 
 TEST_F(CloudGrowthRender, AHeldCloudGivesTheSameFrame) {
   feature_.options().growth_steps_per_frame = 8;
+  feature_.options().growth_spread = false;  // the steps and their images in one frame
   frame(16);
   frame(16);
   ASSERT_EQ(runtime().steps_done(), 16);
@@ -182,6 +186,7 @@ TEST_F(CloudGrowthRender, AHeldCloudGivesTheSameFrame) {
 
 TEST_F(CloudGrowthRender, ANewGenerationStartsAgain) {
   feature_.options().growth_steps_per_frame = 3;
+  feature_.options().growth_spread = false;  // the steps and their images in one frame
   frame(6);
   frame(6);
   ASSERT_EQ(runtime().steps_done(), 6);
@@ -193,6 +198,68 @@ TEST_F(CloudGrowthRender, ANewGenerationStartsAgain) {
   EXPECT_EQ(runtime().restarts(), 2);
   EXPECT_EQ(runtime().steps_done(), 0);
   EXPECT_EQ(cells_above(runtime().solver().read(grow_gpu::Field::CloudWater), runtime().spec().iso), 0u);
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+// The CPU density query sees the growing cloud: the modeling image copied for the host with each update, taken when
+// its frame slot comes round again (a frame later), byte-equal to the GPU's; its densest voxel has density.
+TEST_F(CloudGrowthRender, TheHostSeesTheGrownCloudAFrameLater) {
+  feature_.options().growth_steps_per_frame = 10;
+  for (int f = 0; f < 4; ++f) frame(20);  // steps, images, steps, images
+  ASSERT_EQ(runtime().steps_done(), 20);
+  EXPECT_LT(runtime().modeling_readback_step(), 20);  // the last update's copy is not taken yet
+  frame(20);                                           // held: its slot's last copy is complete
+  ASSERT_NE(runtime().modeling_readback(), nullptr);
+  EXPECT_EQ(runtime().modeling_readback_step(), 20);
+  const Volume& m = *runtime().modeling_readback();
+  const std::vector<uint8_t> gpu_bytes = runtime().grown().read_modeling();
+  EXPECT_TRUE(m.levels[0] == gpu_bytes) << "the host's copy differs from the modeling image";
+  size_t best = 0;
+  for (size_t i = 0; i < gpu_bytes.size() / 4; ++i)
+    if (gpu_bytes[4 * i] * gpu_bytes[4 * i + 2] > gpu_bytes[4 * best] * gpu_bytes[4 * best + 2]) best = i;
+  ASSERT_GT(gpu_bytes[4 * best], 0) << "no cloud in the modeling image";
+  Volume noise = Volume::create({4, 4, 4}, 1.0f, VolumeEncoding::RGBA8,
+                                {{"r", "noise"}, {"g", "noise"}, {"b", "noise"}, {"a", "noise"}});
+  std::fill(noise.levels[0].begin(), noise.levels[0].end(), uint8_t(128));
+  const CloudDensityQuery q(m, noise);
+  const glm::uvec3 d = m.size;
+  const glm::uvec3 v(uint32_t(best % d.x), uint32_t(best / d.x % d.y), uint32_t(best / (size_t(d.x) * d.y)));
+  const glm::vec3 at = m.bounds_min + (glm::vec3(v) + 0.5f) * m.voxel_size;
+  CloudPlacement placement;
+  EXPECT_GT(q.density(placement, at, 0.0), 0.0f) << "no density at the densest voxel (" << at.x << ", " << at.y << ", " << at.z << ")";
+  EXPECT_EQ(q.density(placement, m.bounds_max + glm::vec3(100.0f), 0.0), 0.0f);
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+// Spread (the default): a frame steps or updates the images (and rebuilds the light grid), never both; a cloud
+// that must catch up alternates.
+TEST_F(CloudGrowthRender, StepsAndImagesTakeTurns) {
+  feature_.options().growth_steps_per_frame = 4;
+  frame(0);
+  EXPECT_EQ(runtime().steps_done(), 0);
+  EXPECT_EQ(runtime().grown().updates_recorded(), 1);  // the start state's images: no step to wait for
+  struct Seen {
+    int steps, updates;
+  };
+  std::vector<Seen> seen;
+  for (int f = 0; f < 5; ++f) {
+    frame(8);
+    seen.push_back({runtime().steps_done(), runtime().grown().updates_recorded()});
+  }
+  const Seen expected[] = {{4, 1}, {4, 2}, {8, 2}, {8, 3}, {8, 3}};
+  for (size_t f = 0; f < seen.size(); ++f) {
+    EXPECT_EQ(seen[f].steps, expected[f].steps) << "frame " << f + 1;
+    EXPECT_EQ(seen[f].updates, expected[f].updates) << "frame " << f + 1;
+  }
+  // The asset's revision follows its images (the path tracer rebuilds its majorant grid from it).
+  EXPECT_EQ(runtime().asset()->revision, uint64_t(runtime().grown().updates_recorded()));
+  // The images of the spread frames are those of the same steps in one frame.
+  const std::vector<uint8_t> spread = runtime().grown().read_modeling();
+  feature_.options().growth_spread = false;
+  frame(8, 1);  // a new generation: back to the first step, 4 steps and the images in this frame
+  frame(8, 1);
+  ASSERT_EQ(runtime().steps_done(), 8);
+  EXPECT_TRUE(spread == runtime().grown().read_modeling());
   EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
 }
 
