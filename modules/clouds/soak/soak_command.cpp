@@ -347,6 +347,7 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
   samples.reserve(o.lap);
   uint64_t errors_before = session.ctx().validation_errors(), warnings_before = session.ctx().validation_warnings();
   cumulo::render::NonFiniteProbe::Counts probe_before;
+  uint64_t bad_frames_seen = 0;
   double step_debt = 0.0;
   size_t pipelines_seen = 0;
   uint64_t heap_high = 0;
@@ -403,6 +404,16 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       samples.pass_ms[name] += ms;
     }
     samples.gpu.push_back(gpu_ms);
+    // A frame holding a NaN or an infinity is named with its state, so it can be found again (the table counts them).
+    if (const auto now = probe.counts(); now.bad_frames > bad_frames_seen) {
+      bad_frames_seen = now.bad_frames;
+      std::string state;
+      world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) { state = w.current; });
+      const glm::vec3 at = world.get<scene::Transform>(camera).position;
+      std::fprintf(stderr, "cumulo soak: frame %u (lap %u, frame %u of it) holds non-finite pixels: %d Hz, debug view %s, "
+                   "weather %s, %.2f h, camera at (%.0f, %.0f, %.0f)\n", f + 1, f / o.lap + 1, k + 1, hz,
+                   render::debug_view_name(plan.debug(k)), state.c_str(), plan.hours(k, start_hours), at.x, at.y, at.z);
+    }
     if (o.trace_heap) {
       const uint64_t in_use = heap_stats().in_use;
       if (f >= o.lap && in_use >= heap_high + 8192) {
