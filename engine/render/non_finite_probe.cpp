@@ -9,13 +9,18 @@
 
 namespace cumulo::render {
 
+namespace {
+constexpr size_t kCounters = 6;  // see non_finite_probe.comp's Counters
+}  // namespace
+
 void NonFiniteProbe::create_gpu(GpuServices& g) {
   ctx_ = &g.ctx;
   count_ = &g.library.compute({.shader = "engine/non_finite_probe.comp", .defines = {{"FOLD", "0"}}, .name = "non_finite_probe"});
   fold_ = &g.library.compute({.shader = "engine/non_finite_probe.comp", .defines = {{"FOLD", "1"}}, .name = "non_finite_fold"});
-  counters_ = gpu::Buffer(g.ctx, {4 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Readback,
+  counters_ = gpu::Buffer(g.ctx, {kCounters * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Readback,
                                   "non_finite_probe counters"});
-  std::memset(counters_.mapped(), 0, 4 * sizeof(uint32_t));
+  uint32_t init[kCounters] = {0, 0, 0, 0, 0xffffffffu, 0xffffffffu};
+  std::memcpy(counters_.mapped(), init, sizeof init);
 }
 
 void NonFiniteProbe::destroy_gpu() {
@@ -61,9 +66,11 @@ void NonFiniteProbe::add_passes(Stage stage, StageContext& f) {
 
 NonFiniteProbe::Counts NonFiniteProbe::counts() const {
   if (!counters_) return {};
-  uint32_t c[4];
+  uint32_t c[kCounters];
   std::memcpy(c, counters_.mapped(), sizeof c);
-  return {c[3], c[1], c[2]};
+  Counts r{c[3], c[1], c[2]};
+  if (c[5] != 0xffffffffu) r.last_bad_pixel = glm::ivec2(int(c[5] & 0xffffu), int(c[5] >> 16));
+  return r;
 }
 
 }  // namespace cumulo::render

@@ -9,6 +9,8 @@
 //   render::NonFiniteProbe::Counts c = probe.counts();   // frames probed, frames with non-finite texels, texels
 #include <cstdint>
 
+#include <glm/vec2.hpp>
+
 #include "engine/gpu/buffer.h"
 #include "engine/render/render_feature.h"
 
@@ -22,6 +24,7 @@ class NonFiniteProbe : public RenderFeature {
  public:
   struct Counts {
     uint64_t frames = 0, bad_frames = 0, bad_pixels = 0;
+    glm::ivec2 last_bad_pixel{-1, -1};  // the last bad frame's first non-finite texel (row-major), -1 if none yet
   };
   void create_gpu(GpuServices& g) override;
   void destroy_gpu() override;

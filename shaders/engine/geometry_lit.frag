@@ -92,9 +92,12 @@ void main() {
   float rough = clamp(draw.roughness, 0.05, 1.0);
   float alpha = rough * rough;
   float spec_n = min(2.0 / (alpha * alpha) - 2.0, 2048.0);
+  // pow(x, y) is exp2(y log2 x) on a GPU: undefined for x < 0 and for 0^0, and dot(v, h) of two unit vectors
+  // rounds past 1 where the camera looks straight away from the sun (a NaN pixel at the antisolar point), hence
+  // the clamps: the base in [0, 1], and never 0 where the exponent may be 0 (roughness 1).
   vec3 h = normalize(l + v);
-  float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(v, h), 0.0), 5.0);
-  float spec = (spec_n + 8.0) / 25.1327 * pow(max(dot(n, h), 0.0), spec_n) * fresnel * ndl * (1.0 - rough);
+  float fresnel = 0.02 + 0.98 * pow(clamp(1.0 - dot(v, h), 0.0, 1.0), 5.0);
+  float spec = (spec_n + 8.0) / 25.1327 * pow(clamp(dot(n, h), 1e-6, 1.0), spec_n) * fresnel * ndl * (1.0 - rough);
   lit += sun * spec;
 
   vec3 dir = -v;

@@ -347,7 +347,7 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
   samples.reserve(o.lap);
   uint64_t errors_before = session.ctx().validation_errors(), warnings_before = session.ctx().validation_warnings();
   cumulo::render::NonFiniteProbe::Counts probe_before;
-  uint64_t bad_frames_seen = 0;
+  uint64_t bad_frames_seen = 0, bad_pixels_seen = 0;
   double step_debt = 0.0;
   size_t pipelines_seen = 0;
   uint64_t heap_high = 0;
@@ -407,12 +407,18 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
     // A frame holding a NaN or an infinity is named with its state, so it can be found again (the table counts them).
     if (const auto now = probe.counts(); now.bad_frames > bad_frames_seen) {
       bad_frames_seen = now.bad_frames;
+      const uint64_t pixels = now.bad_pixels - bad_pixels_seen;
+      bad_pixels_seen = now.bad_pixels;
       std::string state;
       world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) { state = w.current; });
-      const glm::vec3 at = world.get<scene::Transform>(camera).position;
-      std::fprintf(stderr, "cumulo soak: frame %u (lap %u, frame %u of it) holds non-finite pixels: %d Hz, debug view %s, "
-                   "weather %s, %.2f h, camera at (%.0f, %.0f, %.0f)\n", f + 1, f / o.lap + 1, k + 1, hz,
-                   render::debug_view_name(plan.debug(k)), state.c_str(), plan.hours(k, start_hours), at.x, at.y, at.z);
+      const scene::Transform& t = world.get<scene::Transform>(camera);
+      const glm::vec3 at = t.position, ahead = t.rotation * glm::vec3(0, 0, -1);
+      std::fprintf(stderr, "cumulo soak: frame %u (lap %u, frame %u of it) holds %llu non-finite pixel(s), the first at "
+                   "(%d, %d): %d Hz, debug view %s, weather %s, %.2f h, camera at (%.9g, %.9g, %.9g) looking (%.4f, %.4f, "
+                   "%.4f), rotation (w x y z) %.9g %.9g %.9g %.9g\n", f + 1, f / o.lap + 1, k + 1, (unsigned long long)pixels,
+                   now.last_bad_pixel.x, now.last_bad_pixel.y, hz, render::debug_view_name(plan.debug(k)), state.c_str(),
+                   plan.hours(k, start_hours), at.x, at.y, at.z, ahead.x, ahead.y, ahead.z, t.rotation.w,
+                   t.rotation.x, t.rotation.y, t.rotation.z);
     }
     if (o.trace_heap) {
       const uint64_t in_use = heap_stats().in_use;

@@ -12,6 +12,7 @@
 #include "engine/render/pass_helpers.h"
 #include "engine/render/sky_model.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/gltf.h"
 #include "engine/scene/sun.h"
 #include "tests/support/render_offscreen.h"
 
@@ -78,9 +79,48 @@ TEST(NonFiniteProbe, CountsTheFramesAndTexelsThatHoldANanOrAnInfinity) {
     c = frame(0x7f800000u, 7);  // +infinity in 7 texels
     EXPECT_EQ(c.bad_frames, 2u);
     EXPECT_EQ(c.bad_pixels, 10u);
+    EXPECT_EQ(c.last_bad_pixel, glm::ivec2(0, 0));  // the first of the row it wrote
     c = frame(0, 0);
     EXPECT_EQ(c.frames, 5u);
     EXPECT_EQ(c.bad_frames, 2u);
+    EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
+  }
+}
+
+// The soak found one NaN pixel a lap on the ocean where the camera looked straight away from the sun: the glint's
+// Schlick term took pow(1 - dot(v, h), 5) of two unit vectors whose dot rounded past 1. A camera with a narrow
+// field of view centred on the antisolar point puts thousands of pixels within a rounding of it.
+TEST(NonFiniteProbe, TheOceanHoldsNoNanWhereTheCameraLooksAwayFromTheSun) {
+  gpu::ContextDesc cd;
+  cd.validation = true;
+  gpu::Context ctx(cd);
+  auto terrain = std::make_shared<const scene::Model>(scene::load_gltf("content/levels/sample/terrain.glb"));
+  render::NonFiniteProbe probe;
+  {
+    render::FrameRenderer renderer(ctx);
+    renderer.add_feature(probe);
+    uint64_t frames = 0;
+    for (float hours : {9.0f, 10.5f, 15.0f}) {
+      render::FrameSnapshot s;
+      s.width = 64;
+      s.height = 36;
+      scene::TimeOfDay tod;
+      tod.hours = hours;
+      s.sun = scene::sun_light(tod, scene::Sun{});
+      s.lighting = render::sky_lighting(s.sun);
+      s.models.push_back({terrain, glm::mat4(1.0f)});
+      // Over open water 1.5 km south-east of the islands, looking down along the sun's direction.
+      const glm::vec3 at(2150.0f, 0.0f, 2200.0f);
+      const glm::vec3 eye = at + s.sun.direction * 1500.0f / s.sun.direction.y;
+      scene::Camera narrow;
+      narrow.fov_y_deg = 0.05f;
+      s.camera = scene::make_camera_view(scene::Transform::look_at(eye, at), narrow, 64.0f / 36.0f);
+      test::render_offscreen(ctx, renderer, s);
+      ++frames;
+      const render::NonFiniteProbe::Counts c = probe.counts();
+      EXPECT_EQ(c.frames, frames);
+      EXPECT_EQ(c.bad_pixels, 0u) << hours << " h: the first at (" << c.last_bad_pixel.x << ", " << c.last_bad_pixel.y << ")";
+    }
     EXPECT_EQ(ctx.validation_errors(), 0u) << ctx.last_validation_message();
   }
 }
