@@ -117,6 +117,7 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
       }
       const CloudGrowthRuntime::Plan plan = g->plan(*i.growth, options_.growth_steps_per_frame, options_.growth_spread, int(f.slot));
       growth_work_.push_back({g, plan});
+      if (g->images_cloudless()) continue;  // still stepped; not marched, lit or traced until it shows a cloud
       ci.asset = g->asset();
       ci.asset_changed = plan.update;
     } else {

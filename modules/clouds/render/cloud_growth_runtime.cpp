@@ -46,6 +46,8 @@ int CloudGrowthRuntime::steps_done() const { return solver_->steps_done(); }
 void CloudGrowthRuntime::restart() {
   const grow::CloudSolver start(spec_.solver);  // the first step's state (the spec's atmosphere at rest)
   solver_->upload(start);
+  const std::vector<float>& qc = start.cloud_water();
+  start_cloudless_ = std::none_of(qc.begin(), qc.end(), [&](float q) { return q > spec_.iso; });
   dirty_ = true;
   readback_step_ = -1;  // the old generation's copy no longer shows the cloud
 }
@@ -83,7 +85,10 @@ CloudGrowthRuntime::Plan CloudGrowthRuntime::plan(const CloudGrowthFrame& frame,
     if (spread && p.steps > 0) p.update = false;
   }
   stepped_last_ = p.steps > 0;
-  if (p.update) ++asset_->revision;  // this frame's graph rebuilds the images before anything samples them
+  if (p.update) {
+    ++asset_->revision;  // this frame's graph rebuilds the images before anything samples them
+    shown_step_ = solver_->steps_done() + p.steps;  // the update follows this frame's steps
+  }
   if (p.update && slot >= 0) {
     if (slot_copies_.size() <= size_t(slot)) slot_copies_.resize(size_t(slot) + 1);
     SlotCopy& c = slot_copies_[size_t(slot)];

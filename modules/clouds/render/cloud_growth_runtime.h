@@ -91,6 +91,11 @@ class CloudGrowthRuntime {
   const grow_gpu::GpuCloudSolver& solver() const { return *solver_; }
   const grow_gpu::GpuGrownAsset& grown() const { return *grown_; }
   int steps_done() const;  // recorded since the last (re)start
+  // After this frame's plan: the images it draws hold no cloud (none drawn yet, or the first step's state and that
+  // state has no cloud water above the iso). The renderer leaves such a cloud out of the frame's instances, so a
+  // storm waiting for its event costs the march nothing; the frame that first shows cloud updates the images, so
+  // its light grid is rebuilt (CloudInstance::asset_changed) as it joins.
+  bool images_cloudless() const { return shown_step_ < 0 || (shown_step_ == 0 && start_cloudless_); }
   uint32_t generation() const { return generation_; }
   int restarts() const { return restarts_; }  // new generations seen (the first start not counted)
 
@@ -108,6 +113,8 @@ class CloudGrowthRuntime {
   bool started_ = false;
   bool dirty_ = true;  // the images do not show the solver's state yet
   bool stepped_last_ = false;  // the last plan stepped
+  int shown_step_ = -1;          // the solver's step the images show after this frame's update (-1: none yet)
+  bool start_cloudless_ = true;  // the first step's state has no cloud water above the iso
   struct SlotCopy {
     gpu::Buffer buffer;  // host-readable, the modeling image's bytes
     int step = -1;       // the solver's step copied into it, not yet taken (-1: none)
