@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -94,6 +96,42 @@ uint64_t resident_bytes() {
   return resident * uint64_t(sysconf(_SC_PAGESIZE));
 }
 
+// Resident memory by kind (/proc/self/status): anonymous (the heap, a driver's device memory, a JIT's output), file
+// backed (shared libraries' code and data, paged in the first time a path runs: bounded by the files, never a leak)
+// and shared memory.
+struct ResidentKinds {
+  uint64_t anon = 0, file = 0, shmem = 0;
+  uint64_t anon_exec = 0;  // of anon: executable mappings of no file, a JIT's code (lavapipe's LLVM shader variants)
+};
+ResidentKinds resident_kinds() {
+  std::ifstream status("/proc/self/status");
+  ResidentKinds r;
+  std::string key;
+  uint64_t kb = 0;
+  while (status >> key) {
+    if (key == "RssAnon:" || key == "RssFile:" || key == "RssShmem:") {
+      status >> kb;
+      (key == "RssAnon:" ? r.anon : key == "RssFile:" ? r.file : r.shmem) = kb * 1024;
+    }
+    status.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  // /proc/self/smaps: a mapping's header "start-end perms offset dev inode [path]", then "Rss: N kB" among its fields.
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool jit = false;
+  while (std::getline(smaps, line)) {
+    if (!line.empty() && std::isxdigit(static_cast<unsigned char>(line[0])) && line.find('-') < line.find(' ')) {
+      std::istringstream h(line);
+      std::string range, perms, offset, dev, inode, path;
+      h >> range >> perms >> offset >> dev >> inode >> path;
+      jit = perms.size() >= 3 && perms[2] == 'x' && (path.empty() || path[0] == '[') && path != "[vdso]" && path != "[vsyscall]";
+    } else if (jit && line.rfind("Rss:", 0) == 0) {
+      r.anon_exec += std::stoull(line.substr(4)) * 1024;
+    }
+  }
+  return r;
+}
+
 // Where resident memory sits, to tell a leak from fragmentation: bytes malloc hands out (in use), bytes its heaps hold
 // from the system (arena; what is free inside them only fragments), and large blocks it mapped on its own. What
 // resident memory holds beyond those (code, a JIT's output, mapped files) is mapped outside malloc.
@@ -126,6 +164,7 @@ struct FrameSamples {
 struct Window {
   uint64_t first_frame = 0, frames = 0;
   uint64_t rss = 0, gpu_allocated = 0, gpu_reserved = 0;
+  ResidentKinds rss_kinds;
   HeapStats heap;
   std::map<std::string, uint64_t> gpu_by_name;
   cumulo::render::FrameRenderer::GraphCache graph;
@@ -198,8 +237,13 @@ std::vector<Check> run_checks(const std::vector<Window>& w, bool validation, boo
   };
   if (w.size() >= 2) {
     const int64_t growth = int64_t(w.back().rss) - int64_t(w.front().rss);
+    auto grew = [&](uint64_t ResidentKinds::*k) { return int64_t(w.back().rss_kinds.*k) - int64_t(w.front().rss_kinds.*k); };
     add("resident memory growth after the first window < 1 MB", !validation && growth < 1000000,
-        validation ? "not measured: validation layers on (run without CUMULO_VALIDATION)" : std::to_string(growth) + " bytes",
+        validation ? "not measured: validation layers on (run without CUMULO_VALIDATION)"
+                   : std::to_string(growth) + " bytes (anonymous " + std::to_string(grew(&ResidentKinds::anon)) +
+                         " of which executable code of no file " + std::to_string(grew(&ResidentKinds::anon_exec)) +
+                         ", file-backed " + std::to_string(grew(&ResidentKinds::file)) + ", shared " +
+                         std::to_string(grew(&ResidentKinds::shmem)) + ")",
         !validation);
     // The render graph keeps up to Executor::kMaxShapes compiled shapes with their transients, least recently used
     // out: which are held at a window's end depends on the frames before it, so what is checked flat is the rest
@@ -244,6 +288,10 @@ nlohmann::ordered_json window_json(const Window& x) {
   j["first_frame"] = x.first_frame;
   j["frames"] = x.frames;
   j["resident_bytes"] = x.rss;
+  j["resident_anonymous_bytes"] = x.rss_kinds.anon;
+  j["resident_file_bytes"] = x.rss_kinds.file;
+  j["resident_shared_bytes"] = x.rss_kinds.shmem;
+  j["resident_anonymous_executable_bytes"] = x.rss_kinds.anon_exec;
   j["heap_in_use_bytes"] = x.heap.in_use;
   j["heap_arena_bytes"] = x.heap.arena;
   j["heap_mapped_bytes"] = x.heap.mapped;
@@ -462,6 +510,7 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
         frames = 0;
       }
       cur.rss = resident_bytes();
+      cur.rss_kinds = resident_kinds();
       cur.heap = heap_stats();
       const gpu::MemoryStats m = session.ctx().allocator().stats();
       cur.gpu_allocated = m.allocated_bytes;
@@ -483,9 +532,10 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       cur.nonfinite_pixels = counts.bad_pixels - probe_before.bad_pixels;
       probe_before = counts;
       std::fprintf(stderr,
-                   "cumulo soak: [%llu/%u] %.0f s: resident %.2f MB (heap: %.2f MB in use, %.2f MB held), GPU %.2f MB, %zu graph shapes (%zu seen), %zu pipelines, "
+                   "cumulo soak: [%llu/%u] %.0f s: resident %.2f MB (%.2f anonymous, %.2f of it code; %.2f file-backed; heap: %.2f MB in use, %.2f MB held), GPU %.2f MB, %zu graph shapes (%zu seen), %zu pipelines, "
                    "%lld images, frame %.2f ms (median), %llu validation errors, %llu non-finite frames\n",
-                   (unsigned long long)(f + 1), o.frames, total.seconds(), cur.rss / 1e6, cur.heap.in_use / 1e6,
+                   (unsigned long long)(f + 1), o.frames, total.seconds(), cur.rss / 1e6, cur.rss_kinds.anon / 1e6,
+                   cur.rss_kinds.anon_exec / 1e6, cur.rss_kinds.file / 1e6, cur.heap.in_use / 1e6,
                    (cur.heap.arena + cur.heap.mapped) / 1e6, cur.gpu_allocated / 1e6,
                    cur.graph.shapes, cur.graph.seen, cur.pipelines, (long long)cur.objects.images, cur.wall.median,
                    (unsigned long long)cur.validation_errors, (unsigned long long)cur.nonfinite_frames);
