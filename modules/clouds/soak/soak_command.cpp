@@ -460,7 +460,7 @@ int run_soak(const SoakOptions& o, const CloudsRun& clouds) {
       std::string state;
       world.view<const weather::WeatherScheduler>().each([&](const weather::WeatherScheduler& w) { state = w.current; });
       const scene::Transform& t = world.get<scene::Transform>(camera);
-      const glm::vec3 at = t.position, ahead = t.rotation * glm::vec3(0, 0, -1);
+      const glm::vec3 at = t.position, ahead = t.forward();
       std::fprintf(stderr, "cumulo soak: frame %u (lap %u, frame %u of it) holds %llu non-finite pixel(s), the first at "
                    "(%d, %d): %d Hz, debug view %s, weather %s, %.2f h, camera at (%.9g, %.9g, %.9g) looking (%.4f, %.4f, "
                    "%.4f), rotation (w x y z) %.9g %.9g %.9g %.9g\n", f + 1, f / o.lap + 1, k + 1, (unsigned long long)pixels,

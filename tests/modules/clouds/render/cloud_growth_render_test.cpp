@@ -105,18 +105,15 @@ class CloudGrowthRender : public gpu::test::GpuTest {
     if (!r) throw std::runtime_error("no growth runtime");
     return *r;
   }
-  static bool changed_pixels_at(const gpu::Rgba8Image& a, const gpu::Rgba8Image& b, size_t i) {
+  // The largest difference of a pixel's colour channels between two images.
+  static int pixel_diff(const gpu::Rgba8Image& a, const gpu::Rgba8Image& b, size_t i) {
     int d = 0;
     for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.pixels[4 * i + c]) - int(b.pixels[4 * i + c])));
-    return d > 4;
+    return d;
   }
   static size_t changed_pixels(const gpu::Rgba8Image& a, const gpu::Rgba8Image& b) {
     size_t n = 0;
-    for (size_t i = 0; i + 3 < a.pixels.size(); i += 4) {
-      int d = 0;
-      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c])));
-      n += d > 4;
-    }
+    for (size_t i = 0; i < a.pixels.size() / 4; ++i) n += pixel_diff(a, b, i) > 4;
     return n;
   }
 
@@ -285,11 +282,7 @@ TEST_F(CloudGrowthRender, TheMarchHasNoHolesWhereTheFieldChanges) {
   for (int step = 25; step <= 48; ++step) frames.push_back(frame(step));
   ASSERT_EQ(runtime().steps_done(), 48);
   const size_t pixels = size_t(kWidth) * kHeight;
-  auto cloud = [&](const gpu::Rgba8Image& img, size_t i) {  // how far the pixel is from the cloudless sky
-    int d = 0;
-    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(img.pixels[4 * i + c]) - int(sky.pixels[4 * i + c])));
-    return d;
-  };
+  auto cloud = [&](const gpu::Rgba8Image& img, size_t i) { return pixel_diff(img, sky, i); };  // from the cloudless sky
   auto covered = [&](const gpu::Rgba8Image& img) {
     size_t n = 0;
     for (size_t i = 0; i < pixels; ++i) n += cloud(img, i) >= 24;
@@ -300,7 +293,7 @@ TEST_F(CloudGrowthRender, TheMarchHasNoHolesWhereTheFieldChanges) {
     for (size_t i = 0; i < pixels; ++i) {
       const int around = std::min(cloud(frames[k - 1], i), cloud(frames[k + 1], i)), here = cloud(frames[k], i);
       holes += around >= 24 && 4 * here < around;
-      changed += changed_pixels_at(frames[k - 1], frames[k], i);
+      changed += pixel_diff(frames[k - 1], frames[k], i) > 4;
     }
   const size_t first = covered(frames.front()), last = covered(frames.back());
   std::printf("growth, steps 25-48 a step a frame: cloud pixels %zu -> %zu of %zu, %.1f pixels changed a frame, %zu holes\n",
