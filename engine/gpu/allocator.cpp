@@ -3,12 +3,32 @@
 #include "engine/gpu/gpu_budget.h"
 #include "engine/gpu/live_objects.h"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdint>
 
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 
 namespace cumulo::gpu {
+namespace {
+
+// Makes the pages under [p, p + n) resident without changing their contents (Linux 5.14+).
+bool populate_pages(void* p, uint64_t n) {
+#ifdef MADV_POPULATE_WRITE
+  const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+  const uintptr_t begin = uintptr_t(p) & ~(page - 1);
+  const uintptr_t end = (uintptr_t(p) + n + page - 1) & ~(page - 1);
+  return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE) == 0;
+#else
+  (void)p, (void)n;
+  return false;
+#endif
+}
+
+}  // namespace
 namespace detail {
 
 RangeAllocator::RangeAllocator(uint64_t capacity) : capacity_(capacity) {
@@ -193,6 +213,7 @@ uint32_t MemoryAllocator::new_block(uint32_t memory_type, VkDeviceSize size, boo
   b.dedicated = dedicated;
   b.ranges = std::make_unique<detail::RangeAllocator>(size);
   if (is_host_visible(memory_type)) VK_CHECK(vkMapMemory(device_, mem, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+  if (commit_blocks_ && b.mapped) populate_pages(b.mapped, size);
   stats_.reserved_bytes += size;
   stats_.peak_reserved_bytes = std::max(stats_.peak_reserved_bytes, stats_.reserved_bytes);
   stats_.block_count++;
@@ -283,6 +304,15 @@ void MemoryAllocator::free(Allocation& a) {
     if (!keep) release_block(a.block);
   }
   a = Allocation{};
+}
+
+bool MemoryAllocator::commit_blocks() {
+  std::lock_guard lock(mutex_);
+  commit_blocks_ = true;
+  bool ok = true;
+  for (const Block& b : blocks_)
+    if (b.memory && b.mapped) ok = populate_pages(b.mapped, b.ranges->capacity()) && ok;
+  return ok;
 }
 
 MemoryStats MemoryAllocator::stats() const {

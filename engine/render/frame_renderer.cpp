@@ -277,7 +277,8 @@ const CompiledGraph& FrameRenderer::last_compiled() const { return impl_->execut
 bool FrameRenderer::has_recorded() const { return impl_->executor.has_executed(); }
 FrameRenderer::GraphCache FrameRenderer::graph_cache() const {
   const Executor& e = impl_->executor;
-  return {e.shape_count(), e.compile_count(), uint64_t(e.transient_bytes()), e.transient_image_count(), e.shapes_seen()};
+  return {e.shape_count(), e.compile_count(), uint64_t(e.transient_bytes()), e.transient_image_count(), e.shapes_seen(),
+          e.layout_count(), e.layouts_created()};
 }
 
 std::vector<std::pair<std::string, double>> FrameRenderer::pass_timings() const {

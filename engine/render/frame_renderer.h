@@ -63,13 +63,16 @@ class FrameRenderer {
   const CompiledGraph& last_compiled() const;  // throws before the first frame
   bool has_recorded() const;                     // a frame was recorded (last_compiled() is there)
   // The render graph's cache of compiled shapes (one per budget mode, debug view, effect present...): how many,
-  // how often a graph was compiled, and the device memory their transient images and buffers hold.
+  // how often a graph was compiled, its transient memory layouts and the device memory their images and
+  // buffers hold.
   struct GraphCache {
     size_t shapes = 0;
     uint32_t compiles = 0;
     uint64_t transient_bytes = 0;
     size_t transient_images = 0;
     size_t seen = 0;  // distinct shapes compiled since the start: more than the cache holds makes it recompile
+    size_t layouts = 0;            // transient memory layouts held (shapes of one layout share its objects)
+    uint32_t layouts_created = 0;  // since the start: each one allocated device memory (and may have waited)
   };
   GraphCache graph_cache() const;
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "engine/core/error.h"
+#include "engine/core/hash.h"
 #include "engine/core/log.h"
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/buffer.h"
@@ -14,14 +15,13 @@
 
 namespace cumulo::render {
 
-// Everything that lives as long as the graph keeps its shape.
+// The transient objects of one memory layout, shared by every shape with that layout.
 struct Executor::Physical {
-  uint64_t hash = 0;
-  uint64_t last_used = 0;  // frame counter of its last execute (least recently used is evicted)
-  CompiledGraph compiled;
+  uint64_t key = 0;
+  uint64_t last_used = 0;               // frame counter of its last execute (least recently used is evicted)
   std::vector<gpu::Allocation> blocks;  // by memory block; declared before images: destroyed after them
-  std::vector<gpu::Image> images;       // by resource index; empty for imported / unused / buffers
-  std::vector<gpu::Buffer> buffers;     // by resource index; transient buffers only
+  std::unordered_map<std::string, gpu::Image> images;  // transient images by name
+  std::unordered_map<std::string, gpu::Buffer> buffers;  // transient buffers by name
   gpu::Context* ctx = nullptr;
 
   ~Physical() {
@@ -29,6 +29,14 @@ struct Executor::Physical {
     buffers.clear();
     for (gpu::Allocation& a : blocks) ctx->allocator().free(a);
   }
+};
+
+// One compiled graph (CPU data) and the layout its transients need.
+struct Executor::Shape {
+  uint64_t hash = 0;
+  uint64_t layout = 0;
+  uint64_t last_used = 0;
+  CompiledGraph compiled;
 };
 
 namespace {
@@ -44,27 +52,80 @@ gpu::ImageDesc image_desc(const CompiledResource& r) {
   return d;
 }
 
+uint64_t image_desc_key(const CompiledResource& r) {
+  uint64_t h = hash64(&r.type, sizeof r.type);
+  h = hash64(&r.format, sizeof r.format, h);
+  h = hash64(&r.extent, sizeof r.extent, h);
+  h = hash64(&r.mips, sizeof r.mips, h);
+  return hash64(&r.image_usage, sizeof r.image_usage, h);
+}
+
+const ResourceAccess& last_access(const CompiledGraph& c, uint32_t r) {
+  for (const ResourceAccess& a : c.passes[size_t(c.resources[r].last_pass)].accesses)
+    if (a.resource == r) return a;
+  fail("render graph: internal: '%s' missing from its last pass", c.resources[r].name.c_str());
+}
+
+// What the transient objects and the barriers between frames depend on: each block's size, alignment,
+// memory types and occupants in order, every live transient's name and description, and its last use
+// (what the next frame's first use of its memory waits for).
+uint64_t layout_key(const CompiledGraph& c) {
+  uint64_t h = 0x6c61796f7574ull;
+  auto mix = [&h](const void* p, size_t n) { h = hash64(p, n, h); };
+  auto mix_resource = [&](uint32_t i) {
+    const CompiledResource& r = c.resources[i];
+    h = hash64(r.name, h);
+    mix(&r.image, sizeof r.image);
+    if (r.image) {
+      const uint64_t d = image_desc_key(r);
+      mix(&d, sizeof d);
+    } else {
+      mix(&r.size, sizeof r.size);
+      mix(&r.buffer_usage, sizeof r.buffer_usage);
+    }
+    const ResourceAccess& a = last_access(c, i);
+    mix(&a.stages, sizeof a.stages);
+    mix(&a.access, sizeof a.access);
+    mix(&a.layout, sizeof a.layout);
+  };
+  for (const MemoryBlock& b : c.memory_blocks) {
+    mix(&b.size, sizeof b.size);
+    mix(&b.alignment, sizeof b.alignment);
+    mix(&b.memory_type_bits, sizeof b.memory_type_bits);
+    const uint32_t n = uint32_t(b.resources.size());
+    mix(&n, sizeof n);
+    for (uint32_t r : b.resources) mix_resource(r);
+  }
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {  // resources with memory of their own (buffers)
+    const CompiledResource& r = c.resources[i];
+    if (!r.imported && r.first_pass >= 0 && r.memory_block < 0) mix_resource(i);
+  }
+  return h;
+}
+
 }  // namespace
 
 Executor::Executor(gpu::Context& ctx) : ctx_(ctx) {}
 
 Executor::~Executor() {
+  shape_ = nullptr;
   physical_ = nullptr;
+  layouts_.clear();
   shapes_.clear();
   for (VkQueryPool& pool : pools_)
     if (pool) vkDestroyQueryPool(ctx_.device(), pool, nullptr);
 }
 
 const CompiledGraph& Executor::compiled() const {
-  if (!physical_) fail("render graph executor: nothing executed yet");
-  return physical_->compiled;
+  if (!shape_) fail("render graph executor: nothing executed yet");
+  return shape_->compiled;
 }
 
 size_t Executor::shape_count() const { return shapes_.size(); }
+size_t Executor::layout_count() const { return layouts_.size(); }
 size_t Executor::transient_image_count() const {
   size_t n = 0;
-  for (const auto& shape : shapes_)
-    for (const gpu::Image& i : shape->images) n += i ? 1 : 0;
+  for (const auto& layout : layouts_) n += layout->images.size();
   return n;
 }
 
@@ -72,85 +133,44 @@ const PhysicalTexture& Executor::texture(uint32_t resource) const { return textu
 
 VkDeviceSize Executor::transient_bytes() const {
   VkDeviceSize total = 0;
-  for (const auto& shape : shapes_) {
-    for (const gpu::Allocation& a : shape->blocks) total += a.size;
-    for (const gpu::Buffer& b : shape->buffers)
-      if (b) total += b.allocation().size;
+  for (const auto& layout : layouts_) {
+    for (const gpu::Allocation& a : layout->blocks) total += a.size;
+    for (const auto& [name, b] : layout->buffers) total += b.allocation().size;
   }
   return total;
 }
 
-// Compiles against the device's real memory requirements and creates the transient resources.
-void Executor::rebuild(const RenderGraph& graph) {
-  // 1. A first compile validates the declaration (a bad one throws before anything is torn down)
-  //    and says which transients are live, their sizes and usages; create those images unbound and
-  //    ask the device what memory they need. 2. Compile again with those requirements, so that
-  //    aliasing decisions use real sizes, alignments and memory types.
-  CompiledGraph probe = graph.compile();
-  if (shapes_.size() >= kMaxShapes) {
-    // Evicting is the only time a shape's objects are freed: frames in flight may still use them.
-    auto lru = std::min_element(shapes_.begin(), shapes_.end(),
-                                [](const auto& a, const auto& b) { return a->last_used < b->last_used; });
-    LOG_DEBUG("render graph: %zu shapes cached, evicting the least recently used", shapes_.size());
-    ctx_.wait_idle();
-    shapes_.erase(lru);
-  }
-  auto phys = std::make_unique<Physical>();
-  phys->ctx = &ctx_;
-  phys->hash = graph.hash();
-  phys->images.resize(probe.resources.size());
-  phys->buffers.resize(probe.resources.size());
-  for (uint32_t i = 0; i < probe.resources.size(); ++i) {
-    const CompiledResource& r = probe.resources[i];
-    if (r.imported || r.first_pass < 0) continue;
-    if (r.image) {
-      phys->images[i] = gpu::Image::create_unbound(ctx_, image_desc(r));
-      ++images_created_;
-    }
-  }
+// What the device needs for a transient image: asked once per description (an image created unbound).
+VkMemoryRequirements Executor::image_requirements(const CompiledResource& r) {
+  const uint64_t key = image_desc_key(r);
+  auto it = requirements_.find(key);
+  if (it != requirements_.end()) return it->second;
+  const VkMemoryRequirements req = gpu::Image::create_unbound(ctx_, image_desc(r)).memory_requirements();
+  return requirements_.emplace(key, req).first->second;
+}
+
+// Compiles against the device's real memory requirements, so that aliasing decisions use real sizes,
+// alignments and memory types (CPU work only: the objects come from physical_for). A bad declaration
+// throws before anything changes.
+Executor::Shape& Executor::compile_shape(const RenderGraph& graph) {
   CompileOptions options;
   options.memory_query = [&](const CompiledResource& r) {
-    for (uint32_t i = 0; i < probe.resources.size(); ++i)
-      if (probe.resources[i].name == r.name && phys->images[i]) {  // names are unique (validate)
-        VkMemoryRequirements req = phys->images[i].memory_requirements();
-        return MemoryQuery{req.size, req.alignment, req.memoryTypeBits};
-      }
-    fail("render graph: internal: no image for '%s'", r.name.c_str());
+    const VkMemoryRequirements req = image_requirements(r);
+    return MemoryQuery{req.size, req.alignment, req.memoryTypeBits};
   };
-  phys->compiled = graph.compile(options);
+  auto shape = std::make_unique<Shape>();
+  shape->hash = graph.hash();
+  shape->compiled = graph.compile(options);
+  shape->layout = layout_key(shape->compiled);
   ++compile_count_;
-  const CompiledGraph& c = phys->compiled;
-
-  // One allocation per memory block; every occupant is bound at its start.
-  for (size_t b = 0; b < c.memory_blocks.size(); ++b) {
-    const MemoryBlock& block = c.memory_blocks[b];
-    VkMemoryRequirements req{block.size, block.alignment, block.memory_type_bits};
-    std::string name = strf("graph block %zu", b);
-    for (uint32_t r : block.resources) name += " " + c.resources[r].name;
-    phys->blocks.push_back(ctx_.allocator().allocate(req, gpu::MemoryUsage::GpuOnly, name.c_str()));
-    ++blocks_created_;
-    for (uint32_t r : block.resources) {
-      phys->images[r].bind_memory(phys->blocks.back());
-      const std::string label = "graph:" + c.resources[r].name;
-      ctx_.set_name(phys->images[r].handle(), label);
-      ctx_.set_name(phys->images[r].view(), label);
-    }
-  }
-  for (uint32_t i = 0; i < c.resources.size(); ++i) {
-    const CompiledResource& r = c.resources[i];
-    if (r.image || r.imported || r.first_pass < 0) continue;
-    const std::string label = "graph:" + r.name;
-    phys->buffers[i] = gpu::Buffer(ctx_, {r.size, r.buffer_usage, gpu::MemoryUsage::GpuOnly, label.c_str()});
-  }
-  // Single-mip views for passes that build a mip chain (PassContext::mip_view); storage-capable only.
-  for (uint32_t i = 0; i < c.resources.size(); ++i) {
-    const CompiledResource& r = c.resources[i];
-    if (!phys->images[i] || r.mips < 2) continue;
-    for (uint32_t m = 0; m < r.mips; ++m) phys->images[i].mip_view(m);
+  if (shapes_.size() >= kMaxShapes) {  // CPU data: nothing on the device refers to it
+    auto lru = std::min_element(shapes_.begin(), shapes_.end(),
+                                [](const auto& a, const auto& b) { return a->last_used < b->last_used; });
+    shapes_.erase(lru);
   }
 
   // Timestamps: two per pass, in pools that rotate over frames.
-  const uint32_t queries = uint32_t(2 * c.passes.size());
+  const uint32_t queries = uint32_t(2 * shape->compiled.passes.size());
   if (ctx_.info().timestamps && queries > pool_capacity_) {
     ctx_.wait_idle();
     for (VkQueryPool& pool : pools_) {
@@ -164,8 +184,58 @@ void Executor::rebuild(const RenderGraph& graph) {
     pool_capacity_ = queries;
     for (uint32_t s = 0; s < kTimestampSlots; ++s) slot_frame_[s] = 0, slot_passes_[s].clear();
   }
-  shapes_.push_back(std::move(phys));
-  physical_ = shapes_.back().get();
+  shapes_.push_back(std::move(shape));
+  return *shapes_.back();
+}
+
+// The transient objects of the shape's layout: the cached ones, or new ones (one allocation per memory
+// block, every occupant bound at its start).
+Executor::Physical& Executor::physical_for(const Shape& shape) {
+  auto found = std::find_if(layouts_.begin(), layouts_.end(), [&](const auto& p) { return p->key == shape.layout; });
+  if (found != layouts_.end()) return **found;
+  if (layouts_.size() >= kMaxLayouts) {
+    // Evicting is the only time transient objects are freed: frames in flight may still use them.
+    auto lru = std::min_element(layouts_.begin(), layouts_.end(),
+                                [](const auto& a, const auto& b) { return a->last_used < b->last_used; });
+    LOG_DEBUG("render graph: %zu layouts cached, evicting the least recently used", layouts_.size());
+    ctx_.wait_idle();
+    if (lru->get() == physical_) physical_ = nullptr;
+    layouts_.erase(lru);
+  }
+  const CompiledGraph& c = shape.compiled;
+  auto phys = std::make_unique<Physical>();
+  phys->ctx = &ctx_;
+  phys->key = shape.layout;
+  for (size_t b = 0; b < c.memory_blocks.size(); ++b) {
+    const MemoryBlock& block = c.memory_blocks[b];
+    VkMemoryRequirements req{block.size, block.alignment, block.memory_type_bits};
+    std::string name = strf("graph block %zu", b);
+    for (uint32_t r : block.resources) name += " " + c.resources[r].name;
+    phys->blocks.push_back(ctx_.allocator().allocate(req, gpu::MemoryUsage::GpuOnly, name.c_str()));
+    ++blocks_created_;
+    for (uint32_t r : block.resources) {
+      const CompiledResource& res = c.resources[r];
+      gpu::Image image = gpu::Image::create_unbound(ctx_, image_desc(res));
+      ++images_created_;
+      image.bind_memory(phys->blocks.back());
+      const std::string label = "graph:" + res.name;
+      ctx_.set_name(image.handle(), label);
+      ctx_.set_name(image.view(), label);
+      // Single-mip views for passes that build a mip chain (PassContext::mip_view); storage-capable only.
+      if (res.mips > 1)
+        for (uint32_t m = 0; m < res.mips; ++m) image.mip_view(m);
+      phys->images.emplace(res.name, std::move(image));
+    }
+  }
+  for (uint32_t i = 0; i < c.resources.size(); ++i) {
+    const CompiledResource& r = c.resources[i];
+    if (r.image || r.imported || r.first_pass < 0) continue;
+    const std::string label = "graph:" + r.name;
+    phys->buffers.emplace(r.name, gpu::Buffer(ctx_, {r.size, r.buffer_usage, gpu::MemoryUsage::GpuOnly, label.c_str()}));
+  }
+  ++layouts_created_;
+  layouts_.push_back(std::move(phys));
+  return *layouts_.back();
 }
 
 void Executor::record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const {
@@ -200,19 +270,21 @@ void Executor::write_timestamp(VkCommandBuffer cmd, VkQueryPool pool, uint32_t q
 
 void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
   const uint64_t hash = graph.hash();
-  if (!physical_ || physical_->hash != hash) {
+  if (!shape_ || shape_->hash != hash) {
     // A shape seen before (budget mode, debug view, a pass present only while lightning strikes)
-    // comes back as it was: nothing is allocated and nothing waits for the device.
+    // comes back as it was: nothing is compiled.
     auto seen = std::find_if(shapes_.begin(), shapes_.end(), [&](const auto& p) { return p->hash == hash; });
     if (seen != shapes_.end()) {
-      physical_ = seen->get();
+      shape_ = seen->get();
     } else {
-      rebuild(graph);
+      shape_ = &compile_shape(graph);
       seen_.insert(hash);
     }
   }
+  if (!physical_ || physical_->key != shape_->layout) physical_ = &physical_for(*shape_);
+  shape_->last_used = frame_;
   physical_->last_used = frame_;
-  const CompiledGraph& c = physical_->compiled;
+  const CompiledGraph& c = shape_->compiled;
 
   // Resolve handles for this frame: imported objects may change every frame (swapchain images).
   textures_.assign(c.resources.size(), {});
@@ -226,13 +298,13 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
       } else {
         buffers_[i] = graph.imported_buffer(i);
       }
-    } else if (r.image && physical_->images[i]) {
-      gpu::Image& img = physical_->images[i];
+    } else if (r.image && r.first_pass >= 0) {
+      gpu::Image& img = physical_->images.at(r.name);
       textures_[i] = {img.handle(), img.view(), r.format, r.extent, r.mips, {}};
       if (r.mips > 1)
         for (uint32_t m = 0; m < r.mips; ++m) textures_[i].mip_views.push_back(img.mip_view(m));
-    } else if (!r.image && physical_->buffers[i]) {
-      buffers_[i] = {physical_->buffers[i].handle(), r.size};
+    } else if (!r.image && r.first_pass >= 0) {
+      buffers_[i] = {physical_->buffers.at(r.name).handle(), r.size};
     }
   }
   for (const CompiledPass& p : c.passes)
@@ -263,9 +335,9 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
 
   // Keep gpu::Image's idea of the layout current for helpers that use it (readback, uploads).
   for (uint32_t i = 0; i < c.resources.size(); ++i) {
-    if (!physical_->images[i] || c.resources[i].last_pass < 0) continue;
-    for (const ResourceAccess& a : c.passes[c.resources[i].last_pass].accesses)
-      if (a.resource == i) physical_->images[i].set_layout(a.layout);
+    const CompiledResource& r = c.resources[i];
+    if (r.imported || !r.image || r.last_pass < 0) continue;
+    physical_->images.at(r.name).set_layout(last_access(c, i).layout);
   }
 
   std::vector<std::string>& names = slot_passes_[slot];

@@ -10,12 +10,15 @@
 //   }
 //
 // What execute() does:
-// - compile + physical resources are cached by the graph's hash, up to kMaxShapes shapes: a shape
-//   seen before (budget-mode toggles, debug views, a pass present only while lightning strikes) reuses
-//   its compiled barriers, transient images and memory, allocating nothing and never waiting for the
-//   device. A new shape is compiled and allocated beside the others; only when the cache is full is the
-//   least recently used shape freed, after waiting for the device (rare: simplicity wins over
-//   deferred deletion);
+// - compiles are cached by the graph's hash (up to kMaxShapes shapes, CPU data only), and the
+//   transient images, buffers and memory by the compiled memory layout (up to kMaxLayouts): shapes that
+//   differ only in passes on imported resources (a light grid rebuilt on some frames, an atmosphere LUT
+//   updated when the sun moves, a lightning pass) share one layout, so a new shape of a known layout
+//   allocates nothing and never waits for the device. A new layout is allocated beside the others; only
+//   when that cache is full is the least recently used layout freed, after waiting for the device (rare:
+//   simplicity wins over deferred deletion). Two shapes share a layout only when their blocks, occupants
+//   and each occupant's last use are the same, so the barrier a frame's first use of a block derives from
+//   its own shape also covers what any other shape of that layout did in the frame before;
 // - persistent textures (RenderGraph::import_persistent / import_history) get the state of their last
 //   use written back, so the next frame's graph starts from it;
 // - transient images are created unbound, their real memory requirements fed to compile() so that
@@ -29,6 +32,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -53,7 +57,8 @@ std::optional<double> timestamp_interval_ms(uint64_t begin, uint64_t end, double
 class Executor {
  public:
   static constexpr uint32_t kTimestampSlots = 3;
-  static constexpr size_t kMaxShapes = 8;
+  static constexpr size_t kMaxShapes = 64;  // compiled graphs (CPU data)
+  static constexpr size_t kMaxLayouts = 8;  // transient memory layouts (device memory)
 
   explicit Executor(gpu::Context& ctx);
   ~Executor();  // the caller makes sure the GPU no longer uses the recorded command buffers
@@ -65,7 +70,7 @@ class Executor {
   void execute(const RenderGraph& graph, VkCommandBuffer cmd);
 
   const CompiledGraph& compiled() const;  // of the last execute(); throws before the first
-  bool has_executed() const { return physical_ != nullptr; }
+  bool has_executed() const { return shape_ != nullptr; }
   // Per-pass GPU milliseconds of the last executed frame, in execution order; empty while its
   // command buffer has not completed, or when the queue has no timestamps. A pass whose timestamps
   // are out of order is left out (see timestamp_interval_ms).
@@ -79,27 +84,35 @@ class Executor {
   CompletedTimings latest_completed_timings() const;
   double pass_ms(const std::string& pass) const;  // -1 when unknown or not available
 
-  // Counters for tests and stats: how often the graph was compiled / how many transient images
-  // and memory blocks were created since construction.
+  // Counters for tests and stats: how often the graph was compiled / how many transient layouts,
+  // images and memory blocks were created since construction.
   uint32_t compile_count() const { return compile_count_; }
+  uint32_t layouts_created() const { return layouts_created_; }
   uint32_t images_created() const { return images_created_; }
   uint32_t memory_blocks_created() const { return blocks_created_; }
-  VkDeviceSize transient_bytes() const;  // memory held by the transient blocks and buffers of every cached shape
+  VkDeviceSize transient_bytes() const;  // memory held by the transient blocks and buffers of every cached layout
   size_t shape_count() const;            // compiled shapes cached
-  size_t transient_image_count() const;  // transient images held by the cached shapes
+  size_t layout_count() const;           // transient memory layouts cached
+  size_t transient_image_count() const;  // transient images held by the cached layouts
   size_t shapes_seen() const { return seen_.size(); }  // distinct shapes (hashes) compiled since construction
   // The physical object behind a resource of the last execute() (imported ones as imported).
   const PhysicalTexture& texture(uint32_t resource) const;
 
  private:
   struct Physical;
-  void rebuild(const RenderGraph& graph);
+  struct Shape;
+  Shape& compile_shape(const RenderGraph& graph);
+  Physical& physical_for(const Shape& shape);
+  VkMemoryRequirements image_requirements(const CompiledResource& r);
   void record_barriers(VkCommandBuffer cmd, const std::vector<Barrier>& barriers) const;
   void write_timestamp(VkCommandBuffer cmd, VkQueryPool pool, uint32_t query) const;
 
   gpu::Context& ctx_;
-  std::vector<std::unique_ptr<Physical>> shapes_;
-  Physical* physical_ = nullptr;  // the shape of the last execute()
+  std::vector<std::unique_ptr<Shape>> shapes_;
+  std::vector<std::unique_ptr<Physical>> layouts_;
+  Shape* shape_ = nullptr;        // the shape of the last execute()
+  Physical* physical_ = nullptr;  // its layout's objects
+  std::unordered_map<uint64_t, VkMemoryRequirements> requirements_;  // by image description
   std::unordered_set<uint64_t> seen_;
   std::vector<PhysicalTexture> textures_;  // by resource index, resolved per frame
   std::vector<PhysicalBuffer> buffers_;
@@ -111,7 +124,7 @@ class Executor {
   uint64_t slot_frame_[kTimestampSlots] = {};
   std::vector<std::string> slot_passes_[kTimestampSlots];
   std::vector<PassTiming> read_slot(uint32_t slot, const std::vector<std::string>& passes) const;
-  uint32_t compile_count_ = 0, images_created_ = 0, blocks_created_ = 0;
+  uint32_t compile_count_ = 0, images_created_ = 0, blocks_created_ = 0, layouts_created_ = 0;
 };
 
 }  // namespace cumulo::render

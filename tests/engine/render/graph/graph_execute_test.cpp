@@ -200,6 +200,17 @@ class RenderGraphVulkan : public ::testing::Test {
           },
           [this, probe, frame](PassContext& c) { fill(c.cmd(), c.view(probe), c.extent(probe), frame); });
     }
+    if (import_reader_) {
+      // A pass on imported resources alone, present only in some frames (a light grid rebuilt when the sun
+      // moves): the transients are those of the frames without it.
+      g.add_pass(
+          "import reader", Queue::Compute,
+          [&](PassBuilder& b) {
+            b.read(bias, Usage::Sampled);
+            b.side_effect();
+          },
+          [this](PassContext&) { import_reader_ran_ = true; });
+    }
     g.add_pass(
         "composite", Queue::Compute,
         [&](PassBuilder& b) {
@@ -228,6 +239,16 @@ class RenderGraphVulkan : public ::testing::Test {
           vkCmdCopyImageToBuffer(c.cmd(), c.image(out), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.buffer(readback), 1,
                                  &region);
         });
+    if (late_reader_) {
+      // Reads a transient after its former last use: the memory's last use in the frame changes.
+      g.add_pass(
+          "late reader", Queue::Compute,
+          [&](PassBuilder& b) {
+            b.read(out, Usage::Sampled);
+            b.side_effect();
+          },
+          [](PassContext&) {});
+    }
     return g;
   }
 
@@ -261,6 +282,7 @@ class RenderGraphVulkan : public ::testing::Test {
 
   gpu::Pipeline fill_, blur_, composite_, accumulate_, mip_step_, mip_first_;
   bool probe_ = false;
+  bool import_reader_ = false, import_reader_ran_ = false, late_reader_ = false;
   VkSampler sampler_ = VK_NULL_HANDLE;
   std::unique_ptr<Persistent> resources_;
   bool debug_ran_ = false;
@@ -588,6 +610,51 @@ TEST_F(RenderGraphVulkan, SwitchingBetweenSeenShapesAllocatesNothing) {
   EXPECT_EQ(executor.images_created(), images);
   EXPECT_EQ(executor.memory_blocks_created(), blocks);
   EXPECT_EQ(executor.shape_count(), 2u);
+}
+
+// Shapes that differ only in a pass on imported resources share their transient objects: the new shape
+// is compiled, but nothing is created on the device; frames alternating between them stay correct and
+// clean under synchronization validation. A shape whose transient is last used by another stage does not
+// share them (the next frame's first use of that memory waits for that stage).
+TEST_F(RenderGraphVulkan, ShapesOfOneTransientLayoutShareItsObjects) {
+  const VkExtent2D size{37, 23};
+  make_persistent(size.width, size.height);
+  Executor executor(*ctx_);
+  run_frame(executor, size, 0.0f);
+  const uint32_t images = executor.images_created(), blocks = executor.memory_blocks_created();
+  for (int i = 1; i < 7; ++i) {
+    import_reader_ = (i % 2) == 1;
+    import_reader_ran_ = false;
+    run_frame(executor, size, float(i));
+    EXPECT_EQ(import_reader_ran_, import_reader_);
+  }
+  EXPECT_EQ(executor.compile_count(), 2u);
+  EXPECT_EQ(executor.shape_count(), 2u);
+  EXPECT_EQ(executor.layout_count(), 1u);
+  EXPECT_EQ(executor.layouts_created(), 1u);
+  EXPECT_EQ(executor.images_created(), images);
+  EXPECT_EQ(executor.memory_blocks_created(), blocks);
+  // The two shapes back to back in one command buffer: synchronization validation sees each hand-over of
+  // the shared transients from one shape to the other.
+  std::vector<RenderGraph> graphs;
+  for (int f = 0; f < 4; ++f) {
+    import_reader_ = (f % 2) == 0;
+    graphs.push_back(build(size, float(20 + f)));
+  }
+  ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+    for (RenderGraph& g : graphs) executor.execute(g, cmd);
+  });
+  check_readback(size, 23.0f);
+  EXPECT_EQ(executor.compile_count(), 2u);
+
+  import_reader_ = false;
+  late_reader_ = true;
+  run_frame(executor, size, 7.0f);
+  EXPECT_EQ(executor.layout_count(), 2u);
+  late_reader_ = false;
+  run_frame(executor, size, 8.0f);
+  EXPECT_EQ(executor.layouts_created(), 2u);
+  EXPECT_EQ(ctx_->validation_errors(), 0u) << ctx_->last_validation_message();
 }
 
 // History resources on the device: accumulation over frames through the ping-pong pair, the valid
