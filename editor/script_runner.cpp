@@ -12,6 +12,7 @@
 #include "engine/platform/window.h"
 #include "engine/scene/components.h"
 #include "engine/scene/sun.h"
+#include "modules/clouds/gameplay/cloud_growth.h"
 #include "modules/clouds/gameplay/lightning.h"
 #include "modules/clouds/render/cloud_feature.h"
 #include "modules/clouds/scene/cloudscape.h"
@@ -198,6 +199,44 @@ void Editor::execute(const ScriptAction& a) {
       if (glm::distance(t->position, a.position) > 1e-3f)
         fail("the camera is at (%g, %g, %g), expected (%g, %g, %g)", t->position.x, t->position.y, t->position.z,
              a.position.x, a.position.y, a.position.z);
+      break;
+    }
+    case ScriptOp::Growth:
+    case ScriptOp::ExpectGrowth: {
+      clouds::gameplay::CloudGrowth* g = nullptr;
+      std::string known;
+      world_->view<clouds::gameplay::CloudGrowth>().each([&](ecs::Entity ent, clouds::gameplay::CloudGrowth& c) {
+        const auto* n = static_cast<const ecs::World&>(*world_).try_get<ecs::Name>(ent);
+        const std::string name = n ? n->value : std::string();
+        known += (known.empty() ? "" : ", ") + name;
+        if (name == a.name) g = &c;
+      });
+      if (!g) fail("no CloudGrowth entity \"%s\" (known: %s)", a.name.c_str(), known.empty() ? "none" : known.c_str());
+      if (a.op == ScriptOp::ExpectGrowth) {
+        if (a.step >= 0 && g->target_steps != a.step)
+          fail("%s is at step %d, expected %d", a.name.c_str(), g->target_steps, a.step);
+        if (a.min_step >= 0 && g->target_steps < a.min_step)
+          fail("%s is at step %d, expected %d or more", a.name.c_str(), g->target_steps, a.min_step);
+        if (a.paused >= 0 && g->paused != (a.paused == 1))
+          fail("%s is %s, expected %s", a.name.c_str(), g->paused ? "paused" : "not paused",
+               a.paused == 1 ? "paused" : "not paused");
+        break;
+      }
+      // What the events panel's controls do (panels/events_panel.cpp).
+      if (a.other == "start") {
+        if (g->ended) fail("%s has ended: reset it first", a.name.c_str());
+        g->running = true;
+      } else if (a.other == "pause" || a.other == "resume") {
+        g->paused = a.other == "pause";
+      } else if (a.other == "step") {
+        if (!g->paused || !g->running || g->ended)
+          fail("%s steps one at a time only while running and paused (it is %s)", a.name.c_str(),
+               g->ended ? "ended" : !g->running ? "not started" : "not paused");
+        g->step_once = true;
+      } else {
+        if (!g->reset_event.empty()) app::schedule_event(*world_, g->reset_event, sim_time);
+        else clouds::gameplay::restart_cloud_growth(*g);
+      }
       break;
     }
     case ScriptOp::MoveCloudscape:

@@ -1,5 +1,7 @@
 #include "editor/model/editor_script.h"
 
+#include <algorithm>
+
 #include <set>
 
 #include "editor/model/weather_document.h"
@@ -40,6 +42,8 @@ const std::vector<OpSpec>& op_specs() {
       {O::MoveCloudscape, "move_cloudscape", {"name", "position"}, {}},
       {O::ExpectCloudscape, "expect_cloudscape", {"name", "position"}, {}},
       {O::ExpectCamera, "expect_camera", {"position"}, {}},
+      {O::Growth, "growth", {"name", "action"}, {}},
+      {O::ExpectGrowth, "expect_growth", {"name"}, {"step", "min_step", "paused"}},
   };
   return specs;
 }
@@ -175,6 +179,26 @@ ScriptAction parse_action(const JsonView& v) {
       break;
     case ScriptOp::Quit:
       a.flag = v.get<bool>("discard", false);
+      break;
+    case ScriptOp::Growth: {
+      a.name = v["name"].as<std::string>();
+      a.other = v["action"].as<std::string>();
+      static const char* kActions[] = {"start", "pause", "resume", "step", "reset"};
+      if (std::find(std::begin(kActions), std::end(kActions), a.other) == std::end(kActions))
+        v["action"].fail("unknown growth action \"" + a.other + "\" (known: start, pause, resume, step, reset)");
+      break;
+    }
+    case ScriptOp::ExpectGrowth:
+      a.name = v["name"].as<std::string>();
+      if (!v.has("step") && !v.has("min_step") && !v.has("paused"))
+        v.fail("\"expect_growth\" needs \"step\", \"min_step\" or \"paused\"");
+      for (const char* k : {"step", "min_step"}) {
+        if (!v.has(k)) continue;
+        const int n = v[k].as<int>();
+        if (n < 0) v[k].fail("expected a step >= 0");
+        (std::string(k) == "step" ? a.step : a.min_step) = n;
+      }
+      if (v.has("paused")) a.paused = v["paused"].as<bool>() ? 1 : 0;
       break;
     case ScriptOp::Undo:
     case ScriptOp::Redo:

@@ -9,6 +9,9 @@
 //    {"do": "paint", "channel": "coverage", "x": 0.5, "y": 0.5, "radius": 0.1, "value": 0},
 //    {"do": "expect", "param": "coverage", "value": 0.8},
 //    {"do": "save"}, {"do": "screenshot", "path": "out/storm.png"}, {"do": "quit"}]
+//   A growing cloud (issue 26): {"do": "growth", "name": "storm_growth", "action": "pause"} (start, pause, resume,
+//   step: one step while paused, reset), {"do": "expect_growth", "name": "storm_growth", "step": 3, "paused": true}
+//   ("min_step": at least that step)
 #include <filesystem>
 #include <glm/glm.hpp>
 #include <string>
@@ -41,6 +44,8 @@ enum class ScriptOp {
   MoveCloudscape,  // name (the entity's), position: a world edit, undoable with the document's
   ExpectCloudscape,  // name, position: the entity's position must equal it (within a millimetre)
   ExpectCamera,    // position: the viewer's camera must stand there (within a millimetre)
+  Growth,          // name (the CloudGrowth entity's), other = start | pause | resume | step | reset (as its panel)
+  ExpectGrowth,    // name, step, min_step and/or paused (-1: not checked): the growth's target step and pause
 };
 
 struct ScriptAction {
@@ -59,6 +64,9 @@ struct ScriptAction {
   float hours = 0.0f;
   glm::vec3 position{0.0f};
   bool flag = false;  // expect_dirty: the value; save: expect_failure; quit: discard (unsaved changes)
+  int step = -1;      // expect_growth: the target step (-1: not checked)
+  int min_step = -1;  // expect_growth: the target step at least (-1: not checked)
+  int paused = -1;    // expect_growth: 1 paused, 0 not (-1: not checked)
 };
 
 const char* script_op_name(ScriptOp op);  // the "do" string

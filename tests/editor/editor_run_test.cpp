@@ -208,6 +208,41 @@ TEST_F(EditorRun, AFailingScriptActionStopsTheScriptNamesItAndExitsNonZero) {
   EXPECT_FALSE(fs::exists(weather_ / "fair_cumulus.json.bak"));
 }
 
+// The growing storm (issue 26) as its panel drives it: paused and reset it holds step 0, started while paused it
+// still does, each single step adds one, resumed it grows on its own, reset brings it back; a single step on a
+// growth that is not running is refused, naming the action.
+TEST_F(EditorRun, AScriptPausesStepsResumesAndResetsTheGrowingStorm) {
+  const fs::path script = write_script(dir_, "growth.json", R"([
+    {"do": "growth", "name": "storm_growth", "action": "pause"},
+    {"do": "growth", "name": "storm_growth", "action": "reset"},
+    {"do": "wait", "frames": 2},
+    {"do": "expect_growth", "name": "storm_growth", "step": 0, "paused": true},
+    {"do": "growth", "name": "storm_growth", "action": "start"},
+    {"do": "wait", "frames": 3},
+    {"do": "expect_growth", "name": "storm_growth", "step": 0},
+    {"do": "growth", "name": "storm_growth", "action": "step"},
+    {"do": "wait", "frames": 2},
+    {"do": "expect_growth", "name": "storm_growth", "step": 1},
+    {"do": "growth", "name": "storm_growth", "action": "step"},
+    {"do": "wait", "frames": 2},
+    {"do": "expect_growth", "name": "storm_growth", "step": 2, "paused": true},
+    {"do": "growth", "name": "storm_growth", "action": "resume"},
+    {"do": "wait", "seconds": 2},
+    {"do": "growth", "name": "storm_growth", "action": "pause"},
+    {"do": "expect_growth", "name": "storm_growth", "min_step": 3, "paused": true},
+    {"do": "growth", "name": "storm_growth", "action": "reset"},
+    {"do": "wait", "frames": 2},
+    {"do": "expect_growth", "name": "storm_growth", "step": 0},
+    {"do": "growth", "name": "storm_growth", "action": "step"},
+    {"do": "quit", "discard": true}])");
+  const CliResult r = run_edit_in_xvfb(args(script, "squall"));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("growth.json: $[20]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("storm_growth steps one at a time only while running and paused (it is not started)"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST_F(EditorRun, QuittingWithUnsavedChangesAsksFirst) {
   const fs::path script = write_script(dir_, "quit.json", R"([
     {"do": "set", "param": "coverage", "value": 0.5},

@@ -100,12 +100,36 @@ TEST(EditorScript, ParsesEveryAction) {
   EXPECT_FLOAT_EQ(f[0].seconds, 30.0f);
   EXPECT_EQ(f[1].op, ScriptOp::ExpectCamera);
   EXPECT_EQ(f[1].position, glm::vec3(1, 2, 3));
+  const std::vector<ScriptAction> g = parse_editor_script(R"([{"do": "growth", "name": "storm_growth", "action": "step"},
+      {"do": "expect_growth", "name": "storm_growth", "step": 3, "paused": true},
+      {"do": "expect_growth", "name": "storm_growth", "min_step": 2}])", "g.json");
+  ASSERT_EQ(g.size(), 3u);
+  EXPECT_EQ(g[0].op, ScriptOp::Growth);
+  EXPECT_EQ(g[0].name, "storm_growth");
+  EXPECT_EQ(g[0].other, "step");
+  EXPECT_EQ(g[1].op, ScriptOp::ExpectGrowth);
+  EXPECT_EQ(g[1].step, 3);
+  EXPECT_EQ(g[1].min_step, -1);
+  EXPECT_EQ(g[1].paused, 1);
+  EXPECT_EQ(g[2].step, -1);
+  EXPECT_EQ(g[2].min_step, 2);
+  EXPECT_EQ(g[2].paused, -1);
 }
 
 TEST(EditorScript, RefusesWithTheFileAndThePlace) {
   std::string e = error_of(R"([{"do": "quit"}, {"do": "fly"}])");
   EXPECT_EQ(e.rfind("s.json: $[1].do: unknown action \"fly\" (known: select_state, set, paint,", 0), 0u) << e;
-  EXPECT_NE(e.find("expect_dirty, expect, move_cloudscape, expect_cloudscape, expect_camera)"), std::string::npos) << e;
+  EXPECT_NE(e.find("expect_dirty, expect, move_cloudscape, expect_cloudscape, expect_camera, growth, expect_growth)"),
+            std::string::npos)
+      << e;
+  e = error_of(R"([{"do": "growth", "name": "storm_growth", "action": "rewind"}])");
+  EXPECT_NE(e.find("s.json: $[0].action: unknown growth action \"rewind\" (known: start, pause, resume, step, reset)"),
+            std::string::npos)
+      << e;
+  e = error_of(R"([{"do": "expect_growth", "name": "storm_growth"}])");
+  EXPECT_NE(e.find("s.json: $[0]: \"expect_growth\" needs \"step\", \"min_step\" or \"paused\""), std::string::npos) << e;
+  e = error_of(R"([{"do": "expect_growth", "name": "storm_growth", "min_step": -2}])");
+  EXPECT_NE(e.find("s.json: $[0].min_step: expected a step >= 0"), std::string::npos) << e;
   e = error_of(R"([{"do": "undo", "steps": 2}])");
   EXPECT_NE(e.find("s.json: $[0]: unknown key \"steps\" for \"undo\""), std::string::npos) << e;
   e = error_of(R"([{"do": "paint", "channel": "coverage", "x": 0.5, "radius": 0.1, "value": 0}])");
