@@ -142,6 +142,9 @@ void main() {
   if (s.a < 1.0 && sky50 < t_scene) {
     ls = vec4(hazed(s, min(sky50, 9e4), ro, dir, uv), s.a);
     ds = sky50;
+    // A block whose marched pixel missed has no depth ("at infinity") while its reprojected pixels show cloud: that
+    // cloud is the near field, so it stays in front of the shell instead of dropping behind it block by block.
+    if (dv >= 1e5 && c.a < 1.0) dv = 0.999 * ds;
   }
 #endif
   vec4 e;
@@ -175,7 +178,8 @@ void main() {
   float sky50 = textureLod(sky_depth_tex, uv, 0.0).x;
   if (s.a < 1.0 && sky50 < t_scene) {
     vec3 sky_rgb = hazed(s, min(sky50, 9e4), ro, dir, uv);
-    if (sky50 >= depth50) rgb = (scene.rgb * s.a + sky_rgb) * c.a + voxel_rgb;  // the shell behind the voxel clouds
+    // (a block with no depth: its reprojected cloud in front, as above)
+    if (sky50 >= depth50 || depth50 >= 1e5) rgb = (scene.rgb * s.a + sky_rgb) * c.a + voxel_rgb;  // the shell behind
     else rgb = (scene.rgb * c.a + voxel_rgb) * s.a + sky_rgb;
   }
 #endif
