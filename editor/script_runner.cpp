@@ -229,13 +229,12 @@ void Editor::execute(const ScriptAction& a) {
       } else if (a.other == "pause" || a.other == "resume") {
         g->paused = a.other == "pause";
       } else if (a.other == "step") {
-        if (!g->paused || !g->running || g->ended)
+        if (!clouds::gameplay::cloud_growth_can_step_once(*g))
           fail("%s steps one at a time only while running and paused (it is %s)", a.name.c_str(),
-               g->ended ? "ended" : !g->running ? "not started" : "not paused");
+               clouds::gameplay::cloud_growth_state(*g));
         g->step_once = true;
       } else {
-        if (!g->reset_event.empty()) app::schedule_event(*world_, g->reset_event, sim_time);
-        else clouds::gameplay::restart_cloud_growth(*g);
+        clouds::gameplay::request_cloud_growth_reset(*world_, *g, sim_time);
       }
       break;
     }

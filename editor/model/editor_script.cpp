@@ -82,6 +82,14 @@ const ParamInfo& param(const JsonView& v) {
   v.fail("unknown parameter \"" + path + "\" (known: " + known + ")");
 }
 
+// An expect_growth step: -1 when absent (not checked).
+int growth_step(const JsonView& v, const char* key) {
+  if (!v.has(key)) return -1;
+  const int n = v[key].as<int>();
+  if (n < 0) v[key].fail("expected a step >= 0");
+  return n;
+}
+
 ScriptAction parse_action(const JsonView& v) {
   if (!v.is_object()) v.fail("expected an action object {\"do\": ...}");
   if (!v.has("do")) v.fail("missing \"do\" (one of: " + known_ops() + ")");
@@ -192,12 +200,8 @@ ScriptAction parse_action(const JsonView& v) {
       a.name = v["name"].as<std::string>();
       if (!v.has("step") && !v.has("min_step") && !v.has("paused"))
         v.fail("\"expect_growth\" needs \"step\", \"min_step\" or \"paused\"");
-      for (const char* k : {"step", "min_step"}) {
-        if (!v.has(k)) continue;
-        const int n = v[k].as<int>();
-        if (n < 0) v[k].fail("expected a step >= 0");
-        (std::string(k) == "step" ? a.step : a.min_step) = n;
-      }
+      a.step = growth_step(v, "step");
+      a.min_step = growth_step(v, "min_step");
       if (v.has("paused")) a.paused = v["paused"].as<bool>() ? 1 : 0;
       break;
     case ScriptOp::Undo:

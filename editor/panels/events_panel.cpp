@@ -89,7 +89,7 @@ void draw_volume(const Editor& e, ImDrawList* dl, const clouds::gameplay::Trigge
 void draw_growths(Editor& e, ecs::World& w) {
   w.view<clouds::gameplay::CloudGrowth>().each([&](ecs::Entity ent, clouds::gameplay::CloudGrowth& g) {
     ImGui::PushID(&g);
-    const char* state = g.ended ? "ended" : !g.running ? "not started" : g.paused ? "paused" : "growing";
+    const char* state = clouds::gameplay::cloud_growth_state(g);
     const auto* n = w.try_get<ecs::Name>(ent);
     ImGui::Text("%s: step %d / %d (%.0f s simulated), %s", n ? n->value.c_str() : "growing cloud", g.target_steps,
                 g.last_step, g.sim_seconds, state);
@@ -100,15 +100,12 @@ void draw_growths(Editor& e, ecs::World& w) {
     }
     if (ImGui::Checkbox("Paused", &g.paused)) e.message(EditorMessage::Level::Info, g.paused ? "growth paused" : "growth resumed");
     ImGui::SameLine();
-    ImGui::BeginDisabled(!g.paused || g.ended || !g.running);
+    ImGui::BeginDisabled(!clouds::gameplay::cloud_growth_can_step_once(g));
     if (ImGui::SmallButton("Step")) g.step_once = true;
     ImGui::EndDisabled();
     item_tooltip("While paused: one more simulation step.");
     ImGui::SameLine();
-    if (ImGui::SmallButton("Reset")) {
-      if (!g.reset_event.empty()) app::schedule_event(w, g.reset_event, e.sim_time);
-      else clouds::gameplay::restart_cloud_growth(g);
-    }
+    if (ImGui::SmallButton("Reset")) clouds::gameplay::request_cloud_growth_reset(w, g, e.sim_time);
     item_tooltip("Back to the first step (its reset event when it has one).");
     ImGui::PopID();
   });

@@ -18,6 +18,7 @@ namespace cumulo::render {
 // The transient objects of one memory layout, shared by every shape with that layout.
 struct Executor::Physical {
   uint64_t key = 0;
+  uint32_t serial = 0;                  // layouts_created_ when made: tells a shape its bound layout was replaced
   uint64_t last_used = 0;               // frame counter of its last execute (least recently used is evicted)
   std::vector<gpu::Allocation> blocks;  // by memory block; declared before images: destroyed after them
   std::unordered_map<std::string, gpu::Image> images;  // transient images by name
@@ -37,6 +38,11 @@ struct Executor::Shape {
   uint64_t layout = 0;
   uint64_t last_used = 0;
   CompiledGraph compiled;
+  // Its transients in its layout's objects, by resource index (null: imported or unused), looked up by name once
+  // per layout it is bound to (`bound`: that layout's serial; 0: none), not every frame.
+  uint32_t bound = 0;
+  std::vector<gpu::Image*> images;
+  std::vector<gpu::Buffer*> buffers;
 };
 
 namespace {
@@ -233,7 +239,7 @@ Executor::Physical& Executor::physical_for(const Shape& shape) {
     const std::string label = "graph:" + r.name;
     phys->buffers.emplace(r.name, gpu::Buffer(ctx_, {r.size, r.buffer_usage, gpu::MemoryUsage::GpuOnly, label.c_str()}));
   }
-  ++layouts_created_;
+  phys->serial = ++layouts_created_;
   layouts_.push_back(std::move(phys));
   return *layouts_.back();
 }
@@ -285,6 +291,17 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
   shape_->last_used = frame_;
   physical_->last_used = frame_;
   const CompiledGraph& c = shape_->compiled;
+  if (shape_->bound != physical_->serial) {
+    shape_->images.assign(c.resources.size(), nullptr);
+    shape_->buffers.assign(c.resources.size(), nullptr);
+    for (uint32_t i = 0; i < c.resources.size(); ++i) {
+      const CompiledResource& r = c.resources[i];
+      if (r.imported || r.first_pass < 0) continue;
+      if (r.image) shape_->images[i] = &physical_->images.at(r.name);
+      else shape_->buffers[i] = &physical_->buffers.at(r.name);
+    }
+    shape_->bound = physical_->serial;
+  }
 
   // Resolve handles for this frame: imported objects may change every frame (swapchain images).
   textures_.assign(c.resources.size(), {});
@@ -298,13 +315,13 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
       } else {
         buffers_[i] = graph.imported_buffer(i);
       }
-    } else if (r.image && r.first_pass >= 0) {
-      gpu::Image& img = physical_->images.at(r.name);
+    } else if (gpu::Image* transient = shape_->images[i]) {
+      gpu::Image& img = *transient;
       textures_[i] = {img.handle(), img.view(), r.format, r.extent, r.mips, {}};
       if (r.mips > 1)
         for (uint32_t m = 0; m < r.mips; ++m) textures_[i].mip_views.push_back(img.mip_view(m));
-    } else if (!r.image && r.first_pass >= 0) {
-      buffers_[i] = {physical_->buffers.at(r.name).handle(), r.size};
+    } else if (gpu::Buffer* transient = shape_->buffers[i]) {
+      buffers_[i] = {transient->handle(), r.size};
     }
   }
   for (const CompiledPass& p : c.passes)
@@ -334,11 +351,8 @@ void Executor::execute(const RenderGraph& graph, VkCommandBuffer cmd) {
   graph.store_persistent_states(c);  // persistent textures carry their last use into the next frame
 
   // Keep gpu::Image's idea of the layout current for helpers that use it (readback, uploads).
-  for (uint32_t i = 0; i < c.resources.size(); ++i) {
-    const CompiledResource& r = c.resources[i];
-    if (r.imported || !r.image || r.last_pass < 0) continue;
-    physical_->images.at(r.name).set_layout(last_access(c, i).layout);
-  }
+  for (uint32_t i = 0; i < c.resources.size(); ++i)
+    if (shape_->images[i]) shape_->images[i]->set_layout(last_access(c, i).layout);
 
   std::vector<std::string>& names = slot_passes_[slot];
   names.clear();

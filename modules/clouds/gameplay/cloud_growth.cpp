@@ -26,6 +26,17 @@ void restart_cloud_growth(CloudGrowth& g) {
   ++g.generation;
 }
 
+void request_cloud_growth_reset(ecs::World& world, CloudGrowth& g, double sim_time) {
+  if (!g.reset_event.empty()) schedule_event(world, g.reset_event, sim_time);
+  else restart_cloud_growth(g);
+}
+
+bool cloud_growth_can_step_once(const CloudGrowth& g) { return g.running && g.paused && !g.ended; }
+
+const char* cloud_growth_state(const CloudGrowth& g) {
+  return g.ended ? "ended" : !g.running ? "not started" : g.paused ? "paused" : "growing";
+}
+
 CloudGrowth cloud_growth_from_json(const JsonView& v) {
   if (!v.is_object()) v.fail("expected an object");
   for (const std::string& k : v.keys())

@@ -56,6 +56,12 @@ void resolve_cloud_growth(CloudGrowth& g, const std::filesystem::path& level_dir
 void add_cloud_growth_system(ecs::Scheduler& s);
 // Back to the first step, stopped: the renderer sees a new generation and starts the simulation again.
 void restart_cloud_growth(CloudGrowth& g);
+// What the editor's controls (its events panel and its scripts) do: a reset fires the growth's reset event at
+// `sim_time` when it has one (so the rest of the level hears it), else restarts it now; a single step is asked of a
+// growth that runs paused (step_once). Its state as the editor names it: "ended", "not started", "paused", "growing".
+void request_cloud_growth_reset(ecs::World& world, CloudGrowth& g, double sim_time);
+bool cloud_growth_can_step_once(const CloudGrowth& g);
+const char* cloud_growth_state(const CloudGrowth& g);
 // Steps per second of play (speed / dt); 0 until the spec is known.
 double growth_steps_per_second(const CloudGrowth& g);
 
