@@ -17,7 +17,8 @@
 // (lengths 1, 2, 4, 8 x E.march.w, through the density without the high-frequency erosion) times the voxel clouds'
 // dual-lobe phase; a multiple-scattering term (exp(-od / 2) x strength x 0.5 / 4 pi: the 2.5D sky's exp(-od / 4) left
 // the thick envelope clouds evenly white); the sky ambient,
-// growing with the height in the envelope. Integrated the energy-conserving way (Hillaire 2016).
+// growing with the height in the envelope (issue 24's model, kept for the talk, tuned and diffusion presets). With the
+// slab presets (issue 21) octave_light instead. Integrated the energy-conserving way (Hillaire 2016).
 // The talk "did away with temporal upscaling" for these clouds: on a GPU every pixel is marched every frame and the
 // jitter is fixed per pixel. On a CPU device the far pass marches one pixel of each BxB block a frame (CloudMarchPush
 // sub) and reconstruct.comp reprojects the rest, as the voxel clouds' far segment does (EnvelopeMarchSettings).
@@ -63,6 +64,41 @@ float light_optical_depth(vec3 p, vec3 l) {
     len *= 2.0;
   }
   return od * E.wind.w;
+}
+
+// The envelope's lighting with the voxel clouds' slab presets (issue 21; E.sun_dir.w > 0). The sun's light, direct and
+// multiply scattered, as Wrenninge's octaves (2015): sum over n < 4 of b^n exp(-a^n od) p(mu; c^n g), a = E.sun_dir.w,
+// b = E.ambient_color.w, c = E.misc.y: the first orders keep the phase's forward lobe and see through more of the cloud.
+// Here the light grid's depths the slab needs are not there; the octaves measured better against the path tracer on
+// the envelope's own views than the slab's falloff with the column's depths (docs/fidelity/envelope_lighting.md).
+// The sky and the ground bounce are the slab's, through the envelope's column above and below the sample (the shape
+// map's bottom and top) at half this sample's extinction (the profile's gradients thin it toward both ends):
+// the upper hemisphere's phase-weighted share of the sky, occluded by the column above; the sky's light diffused in,
+// darkened at the edges by the optical depth to the nearest of the column's surfaces (E.yield_min[0].w, the voxel
+// clouds' edge scale); the ground's (albedo E.sun_color.w) from the lower hemisphere through the column below.
+vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, EnvelopeSample es) {
+  vec3 sun = vec3(0.0);
+  float a = 1.0, b = 1.0, c = 1.0;
+  for (int n = 0; n < 4; ++n) {
+    float ph = mix(henyey_greenstein(mu, c * E.phase.y), henyey_greenstein(mu, c * E.phase.x), E.phase.z);
+    sun += E.sun_color.rgb * (b * exp(-a * od_sun) * ph);
+    a *= E.sun_dir.w, b *= E.ambient_color.w, c *= E.misc.y;
+  }
+  vec2 uv = env_uv(p.xz);
+  vec4 shape = textureLod(shape_tex, uv, 0.0);
+  float edge_m = textureLod(aux_tex, uv, 0.0).y;
+  float sigma = 0.5 * es.density * E.wind.w;
+  float below = max(p.y - shape.x, 0.0), above = max(shape.y - p.y, 0.0);
+  float tau_away = sigma * min(below / max(l.y, 0.2), 4.0 * max(below, edge_m));
+  float tau_up = sigma * above;
+  float r = 1.0 - mix(E.phase.y, E.phase.x, E.phase.z);  // 1 - the phase's mean cosine
+  float g = 1.0 - r;
+  float edge = 1.0 - exp(-E.yield_min[0].w * sigma * min(min(below, above), edge_m));
+  float sky_share = saturate(0.5 + 0.75 * g * rd.y);
+  vec3 light_in = sun + E.ambient_color.rgb * (sky_share * exp(-tau_up) + edge * E.phase.w * 0.25 / (1.0 + 0.75 * r * tau_up));
+  light_in += (E.sun_color.rgb * (max(l.y, 0.0) / kPi) + E.ambient_color.rgb) *
+              (E.sun_color.w * (1.0 - sky_share) / (1.0 + 0.75 * r * tau_away));
+  return light_in;
 }
 
 void main() {
@@ -115,8 +151,13 @@ void main() {
     samples += 1.0;
     if (es.density > 0.0) {
       float od = light_optical_depth(p, l);
-      vec3 light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi));
-      light_in += E.ambient_color.rgb * mix(E.misc.y, 1.0, es.hf);
+      vec3 light_in;
+      if (E.sun_dir.w > 0.0) {
+        light_in = octave_light(p, rd, l, mu, od, es);
+      } else {
+        light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi));
+        light_in += E.ambient_color.rgb * mix(E.misc.y, 1.0, es.hf);
+      }
       float sigma_t = max(es.density * E.wind.w, 1e-7);
       float tr = exp(-sigma_t * dt);
       vec3 s_in = light_in * (sigma_t * E.stepping.z);

@@ -440,7 +440,7 @@ float surface_visibility(vec3 o, vec3 d, float tmax, float tmin) { return surfac
 // ---- Light ---------------------------------------------------------------------------------------
 vec3 sky_radiance(vec3 d) {
   if (!has_flag(REF_FLAG_SKY)) return vec3(0.0);
-  if (R.medium.y >= 0.0) return vec3(R.medium.y);
+  if (R.medium.y >= 0.0) return d.y < 0.0 && R.medium.z > 0.0 ? vec3(0.0) : vec3(R.medium.y);  // (z: the upper hemisphere only)
   vec2 uv = vec2(atan(d.z, d.x) / (2.0 * kPi) + 0.5, 0.5 - asin(clamp(d.y, -1.0, 1.0)) / kPi);
   return textureLod(env_tex, uv, 0.0).rgb * R.env.x;
 }

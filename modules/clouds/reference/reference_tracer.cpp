@@ -193,7 +193,7 @@ cumulo::render::TextureHandle ReferenceTracer::add_passes(cumulo::render::Render
   rp.env = glm::vec4(sky_ ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
   const MiePhase mie = MiePhase::for_droplet(rs.droplet_um);
   rp.mie = glm::vec4(mie.g_hg, mie.g_draine, mie.alpha, mie.w_draine);
-  rp.medium = glm::vec4(0.0f, rs.uniform_sky, 0.0f, 0.0f);
+  rp.medium = glm::vec4(0.0f, rs.uniform_sky, rs.uniform_sky_upper_only ? 1.0f : 0.0f, 0.0f);
   if (analytic) {
     const AnalyticMedium& m = *rs.analytic;
     rp.medium_min = glm::vec4(m.min, m.extinction);

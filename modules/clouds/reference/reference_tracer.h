@@ -77,6 +77,7 @@ struct ReferenceSettings {
   uint32_t samples_per_frame = 1;
   bool sun = true, sky = true, terrain = true, aerial = true, lights = true;
   float uniform_sky = -1.0f;  // >= 0: the sky is this grey radiance in every direction (tests); < 0: the environment
+  bool uniform_sky_upper_only = false;  // the uniform sky above the horizon only (black below: a dark ground, for tests)
   // Point-light intensity per unit CloudPointLight colour: the terrain's lightning light (cloud_feature.cpp)
   // is 0.0015 x the flash's intensity as the radiance of a white Lambertian facing it at 500 m, i.e. an
   // intensity of pi x 500^2 x 0.0015 per unit: the same flash, physically.

@@ -82,15 +82,18 @@ class EnvelopeLayerTest : public CloudRenderFixture {
   // The envelope layer alone (one pass at full resolution): colour and depth (x opacity-0.5 distance, y density
   // samples, z the ray's end, w steps).
   Frame march(const scene::CameraView& cam, bool cone, EnvelopeMarchSettings m = {}) {
+    m.cone_stepping = cone;
+    m.max_steps = 4096;  // both reach the far side: the counts compare placements, not a budget
+    return march_with(cam, m, env_inputs(cam));
+  }
+  Frame march_with(const scene::CameraView& cam, const EnvelopeMarchSettings& m, const CloudFrameInputs& in) {
     using namespace cumulo::render;
     RenderGraph g({width_, height_});
     const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
                                                  depth_.handle(), depth_.view(), ResourceState::shader_read_only());
     EnvelopeDraw draw;
     draw.maps = test_maps();
-    m.cone_stepping = cone;
-    m.max_steps = 4096;  // both reach the far side: the counts compare placements, not a budget
-    const EnvelopeLayer::Outputs o = layer_->add_passes(g, draw, m, env_inputs(cam), depth);
+    const EnvelopeLayer::Outputs o = layer_->add_passes(g, draw, m, in, depth);
     BufferHandle rb_color = g.import_buffer("test.rb_color", readback_color_.handle(), readback_color_.size(),
                                             ResourceState::host_read(), ResourceState::host_read());
     BufferHandle rb_depth = g.import_buffer("test.rb_depth", readback_env_depth_.handle(), readback_env_depth_.size(),
@@ -419,6 +422,77 @@ TEST_F(EnvelopeLayerTest, ThePathTracerTracesTheSameEnvelope) {
   EXPECT_LT(diff, 0.03);
   EXPECT_EQ(img.majorant_violations, 0.0);
   EXPECT_GT(lit, 0.0);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// Issue 21: with the slab presets the envelope is lit by Wrenninge's octaves and the slab's sky (envelope_march.comp
+// octave_light); issue 24's terms stay with the talk's preset. Against the path tracer on the same envelope under a
+// uniform sky of the march's ambient radiance over a black ground, multiple scattering included, from the lit side
+// and backlit. (On the sample level's envelope views the octaves measured nearer the reference than issue 24's terms;
+// on this synthetic scene they are not: backlit here 30 % against 21 %. docs/fidelity/envelope_lighting.md.)
+TEST_F(EnvelopeLayerTest, TheSlabPresetsOctavesLightTheEnvelopeWithinAThirdOfThePathTracer) {
+  using namespace cumulo::render;
+  set_size(48, 27);
+  const float sky = 0.5f;
+  EnvelopeDraw draw;
+  draw.maps = test_maps();
+  EnvelopeMarchSettings m;
+  m.max_steps = 4096;
+  m.step_m = 2.0f, m.step_growth = 0.0f;
+  const scene::CameraView views[2] = {camera({700.0f, 1200.0f, 900.0f}, {0.0f, 300.0f, 0.0f}, 60.0f),     // the lit side
+                                      camera({-1400.0f, 250.0f, 1000.0f}, {0.0f, 400.0f, 0.0f}, 60.0f)};  // backlit
+  for (const scene::CameraView& cam : views) {
+    auto inputs = [&](CloudLightingPreset preset) {
+      CloudFrameInputs in = env_inputs(cam);
+      in.ambient_color = glm::vec3(sky);
+      apply_lighting_preset(in.settings, preset);
+      in.settings.ground_albedo = 0.0f;  // the traced scene has no ground to bounce light
+      return in;
+    };
+    const std::vector<glm::vec4> octaves = march_with(cam, m, inputs(CloudLightingPreset::Slab)).color;
+    const std::vector<glm::vec4> issue24 = march_with(cam, m, inputs(CloudLightingPreset::Talk)).color;
+    ReferenceTracer tracer(ctx(), *library_);
+    tracer.settings().max_bounces = 32;
+    tracer.settings().samples_per_frame = 16;
+    tracer.settings().uniform_sky = sky;
+    tracer.settings().uniform_sky_upper_only = true;  // black below the horizon
+    tracer.reset();
+    CloudFrameInputs in = inputs(CloudLightingPreset::Slab);
+    for (int f = 0; f < 6; ++f) {
+      RenderGraph g({width_, height_});
+      const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
+                                                   depth_.handle(), depth_.view(), ResourceState::shader_read_only());
+      TextureHandle hdr = g.create_texture("hdr", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT));
+      in.envelope_medium = layer_->add_medium(g, draw, m, in);
+      hdr = tracer.add_passes(g, in, CloudLightOutputs{}, hdr, depth);
+      ctx().submit_and_wait([&](VkCommandBuffer cmd) { executor_->execute(g, cmd); });
+    }
+    const ReferenceImage img = tracer.read();
+    ASSERT_EQ(img.radiance.size(), octaves.size());
+    auto lum = [](glm::vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+    // The march's colour is the cloud's radiance and its transmittance; the tracer's includes what lies behind (the sky
+    // above the horizon, black below), which the march's gets too. Compared where the cloud is nearly opaque.
+    double err_oct = 0.0, err_24 = 0.0, ref_sum = 0.0, oct_sum = 0.0, n = 0.0;
+    for (uint32_t y = 0; y < height_; ++y)
+      for (uint32_t x = 0; x < width_; ++x) {
+        const size_t i = size_t(y) * width_ + x;
+        if (img.radiance[i].a < 0.8) continue;
+        const glm::vec2 ndc((x + 0.5f) / width_ * 2.0f - 1.0f, (y + 0.5f) / height_ * 2.0f - 1.0f);
+        const glm::vec4 w = cam.inv_view_proj * glm::vec4(ndc, 0.5f, 1.0f);
+        const float behind = (glm::vec3(w) / w.w).y > cam.position.y ? sky : 0.0f;  // the pixel's ray up or down
+        const double r = lum(glm::vec3(img.radiance[i]));
+        const double o = lum(glm::vec3(octaves[i])) + behind * octaves[i].a, t = lum(glm::vec3(issue24[i])) + behind * issue24[i].a;
+        err_oct += std::abs(o - r) / r, err_24 += std::abs(t - r) / r;
+        ref_sum += r, oct_sum += o, n += 1.0;
+      }
+    EXPECT_GT(n, 50.0);
+    err_oct /= n, err_24 /= n;
+    std::printf("envelope lighting against the path tracer (%.0f pixels): octaves %.1f %% (mean %.3f, reference %.3f), "
+                "issue 24's %.1f %%\n", n, 100.0 * err_oct, oct_sum / n, ref_sum / n, 100.0 * err_24);
+    EXPECT_LT(err_oct, 0.35);
+    EXPECT_NEAR(oct_sum / ref_sum, 1.0, 0.3);
+    EXPECT_GT(std::abs(err_oct - err_24), 0.001);  // the two presets light it differently
+  }
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
