@@ -315,6 +315,15 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // leaks out through it on its way in, as in a slab of that half-thickness lit edge-on.
         if (slab && P.sun_color.w > 0.0)
           ms_falloff *= exp(-P.sun_color.w * r * max(min(od.y, away) - tau_surface, 0.0) / (2.0 * r * tau_surface + 4.0 / 3.0));
+        // Incidence (slab, P.slab.x > 0): the slab along the sun's line takes the light as entering a face square to
+        // it. Where that line leaves the own cloud through its top (its optical depth about the sky column's over the
+        // sun's sine: a flat cloud), the light enters a horizontal face, which receives the sine of the sun's elevation
+        // of the irradiance; where it leaves through a side (a tower lit from the side), a face square to the sun.
+        if (slab && P.slab.x > 0.0) {
+          float mu0 = max(P.sun_dir.y, 0.0);
+          float through_top = saturate(mu0 * od.y / max(local.z * ext, 1e-3));
+          ms_falloff *= mix(1.0, mix(1.0, mu0, through_top), P.slab.x);
+        }
 #if MS_FIELD
         // The solved field (its leaks through every surface included), weighed against the slab's falloff.
         ms_falloff = mix(ms_falloff, solved_fluence(i, q) * uintBitsToFloat(P.effects.w), uintBitsToFloat(P.effects.z));

@@ -175,9 +175,10 @@ struct CloudParams {
                         // y each next one's length over the one before (the talk: 1), z their total length (m), where the
                         // grid takes over; the first one's length is light.x; w: the in-cloud step's growth
                         // cap (CloudSettings::step_growth; 1: the talk's step)
+  vec4 slab;            // x: the slab's incidence blend (CloudSettings::ms_incidence; 0: off); yzw: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1296)
+CUMULO_SHARED_SIZE(CloudParams, 1312)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

@@ -141,6 +141,12 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "the preset's (slab: 0.1; 0: no bounce)",
               &o.ground_albedo)
       .range(0.0, 1.0)
+      .option("--cloud-ms-incidence", "X",
+              "with the slab lighting, how far the multiple scattering takes the sun's incidence on a cloud's top where "
+              "the sun's line leaves the cloud through it (a flat cloud under a low sun receives the sine of its "
+              "elevation), overriding the preset's (slab: 0.5; 0: the light enters a face square to the sun)",
+              &o.ms_incidence)
+      .range(0.0, 1.0)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)

@@ -174,8 +174,6 @@ int run_fidelity(FidelityOptions& o, const CloudsRun& run) {
   // --cloud-reprojection 4 or 16 asks for the 2015 talk's: in a still view the reprojection's clamp of the history
   // to the marched neighbours' range keeps 1 of 4 about 2-3 % and 1 of 16 10-20 % darker than the march (issue 21).
   if (feature.options().reprojection_block == 0) feature.options().reprojection_block = 1;
-  // The envelope clouds' far pass too (--envelope-reprojection 4 or 16 asks for the CPU device's sub-sampling).
-  if (feature.options().envelope_block == 0) feature.options().envelope_block = 1;
   RenderSessionDesc d;
   d.level = o.level;
   d.width = o.width, d.height = o.height;

@@ -191,6 +191,9 @@ struct CloudSettings {
   // With ms_slab: the multiple scattering's forward lobe near the lit surface, as a fraction of the phase's mean
   // cosine (march_render.comp; 0: isotropic, the talks').
   float ms_anisotropy = 0.0f;
+  // With ms_slab: how far the slab's falloff takes the sun's incidence on a horizontal face where the sun's line leaves
+  // the own cloud through its top (march_render.comp; 0: the light enters a face square to the sun, as before).
+  float ms_incidence = 0.0f;
   // With ms_slab: the dark edges from the optical depth to the nearest surface, 1 - exp(-this x depth) (0: the
   // talks' profile).
   float edge_depth_scale = 0.0f;

@@ -89,6 +89,12 @@ class EnvelopePass final : public CloudFramePass {
     // On a CPU device the layer is marched at half the output's size as well (the bank view's far pass cost 12 ms of a
     // 60 Hz frame at 320x180 marching 1 of 16 pixels at full size); the composite upsamples it depth-aware.
     if (cpu_device_) march.resolution_scale = 0.5f;
+    // cumulo fidelity measures the lighting against the path tracer: every pixel marched at the output's size in both
+    // passes (the CPU device's half size and 1-of-16 near pass put the bank's smoothed edge over the hill in `ground`).
+    if (options_->reference_comparable) {
+      march.resolution_scale = 1.0f, march.near_block = 1u;
+      if (options_->envelope_block == 0) march.far_block = 1u;  // --envelope-reprojection 4|16 measures the sub-sampling
+    }
     // Its shadow on the terrain: marched again only when something changed (or the noise scrolled half a texel).
     if (cpu_device_) march.shadow_texels = 256, march.combined_shadow_texels = 512, march.shadow_every_frame = false;
     return march;

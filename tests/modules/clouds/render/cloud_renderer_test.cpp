@@ -1190,6 +1190,36 @@ TEST_F(CloudRender, SlabLateralLeakDarkensASheetLitEdgeOn) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The slab's incidence (ms_incidence, issue 21): where the sun's line leaves the own cloud through its top, the light
+// enters a horizontal face, which receives the sine of the sun's elevation of the irradiance. A flat sheet under a sun
+// at 30 degrees loses diffused light; under a sun near the zenith (a face square to it) nothing changes.
+TEST_F(CloudRender, SlabIncidenceDarkensASheetUnderALowSunNotAHighOne) {
+  CloudFrameInputs in = inputs(asset({}, sheet_cloudscape()), camera({-150.0f, 400.0f, 450.0f}, kCloudCentre, 60.0f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  EXPECT_GT(in.settings.ms_incidence, 0.0f);
+  auto sum = [](const Frame& f) {
+    double s = 0;
+    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
+    return s;
+  };
+  double ratio[2];
+  for (int k = 0; k < 2; ++k) {
+    in.sun_direction = k == 0 ? glm::normalize(glm::vec3(0.85f, 0.5f, 0.15f)) : glm::normalize(glm::vec3(0.05f, 1.0f, 0.05f));
+    in.rebuild_light_grid = true;
+    in.settings.ms_incidence = 1.0f;
+    const double with = sum(render(in));
+    in.settings.ms_incidence = 0.0f;
+    const double without = sum(render(in));
+    ratio[k] = with / without;
+    std::printf("  sun %s: radiance with the incidence %.2f, without %.2f (%.3f)\n", k == 0 ? "at 30 degrees" : "high", with,
+                without, ratio[k]);
+  }
+  EXPECT_LT(ratio[0], 0.95) << "the sheet's top takes the sine of a 30-degree sun";
+  EXPECT_GT(ratio[1], 0.98) << "a sun near the zenith falls square on the top";
+  EXPECT_LE(ratio[1], 1.0 + 1e-6);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 }  // namespace
 }  // namespace cumulo::clouds::render::test
 
