@@ -936,6 +936,13 @@ TEST_F(CloudRender, PointLightAddsGlowInsideTheCloud) {
 namespace cumulo::clouds::render::test {
 namespace {
 
+// The summed cloud radiance (rgb) of the image.
+double radiance_sum(const Frame& f) {
+  double s = 0;
+  for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
+  return s;
+}
+
 // The summed cloud radiance (rgb) of the image's left and right halves.
 glm::dvec2 left_right_radiance(const Frame& f) {
   glm::dvec2 sum(0.0);
@@ -1034,14 +1041,9 @@ TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
   CloudFrameInputs in = inputs(asset({}, chamber_cloudscape()), inside);
   in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
   in.ambient_color = glm::vec3(0.0f);  // the sun's light only: the falloffs differ, the sky terms too
-  auto sum = [](const Frame& f) {
-    double s = 0;
-    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
-    return s;
-  };
   apply_lighting_preset(in.settings, CloudLightingPreset::Diffusion);
   const float strength = in.settings.ms_strength;
-  const double diffusion = sum(render(in));
+  const double diffusion = radiance_sum(render(in));
   apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
   EXPECT_TRUE(in.settings.ms_slab);
   in.settings.ms_strength = strength;  // the same strength: only the falloff differs
@@ -1055,9 +1057,9 @@ TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
   const Frame enclosed = render(in);
   for (const glm::vec4& c : enclosed.hdr) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b + c.a));
   std::printf("  chamber's walls, radiance sum: diffusion %.2f, slab %.2f, slab with the chamber enclosed %.2f\n", diffusion,
-              sum(open), sum(enclosed));
-  EXPECT_GT(sum(open), 1.05 * diffusion) << "the slab keeps light deep in the cloud";
-  EXPECT_GT(sum(enclosed), 1.1 * sum(open)) << "enclosed air does not part the cloud in two";
+              radiance_sum(open), radiance_sum(enclosed));
+  EXPECT_GT(radiance_sum(open), 1.05 * diffusion) << "the slab keeps light deep in the cloud";
+  EXPECT_GT(radiance_sum(enclosed), 1.1 * radiance_sum(open)) << "enclosed air does not part the cloud in two";
   // The light grid's w by the sweep and by the talk's rays (enclosed air needs the sweep: off for the comparison).
   in = inputs(asset(), camera());
   in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
@@ -1078,19 +1080,14 @@ TEST_F(CloudRender, SlabLightingLightsTheWallsOfAChamber) {
 // The slab's forward lobe of the multiple scattering (ms_anisotropy): a cloud seen against the sun gets more of it,
 // one seen with the sun behind the viewer less, than with the talks' isotropic 1 / 4 pi.
 TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
-  auto sum = [](const Frame& f) {
-    double s = 0;
-    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
-    return s;
-  };
   for (const float toward : {1.0f, -1.0f}) {  // +1: the sun behind the cloud (forward scattering); -1: behind the viewer
     CloudFrameInputs in = inputs(asset(), camera());  // from +z toward the sphere
     in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.5f, -toward));
     apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
     ASSERT_GT(in.settings.ms_anisotropy, 0.0f);
-    const double lobe = sum(render(in));
+    const double lobe = radiance_sum(render(in));
     in.settings.ms_anisotropy = 0.0f;
-    const double isotropic = sum(render(in));
+    const double isotropic = radiance_sum(render(in));
     std::printf("  sun %s: radiance sum with the forward lobe %.2f, isotropic %.2f\n", toward > 0 ? "behind the cloud" : "behind the viewer",
                 lobe, isotropic);
     if (toward > 0) EXPECT_GT(lobe, 1.05 * isotropic);
@@ -1104,11 +1101,6 @@ TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
 // darkens a recipe's fraction of its height; a steep k leaves only the outermost voxels dark (as with the effect off),
 // and k = 0 falls back to the profile.
 TEST_F(CloudRender, SlabDarkEdgesFollowTheOpticalDepthToTheSurface) {
-  auto sum = [](const Frame& f) {
-    double s = 0;
-    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
-    return s;
-  };
   CloudFrameInputs in = inputs(asset(), camera({-300.0f, 160.0f, 250.0f}));
   in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.6f, 0.5f));
   apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
@@ -1121,10 +1113,10 @@ TEST_F(CloudRender, SlabDarkEdgesFollowTheOpticalDepthToTheSurface) {
   in.settings.edge_depth_scale = 100.0f;
   in.settings.effects = CLOUD_EFFECTS_ALL & ~CLOUD_EFFECT_DARK_EDGES;
   const Frame off = render(in);
-  std::printf("  radiance sum: edge depth %.2f, steep %.2f, profile %.2f, dark edges off %.2f\n", sum(edge), sum(steep), sum(profile),
-              sum(off));
-  EXPECT_LT(sum(edge), 0.97 * sum(steep)) << "the outer metres darken";
-  EXPECT_NEAR(sum(steep), sum(off), 0.03 * sum(off)) << "a steep edge leaves (almost) nothing dark";
+  std::printf("  radiance sum: edge depth %.2f, steep %.2f, profile %.2f, dark edges off %.2f\n", radiance_sum(edge), radiance_sum(steep), radiance_sum(profile),
+              radiance_sum(off));
+  EXPECT_LT(radiance_sum(edge), 0.97 * radiance_sum(steep)) << "the outer metres darken";
+  EXPECT_NEAR(radiance_sum(steep), radiance_sum(off), 0.03 * radiance_sum(off)) << "a steep edge leaves (almost) nothing dark";
   EXPECT_LT(psnr(edge.hdr, profile.hdr), 60.0) << "k = 0 is the talks' profile, another picture";
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
@@ -1168,19 +1160,14 @@ TEST_F(CloudRender, SlabLateralLeakDarkensASheetLitEdgeOn) {
   apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
   const float lateral = in.settings.ms_lateral;
   ASSERT_GT(lateral, 0.0f);
-  auto sum = [](const Frame& f) {
-    double s = 0;
-    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
-    return s;
-  };
   double ratio[2];
   for (int k = 0; k < 2; ++k) {
     in.sun_direction = k == 0 ? glm::normalize(glm::vec3(1.0f, 0.05f, 0.2f)) : glm::normalize(glm::vec3(0.1f, 1.0f, 0.1f));
     in.settings.ms_lateral = lateral;
     in.rebuild_light_grid = true;
-    const double with = sum(render(in));
+    const double with = radiance_sum(render(in));
     in.settings.ms_lateral = 0.0f;
-    const double without = sum(render(in));
+    const double without = radiance_sum(render(in));
     ratio[k] = with / without;
     std::printf("  sun %s: radiance with the lateral leak %.2f, without %.2f (%.3f)\n", k == 0 ? "grazing" : "high", with, without, ratio[k]);
   }
@@ -1197,19 +1184,14 @@ TEST_F(CloudRender, SlabIncidenceDarkensASheetUnderALowSunNotAHighOne) {
   CloudFrameInputs in = inputs(asset({}, sheet_cloudscape()), camera({-150.0f, 400.0f, 450.0f}, kCloudCentre, 60.0f));
   apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
   EXPECT_GT(in.settings.ms_incidence, 0.0f);
-  auto sum = [](const Frame& f) {
-    double s = 0;
-    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
-    return s;
-  };
   double ratio[2];
   for (int k = 0; k < 2; ++k) {
     in.sun_direction = k == 0 ? glm::normalize(glm::vec3(0.85f, 0.5f, 0.15f)) : glm::normalize(glm::vec3(0.05f, 1.0f, 0.05f));
     in.rebuild_light_grid = true;
     in.settings.ms_incidence = 1.0f;
-    const double with = sum(render(in));
+    const double with = radiance_sum(render(in));
     in.settings.ms_incidence = 0.0f;
-    const double without = sum(render(in));
+    const double without = radiance_sum(render(in));
     ratio[k] = with / without;
     std::printf("  sun %s: radiance with the incidence %.2f, without %.2f (%.3f)\n", k == 0 ? "at 30 degrees" : "high", with,
                 without, ratio[k]);
@@ -1234,11 +1216,6 @@ TEST_F(CloudRender, SolvedMultipleScatteringConvergesRestsAndLightsAChamber) {
   apply_lighting_preset(in.settings, CloudLightingPreset::Solve);
   EXPECT_TRUE(in.settings.ms_solve && in.settings.ms_slab);
   in.settings.ms_solve_weight = 1.0f;  // the solved field alone, not blended with the slab's
-  auto sum = [](const Frame& f) {
-    double s = 0;
-    for (const glm::vec4& c : f.color) s += c.r + c.g + c.b;
-    return s;
-  };
   in.settings.ms_solve_iterations = 4;
   const Frame four = render(in);  // from zero: the resources are new
   EXPECT_GE(pass_ms("clouds.ms_solve"), 0.0);  // the first frame solves
@@ -1260,8 +1237,8 @@ TEST_F(CloudRender, SolvedMultipleScatteringConvergesRestsAndLightsAChamber) {
   in.settings.ms_strength = 0.0f;
   const Frame none = render(in);
   in.settings.ms_strength = strength;
-  std::printf("  solve: radiance sum %.2f, without the multiple scattering %.2f\n", sum(four), sum(none));
-  EXPECT_GT(sum(four), 1.1 * sum(none));
+  std::printf("  solve: radiance sum %.2f, without the multiple scattering %.2f\n", radiance_sum(four), radiance_sum(none));
+  EXPECT_GT(radiance_sum(four), 1.1 * radiance_sum(none));
 
   const scene::CameraView inside = camera(kCloudCentre + glm::vec3(0.0f, 20.0f, 0.0f), kCloudCentre + glm::vec3(30.0f, -100.0f, 0.0f), 70.0f);
   in = inputs(asset({}, chamber_cloudscape()), inside);
@@ -1287,9 +1264,9 @@ TEST_F(CloudRender, SolvedMultipleScatteringConvergesRestsAndLightsAChamber) {
     const double mean = s / std::max(n, 1.0);
     return std::sqrt(std::max(s2 / std::max(n, 1.0) - mean * mean, 0.0)) / std::max(mean, 1e-9);
   };
-  std::printf("  solve, chamber's walls: radiance sum open %.2f, enclosed %.2f; unevenness %.3f, %.3f\n", sum(open),
-              sum(enclosed), unevenness(open), unevenness(enclosed));
-  EXPECT_GT(sum(enclosed), sum(open)) << "the chamber returns the light its walls leak into it";
+  std::printf("  solve, chamber's walls: radiance sum open %.2f, enclosed %.2f; unevenness %.3f, %.3f\n", radiance_sum(open),
+              radiance_sum(enclosed), unevenness(open), unevenness(enclosed));
+  EXPECT_GT(radiance_sum(enclosed), radiance_sum(open)) << "the chamber returns the light its walls leak into it";
   EXPECT_LT(unevenness(enclosed), unevenness(open)) << "its air carries light from the lit walls to the others";
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }

@@ -128,6 +128,22 @@ class EnvelopeLayerTest : public CloudRenderFixture {
     return f;
   }
 
+  // `frames` frames of the path tracer over the envelope (its medium set in `in`), accumulated.
+  ReferenceImage trace(ReferenceTracer& tracer, CloudFrameInputs& in, const EnvelopeDraw& draw, const EnvelopeMarchSettings& m,
+                       int frames) {
+    using namespace cumulo::render;
+    for (int f = 0; f < frames; ++f) {
+      RenderGraph g({width_, height_});
+      const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
+                                                   depth_.handle(), depth_.view(), ResourceState::shader_read_only());
+      TextureHandle hdr = g.create_texture("hdr", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT));
+      in.envelope_medium = layer_->add_medium(g, draw, m, in);
+      hdr = tracer.add_passes(g, in, CloudLightOutputs{}, hdr, depth);
+      ctx().submit_and_wait([&](VkCommandBuffer cmd) { executor_->execute(g, cmd); });
+    }
+    return tracer.read();
+  }
+
   static double total(const Frame& f, int channel) {
     double s = 0;
     for (const glm::vec4& d : f.depth) s += d[channel];
@@ -395,17 +411,8 @@ TEST_F(EnvelopeLayerTest, ThePathTracerTracesTheSameEnvelope) {
   tracer.settings().samples_per_frame = 16;
   tracer.settings().uniform_sky = 0.5f;
   tracer.reset();
-  for (int f = 0; f < 2; ++f) {
-    RenderGraph g({width_, height_});
-    const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
-                                                 depth_.handle(), depth_.view(), ResourceState::shader_read_only());
-    TextureHandle hdr = g.create_texture("hdr", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT));
-    in.envelope_medium = layer_->add_medium(g, draw, m, in);
-    ASSERT_TRUE(in.envelope_medium.valid());
-    hdr = tracer.add_passes(g, in, CloudLightOutputs{}, hdr, depth);
-    ctx().submit_and_wait([&](VkCommandBuffer cmd) { executor_->execute(g, cmd); });
-  }
-  const ReferenceImage img = tracer.read();
+  const ReferenceImage img = trace(tracer, in, draw, m, 2);
+  ASSERT_TRUE(in.envelope_medium.valid());
   ASSERT_EQ(img.radiance.size(), rt.color.size());
   double diff = 0.0, cover = 0.0, lit = 0.0;
   for (size_t i = 0; i < rt.color.size(); ++i) {
@@ -458,16 +465,7 @@ TEST_F(EnvelopeLayerTest, TheSlabPresetsOctavesLightTheEnvelopeWithinAThirdOfThe
     tracer.settings().uniform_sky_upper_only = true;  // black below the horizon
     tracer.reset();
     CloudFrameInputs in = inputs(CloudLightingPreset::Slab);
-    for (int f = 0; f < 6; ++f) {
-      RenderGraph g({width_, height_});
-      const TextureHandle depth = g.import_texture("test.scene_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, width_, height_),
-                                                   depth_.handle(), depth_.view(), ResourceState::shader_read_only());
-      TextureHandle hdr = g.create_texture("hdr", TextureDesc::relative(VK_FORMAT_R16G16B16A16_SFLOAT));
-      in.envelope_medium = layer_->add_medium(g, draw, m, in);
-      hdr = tracer.add_passes(g, in, CloudLightOutputs{}, hdr, depth);
-      ctx().submit_and_wait([&](VkCommandBuffer cmd) { executor_->execute(g, cmd); });
-    }
-    const ReferenceImage img = tracer.read();
+    const ReferenceImage img = trace(tracer, in, draw, m, 6);
     ASSERT_EQ(img.radiance.size(), octaves.size());
     auto lum = [](glm::vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
     // The march's colour is the cloud's radiance and its transmittance; the tracer's includes what lies behind (the sky
