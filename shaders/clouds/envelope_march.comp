@@ -152,7 +152,7 @@ void main() {
     if (es.density > 0.0) {
       float od = light_optical_depth(p, l);
       vec3 light_in;
-      if (E.sun_dir.w > 0.0) {
+      if (E.sun_dir.w + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
         light_in = octave_light(p, rd, l, mu, od, es);
       } else {
         light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi));

@@ -119,6 +119,7 @@ struct PixelData {
 
 #include "clouds/light_grid_lookup.glsl"
 #include "engine/view_ray.glsl"
+#include "engine/runtime_uniform.glsl"
 
 // What the march reads of the light grids at the sample (light_grid_local.comp): x, y the other instances' summed
 // density toward the sun and the sky, z the own sky sum, w the own sum away from the sun; 0 outside the box.
@@ -319,7 +320,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // it. Where that line leaves the own cloud through its top (its optical depth about the sky column's over the
         // sun's sine: a flat cloud), the light enters a horizontal face, which receives the sine of the sun's elevation
         // of the irradiance; where it leaves through a side (a tower lit from the side), a face square to the sun.
-        if (slab && P.slab.x > 0.0) {
+        if (slab && P.slab.x + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
           float mu0 = max(P.sun_dir.y, 0.0);
           float through_top = saturate(mu0 * od.y / max(local.z * ext, 1e-3));
           ms_falloff *= mix(1.0, mix(1.0, mu0, through_top), P.slab.x);
