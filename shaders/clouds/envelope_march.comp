@@ -66,23 +66,23 @@ float light_optical_depth(vec3 p, vec3 l) {
   return od * E.wind.w;
 }
 
-// The envelope's lighting with the voxel clouds' slab presets (issue 21; E.sun_dir.w > 0). The sun's light, direct and
-// multiply scattered, as Wrenninge's octaves (2015): sum over n < 4 of b^n exp(-a^n od) p(mu; c^n g), a = E.sun_dir.w,
-// b = E.ambient_color.w, c = E.misc.y: the first orders keep the phase's forward lobe and see through more of the cloud.
+// The envelope's lighting with the voxel clouds' slab presets (issue 21; E.octaves.x > 0). The sun's light, direct and
+// multiply scattered, as Wrenninge's octaves (2015): sum over n < 4 of b^n exp(-a^n od) p(mu; c^n g), (a, b, c) =
+// E.octaves.xyz: the first orders keep the phase's forward lobe and see through more of the cloud.
 // Here the light grid's depths the slab needs are not there; the octaves measured better against the path tracer on
 // the envelope's own views than the slab's falloff with the column's depths (docs/fidelity/envelope_lighting.md).
 // The sky and the ground bounce are the slab's, through the envelope's column above and below the sample (the shape
 // map's bottom and top) at half this sample's extinction (the profile's gradients thin it toward both ends):
 // the upper hemisphere's phase-weighted share of the sky, occluded by the column above; the sky's light diffused in,
-// darkened at the edges by the optical depth to the nearest of the column's surfaces (E.yield_min[0].w, the voxel
-// clouds' edge scale); the ground's (albedo E.sun_color.w) from the lower hemisphere through the column below.
+// darkened at the edges by the optical depth to the nearest of the column's surfaces (E.octaves.w, the voxel clouds'
+// edge scale); the ground's (albedo E.sun_color.w) from the lower hemisphere through the column below.
 vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, EnvelopeSample es) {
   vec3 sun = vec3(0.0);
   float a = 1.0, b = 1.0, c = 1.0;
   for (int n = 0; n < 4; ++n) {
     float ph = mix(henyey_greenstein(mu, c * E.phase.y), henyey_greenstein(mu, c * E.phase.x), E.phase.z);
     sun += E.sun_color.rgb * (b * exp(-a * od_sun) * ph);
-    a *= E.sun_dir.w, b *= E.ambient_color.w, c *= E.misc.y;
+    a *= E.octaves.x, b *= E.octaves.y, c *= E.octaves.z;
   }
   vec2 uv = env_uv(p.xz);
   vec4 shape = textureLod(shape_tex, uv, 0.0);
@@ -91,9 +91,9 @@ vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, EnvelopeSampl
   float below = max(p.y - shape.x, 0.0), above = max(shape.y - p.y, 0.0);
   float tau_away = sigma * min(below / max(l.y, 0.2), 4.0 * max(below, edge_m));
   float tau_up = sigma * above;
-  float r = 1.0 - mix(E.phase.y, E.phase.x, E.phase.z);  // 1 - the phase's mean cosine
-  float g = 1.0 - r;
-  float edge = 1.0 - exp(-E.yield_min[0].w * sigma * min(min(below, above), edge_m));
+  float g = mix(E.phase.y, E.phase.x, E.phase.z);  // the phase's mean cosine
+  float r = 1.0 - g;
+  float edge = 1.0 - exp(-E.octaves.w * sigma * min(min(below, above), edge_m));
   float sky_share = saturate(0.5 + 0.75 * g * rd.y);
   vec3 light_in = sun + E.ambient_color.rgb * (sky_share * exp(-tau_up) + edge * E.phase.w * 0.25 / (1.0 + 0.75 * r * tau_up));
   light_in += (E.sun_color.rgb * (max(l.y, 0.0) / kPi) + E.ambient_color.rgb) *
@@ -152,7 +152,7 @@ void main() {
     if (es.density > 0.0) {
       float od = light_optical_depth(p, l);
       vec3 light_in;
-      if (E.sun_dir.w + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
+      if (E.octaves.x + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
         light_in = octave_light(p, rd, l, mu, od, es);
       } else {
         light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi));

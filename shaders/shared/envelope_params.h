@@ -28,9 +28,9 @@ CUMULO_SHARED_BEGIN
 struct EnvelopeParams {
   mat4 inv_view_proj;
   vec4 camera_pos;     // xyz world (m); w: time (s)
-  vec4 sun_dir;        // xyz toward the key light; w: the octaves' extinction a (> 0: the slab presets' lighting, envelope_march.comp octave_light; 0: issue 24's)
+  vec4 sun_dir;        // xyz toward the key light; w: unused
   vec4 sun_color;      // rgb (as the voxel clouds'); w: the ground's albedo (octave_light)
-  vec4 ambient_color;  // rgb: sky ambient; w: the octaves' contribution b
+  vec4 ambient_color;  // rgb: sky ambient; w: unused
   vec4 map;            // xy: world x, z of texel (0, 0)'s corner; z: texel size (m); w: texels per side
   vec4 heights;        // x: lowest bottom, y: highest top (world y); z: edge gradient width (m); w: density multiplier
   vec4 noise;          // x: base noise tile (m), y: detail noise tile (m), z: detail erosion 0..1, w: coverage multiplier
@@ -38,11 +38,13 @@ struct EnvelopeParams {
   vec4 march;          // x: step inside the envelope (m), y: its growth per metre of distance, z: max steps, w: light sample length (m)
   vec4 stepping;       // x: 1 cone + distance step mapping, 0 fixed steps (for a reader: the pipeline's CONE_STEPPING decides); y: draw distance (m); z: single-scattering albedo (the voxel clouds'); w: segment start (m)
   vec4 phase;          // x: forward HG g, y: backward HG g, z: forward weight, w: multiple-scattering strength
-  vec4 misc;           // x: segment end (m); y: ambient at the bottom / at the top (octave_light: the octaves' eccentricity c); z: yield box count; w: yield fade (m)
-  vec4 yield_min[ENV_MAX_YIELD_BOXES];  // xyz: world AABB of a voxel cloudscape (the envelope yields inside it); [0].w: octave_light's edge scale
+  vec4 misc;           // x: segment end (m); y: ambient at the bottom / at the top; z: yield box count; w: yield fade (m)
+  vec4 octaves;        // the slab presets' lighting (envelope_march.comp octave_light; x = 0: issue 24's terms): Wrenninge's
+                       // x extinction a, y contribution b, z eccentricity c per octave; w: the dark edges' scale
+  vec4 yield_min[ENV_MAX_YIELD_BOXES];  // xyz: world AABB of a voxel cloudscape (the envelope yields inside it)
   vec4 yield_max[ENV_MAX_YIELD_BOXES];
 };
-CUMULO_SHARED_SIZE(EnvelopeParams, 384)
+CUMULO_SHARED_SIZE(EnvelopeParams, 400)
 
 // Push constants of envelope_shadow.comp: the key light's transmittance through the envelope, from where the light's
 // ray leaves the envelope's top down to the first terrain it meets, on a horizontal plane (render::LightShadowMap).

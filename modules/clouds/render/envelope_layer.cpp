@@ -122,12 +122,11 @@ struct EnvelopeLayer::Impl {
     shared::EnvelopeParams p{};
     p.inv_view_proj = in.camera.inv_view_proj;
     p.camera_pos = glm::vec4(in.camera.position, float(in.time));
-    // w: with the slab lighting (issue 21) the octaves' a and b and the ground's albedo (envelope_march.comp
-    // octave_light); 0: issue 24's own terms.
-    const bool octaves = s.ms_slab;
-    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), octaves ? kOctaveExtinction : 0.0f);
-    p.sun_color = glm::vec4(in.sun_color, octaves ? s.ground_albedo : 0.0f);
-    p.ambient_color = glm::vec4(in.ambient_color, octaves ? kOctaveContribution : 0.0f);
+    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
+    p.sun_color = glm::vec4(in.sun_color, s.ms_slab ? s.ground_albedo : 0.0f);
+    p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
+    // The slab presets (issue 21) light the envelope by octave_light; the others by issue 24's terms (x = 0).
+    if (s.ms_slab) p.octaves = glm::vec4(kOctaveExtinction, kOctaveContribution, kOctaveEccentricity, s.edge_depth_scale);
     p.map = glm::vec4(e.origin, e.texel_m, float(e.resolution));
     p.heights = glm::vec4(e.min_bottom, e.max_top, std::max(draw.edge_m, 1e-3f),
                           std::max(draw.density, 0.0f) * std::max(m.density_scale, 0.0f));
@@ -148,8 +147,7 @@ struct EnvelopeLayer::Impl {
       p.yield_max[boxes] = glm::vec4(hi, 0.0f);
       ++boxes;
     }
-    p.misc = glm::vec4(segment_end, octaves ? kOctaveEccentricity : kAmbientBottom, float(boxes), envelope::kYieldFadeM);
-    p.yield_min[0].w = octaves ? s.edge_depth_scale : 0.0f;
+    p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), envelope::kYieldFadeM);
     return p;
   }
 
