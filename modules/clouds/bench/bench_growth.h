@@ -26,12 +26,16 @@ struct GrowthFigures {
   double steps_per_second = 0;  // of play (CloudGrowth's speed / the spec's dt)
   int last_step = 0;
   double build_seconds = 0;  // of play, from the start to the last step
-  // GPU ms (medians): one step; the distance field and the attributes (the apart order); the update as the frame
-  // records it (interleaved); the light grid's passes in a frame that rebuilds it.
-  double step_ms = 0, sdf_ms = 0, attributes_ms = 0, update_ms = 0, light_grid_ms = 0;
-  // Wall-clock ms per frame (median): the cloud held; growing (steps and updates alternating); the frames that step
-  // and the frames that update apart.
-  double held_ms = 0, growing_ms = 0, stepping_ms = 0, updating_ms = 0;
+  // GPU ms (medians): one step; the distance field, the attributes and the images (the apart order); a whole update
+  // as the frames record it (interleaved, summed over its frames); the light grid's passes in the update's last frame (a
+  // rebuild, or with the sweep its first levels).
+  double step_ms = 0, sdf_ms = 0, attributes_ms = 0, images_ms = 0, update_ms = 0, light_grid_ms = 0;
+  // The frames an update is spread over: the option (0: none, the update in the frame that steps) and as measured.
+  int update_frames_setting = 0;
+  double update_frames = 0;
+  // Wall-clock ms per frame (median): the cloud held; growing (a step, then its update); the frames that step, the
+  // frames of an update, the update's last (the images and the light grid); the worst frame while it grows.
+  double held_ms = 0, growing_ms = 0, stepping_ms = 0, updating_ms = 0, images_frame_ms = 0, worst_ms = 0;
   // The growth's cost per frame at its rate: steps_per_second x (step + update + light grid) / the held frame rate.
   double amortized_ms = 0;
   double fps_held() const { return held_ms > 0 ? 1000.0 / held_ms : 0; }

@@ -186,7 +186,7 @@ uint32_t GpuGrownAsset::cell_groups() const {
 
 // The parameter block at binding 0, the buffers from binding 1 in the order given, the images at their bindings
 // (those the shader declares), the push constants; then `groups` work groups.
-void GpuGrownAsset::pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, std::initializer_list<VkBuffer> buffers,
+void GpuGrownAsset::pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, const std::vector<VkBuffer>& buffers,
                          uint32_t groups, int pass_x, int axis, int radix) const {
   pipe.bind(cmd);
   gpu::DescriptorWriter writer;
@@ -210,30 +210,33 @@ void GpuGrownAsset::pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, std::in
   vkCmdDispatch(cmd, groups, 1, 1);
 }
 
-void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer,
-                                  GrownUpdateOrder order) {
+// The update as barrier intervals. Each stage's passes touch no buffer another pass of the same stage writes; a
+// barrier follows every stage but the last. Only the last stage writes the images, so an update spread over frames
+// (record_update_stages) leaves the images whole until its last frame; the stages before it read the solver's buffers
+// and write the scratch buffers only.
+std::vector<GpuGrownAsset::Stage> GpuGrownAsset::stages(const GpuCloudSolver& solver, GrownUpdateOrder order) const {
   if (solver.dims() != grid_.cells)
     fail("grow_gpu: a grown asset for %dx%dx%d cells updated from a %dx%dx%d solver", grid_.cells.x, grid_.cells.y,
          grid_.cells.z, solver.dims().x, solver.dims().y, solver.dims().z);
   const VkBuffer qc = solver.buffer(Field::CloudWater), cond = solver.buffer(Field::Condensation),
                  growth = solver.buffer(Field::Growth), v = solver.buffer(Field::V);
   const uint32_t vg = voxel_groups(), cg = cell_groups();
-  gpu::ScopedLabel label(ctx_, cmd, "grown_asset.update");
-  uint32_t range = UINT32_MAX;
-  auto stage = [&](const char* name) {  // timestamps between the update's stages (barrier intervals)
-    if (!timer) return;
-    if (range != UINT32_MAX) timer->end(cmd, range);
-    range = name ? timer->begin(cmd, name) : UINT32_MAX;
-  };
-  stage(order == GrownUpdateOrder::Apart ? nullptr : "grown.classify");
+  // The cost estimate: work groups x the texels a thread reads (the flood's and the conservative store's 27, the
+  // depth filter's 2r + 1); what spreading an update over frames balances.
+  const float fv = float(vg), fc = float(cg);
+  const float depth_taps = float(2 * std::max(1, int(std::ceil(grow::kThicknessRadius / grid_.voxel))) + 1);
 
-  // The images' old contents are discarded (every texel is written); the percentiles' histograms start at zero.
-  field_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
-  modeling_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
-  field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
-  modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
-  vkCmdFillBuffer(cmd, select_.handle(), 0, VK_WHOLE_SIZE, 0u);
-  grow_barrier(cmd);  // after the solver's steps and the fill
+  std::vector<Stage> list(1);
+  auto add = [&](float cost, std::function<void(VkCommandBuffer)> record) {
+    list.back().cost += cost;
+    list.back().passes.push_back(std::move(record));
+  };
+  auto barrier = [&] { list.emplace_back(); };
+  auto range = [&](const char* name) { list.back().range = name; };
+  auto P = [this](const gpu::Pipeline* pipe, std::vector<VkBuffer> buffers, uint32_t groups, int pass_x = 0,
+                  int axis = 0, int radix = 0) {
+    return [=, this](VkCommandBuffer cmd) { pass(cmd, *pipe, buffers, groups, pass_x, axis, radix); };
+  };
 
   const uint32_t histogram_groups = uint32_t(
       (size_t(grid_.cells.x) * grid_.cells.y * grid_.cells.z + GROWN_HISTOGRAM_CELLS - 1) / GROWN_HISTOGRAM_CELLS);
@@ -246,99 +249,170 @@ void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& sol
                                    {pipes_.select, 2}, {pipes_.histogram, 3}, {pipes_.select, 3}};
   auto radix_step = [&](const RadixStep& r) {
     if (r.pipe == pipes_.select)
-      pass(cmd, *r.pipe, {select_.handle()}, 1, 0, 0, r.radix);
+      add(0.0f, P(r.pipe, {select_.handle()}, 1, 0, 0, r.radix));
     else
-      pass(cmd, *r.pipe, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, r.radix);
+      add(4.0f * float(histogram_groups), P(r.pipe, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, r.radix));
   };
   auto columns_and_histogram = [&] {
-    pass(cmd, *pipes_.column, {qc, columns_.handle()},
-         uint32_t((grid_.cells.x * grid_.cells.z + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE));
-    pass(cmd, *pipes_.histogram, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, 0);
+    add(float(grid_.cells.y), P(pipes_.column, {qc, columns_.handle()},
+                                uint32_t((grid_.cells.x * grid_.cells.z + GROWN_LOCAL_SIZE - 1) / GROWN_LOCAL_SIZE)));
+    add(4.0f * float(histogram_groups), P(pipes_.histogram, {qc, cond, growth, v, select_.handle()}, histogram_groups, 0, 0, 0));
   };
   auto rates = [&] {
-    pass(cmd, *pipes_.rates, {qc, cond, growth, v, select_.handle(), columns_.handle(), attributes_a_.handle()}, cg);
+    add(8.0f * fc, P(pipes_.rates, {qc, cond, growth, v, select_.handle(), columns_.handle(), attributes_a_.handle()}, cg));
   };
   // The profile depth (x, y, z max filters of the distance: -> a -> b -> a) beside the attributes' dilation (4 rings)
-  // and blur (3 axes), then the modeling image.
-  auto depth_dilate_blur_store = [&] {
-    pass(cmd, *pipes_.depth, {distance_.handle(), seeds_a_.handle()}, vg, 0, 0);
-    const gpu::Buffer* a = &attributes_a_;
-    const gpu::Buffer* b = &attributes_b_;
-    pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
+  // and blur (3 axes); the images after them, in the last stage.
+  VkBuffer attributes = VK_NULL_HANDLE;
+  auto depth_dilate_blur = [&] {
+    VkBuffer a = attributes_a_.handle(), b = attributes_b_.handle();
+    add(depth_taps * fv, P(pipes_.depth, {distance_.handle(), seeds_a_.handle()}, vg, 0, 0));
+    add(27.0f * fc, P(pipes_.dilate, {a, b}, cg));
     std::swap(a, b);
-    grow_barrier(cmd);
-    pass(cmd, *pipes_.depth, {seeds_a_.handle(), seeds_b_.handle()}, vg, 0, 1);
+    barrier();
+    add(depth_taps * fv, P(pipes_.depth, {seeds_a_.handle(), seeds_b_.handle()}, vg, 0, 1));
     for (int ring = 1; ring < kDilationRings; ++ring) {
-      pass(cmd, *pipes_.dilate, {a->handle(), b->handle()}, cg);
+      add(27.0f * fc, P(pipes_.dilate, {a, b}, cg));
       std::swap(a, b);
-      grow_barrier(cmd);
+      barrier();
     }
-    pass(cmd, *pipes_.depth, {seeds_b_.handle(), seeds_a_.handle()}, vg, 0, 2);
+    add(depth_taps * fv, P(pipes_.depth, {seeds_b_.handle(), seeds_a_.handle()}, vg, 0, 2));
     for (int axis = 0; axis < 3; ++axis) {
-      pass(cmd, *pipes_.blur, {a->handle(), b->handle()}, cg, 0, axis);
+      add(8.0f * fc, P(pipes_.blur, {a, b}, cg, 0, axis));
       std::swap(a, b);
-      grow_barrier(cmd);
+      barrier();
     }
-    pass(cmd, *pipes_.store_modeling, {distance_.handle(), seeds_a_.handle(), a->handle()}, vg);
+    attributes = a;  // (the blur's last barrier opened the images' stage)
   };
-  const gpu::Buffer* from = &seeds_a_;
-  const gpu::Buffer* to = &seeds_b_;
+  VkBuffer from = seeds_a_.handle(), to = seeds_b_.handle();
   auto flood_step = [&](size_t i) {
-    pass(cmd, *pipes_.jfa, {from->handle(), to->handle()}, vg, jfa_steps_[i]);
+    add(27.0f * fv, P(pipes_.jfa, {from, to}, vg, jfa_steps_[i]));
     std::swap(from, to);
   };
+  // The histograms start at zero; the fill follows the solver's steps recorded before (the barrier after it).
+  add(0.0f, [this](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, select_.handle(), 0, VK_WHOLE_SIZE, 0u); });
 
   if (order == GrownUpdateOrder::Apart) {
     // For `cumulo bench`: the distance field, then the attributes, each in its own timer range (the same work and
     // the same bytes as the interleaved order, more barrier intervals).
-    stage("grown.sdf");
-    pass(cmd, *pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg);
-    grow_barrier(cmd);
+    barrier();
+    range("grown.sdf");
+    add(8.0f * fv, P(pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg));
+    barrier();
     for (size_t i = 0; i < jfa_steps_.size(); ++i) {
       flood_step(i);
-      grow_barrier(cmd);
+      barrier();
     }
-    pass(cmd, *pipes_.distance, {from->handle(), fine_.handle(), distance_.handle()}, vg);
-    grow_barrier(cmd);
-    pass(cmd, *pipes_.store_field, {distance_.handle()}, vg);
-    stage("grown.attributes");
+    add(7.0f * fv, P(pipes_.distance, {from, fine_.handle(), distance_.handle()}, vg));
+    barrier();
+    range("grown.attributes");
     columns_and_histogram();
-    grow_barrier(cmd);
+    barrier();
     for (const RadixStep& r : radix_steps) {
       radix_step(r);
-      grow_barrier(cmd);
+      barrier();
     }
     rates();
-    grow_barrier(cmd);
-    depth_dilate_blur_store();
+    barrier();
+    depth_dilate_blur();
   } else {
     // The distance: resample and classify, jump flooding, the distance and the iso-crossing. The attributes' passes
     // on the cells run beside it (they read the solver's buffers only): each radix step shares a barrier interval
     // with one flood pass (they touch different buffers).
-    pass(cmd, *pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg);
+    range("grown.classify");
+    barrier();
+    add(8.0f * fv, P(pipes_.resample, {qc, fine_.handle(), seeds_a_.handle()}, vg));
     columns_and_histogram();
-    grow_barrier(cmd);
-    stage("grown.flood");
+    barrier();
+    range("grown.flood");
     const size_t steps = std::max(jfa_steps_.size(), std::size(radix_steps));
     for (size_t i = 0; i < steps; ++i) {
       if (i < jfa_steps_.size()) flood_step(i);
       if (i < std::size(radix_steps)) radix_step(radix_steps[i]);
-      grow_barrier(cmd);
+      barrier();
     }
-    stage("grown.distance");
-    pass(cmd, *pipes_.distance, {from->handle(), fine_.handle(), distance_.handle()}, vg);
+    range("grown.distance");
+    add(7.0f * fv, P(pipes_.distance, {from, fine_.handle(), distance_.handle()}, vg));
     rates();
-    grow_barrier(cmd);
-    stage("grown.store");
-    pass(cmd, *pipes_.store_field, {distance_.handle()}, vg);
-    depth_dilate_blur_store();
+    barrier();
+    range("grown.store");
+    depth_dilate_blur();
   }
+  // The images: their old contents discarded (every texel is written), then sampled from here on (the march, the
+  // light grid) or read back.
+  const VkBuffer depth = seeds_a_.handle(), dist = distance_.handle();
+  range("grown.images");
+  add(27.0f * fv + 4.0f * fv, [=, this](VkCommandBuffer cmd) {
+    field_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
+    modeling_.set_layout(VK_IMAGE_LAYOUT_UNDEFINED);
+    field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+    modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+    pass(cmd, *pipes_.store_field, {dist}, vg);
+    pass(cmd, *pipes_.store_modeling, {dist, depth, attributes}, vg);
+    field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  });
+  return list;
+}
 
-  // Sampled from here on (the march, the light grid) or read back.
-  field_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  modeling_.cmd_transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  stage(nullptr);
-  ++updates_;
+std::vector<GrownUpdateChunk> GpuGrownAsset::update_chunks(const GpuCloudSolver& solver, int frames) const {
+  const std::vector<Stage> list = stages(solver, GrownUpdateOrder::Interleaved);
+  const int n = int(list.size());
+  frames = std::clamp(frames, 1, n);
+  std::vector<GrownUpdateChunk> chunks;
+  if (frames == 1) return {{0, n}};
+  // The last stage (the images) has a frame of its own: that frame also rebuilds the light grid. The stages before
+  // it are cut into frames - 1 runs of about equal estimated cost.
+  float total = 0.0f;
+  for (int i = 0; i + 1 < n; ++i) total += list[size_t(i)].cost;
+  const int runs = frames - 1;
+  int first = 0;
+  float done = 0.0f;
+  for (int k = 1; k <= runs; ++k) {
+    const float goal = total * float(k) / float(runs);
+    int last = first;
+    // At least one stage a run, and leave one for each run still to come.
+    while (last < n - 1 - (runs - k) && (last == first || done + list[size_t(last)].cost * 0.5f <= goal))
+      done += list[size_t(last++)].cost;
+    if (k == runs) {
+      while (last < n - 1) done += list[size_t(last++)].cost;
+    }
+    if (last > first) chunks.push_back({first, last - first});
+    first = last;
+  }
+  chunks.push_back({n - 1, 1});
+  return chunks;
+}
+
+void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer,
+                                  GrownUpdateOrder order) {
+  record_update_stages(cmd, solver, 0, INT32_MAX, timer, order);
+}
+
+void GpuGrownAsset::record_update_stages(VkCommandBuffer cmd, const GpuCloudSolver& solver, int first, int count,
+                                         gpu::GpuTimer* timer, GrownUpdateOrder order) {
+  const std::vector<Stage> list = stages(solver, order);
+  const int n = int(list.size());
+  if (first < 0 || first >= n || count < 1)
+    fail("grow_gpu: update stages [%d, +%d) outside the update's %d", first, count, n);
+  const int last = int(std::min<int64_t>(int64_t(first) + count, n));
+  gpu::ScopedLabel label(ctx_, cmd, "grown_asset.update");
+  uint32_t open = UINT32_MAX;
+  // A run that does not start the update follows the run before it, recorded in an earlier frame: the barrier that
+  // ended that run orders it, and this one orders it again within this command buffer's scope.
+  if (first > 0) grow_barrier(cmd);
+  for (int i = first; i < last; ++i) {
+    const Stage& s = list[size_t(i)];
+    if (timer && s.range) {
+      if (open != UINT32_MAX) timer->end(cmd, open);
+      open = timer->begin(cmd, s.range);
+    }
+    for (const auto& p : s.passes) p(cmd);
+    if (i + 1 < n) grow_barrier(cmd);
+  }
+  if (timer && open != UINT32_MAX) timer->end(cmd, open);
+  stages_recorded_ += last - first;
+  if (last == n) ++updates_;
 }
 
 void GpuGrownAsset::record_modeling_copy(VkCommandBuffer cmd, VkBuffer dst) const {

@@ -41,6 +41,7 @@
 // holds, borrowed.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <vector>
 
@@ -112,8 +113,14 @@ struct GrownAssetView {
 
 // How record_update orders its passes: the attributes' passes beside the distance's (fewer barrier intervals; the
 // timer ranges grown.classify, grown.flood, grown.distance, grown.store), or the distance field whole and then the
-// attributes (ranges grown.sdf and grown.attributes: what `cumulo bench` reports apart). Same bytes.
+// attributes (ranges grown.sdf and grown.attributes: what `cumulo bench` reports apart); in both the two images are
+// written last (range grown.images: the field's conservative pass and the modeling store). Same bytes.
 enum class GrownUpdateOrder { Interleaved, Apart };
+
+// A run of an update's stages (barrier intervals) that one frame records: [first, first + count).
+struct GrownUpdateChunk {
+  int first = 0, count = 0;
+};
 
 class GpuGrownAsset {
  public:
@@ -129,7 +136,18 @@ class GpuGrownAsset {
   // timer: one range per stage (GrownUpdateOrder says which).
   void record_update(VkCommandBuffer cmd, const GpuCloudSolver& solver, gpu::GpuTimer* timer = nullptr,
                      GrownUpdateOrder order = GrownUpdateOrder::Interleaved);
-  int updates_recorded() const { return updates_; }
+  // The same update spread over frames: the stages [first, first + count) of the interleaved order (or the order
+  // given), recorded in one command buffer; the runs of one update in later command buffers in turn, with no step of
+  // the solver between the first and the last (the attributes read its buffers in several stages). Only the last stage
+  // writes the images, so they show the previous update until then. Bytes: the same as record_update's.
+  void record_update_stages(VkCommandBuffer cmd, const GpuCloudSolver& solver, int first, int count,
+                            gpu::GpuTimer* timer = nullptr, GrownUpdateOrder order = GrownUpdateOrder::Interleaved);
+  // The interleaved update cut into `frames` runs (fewer if it has fewer stages): the last stage, the images, alone
+  // in the last run (its frame rebuilds the light grid), the stages before it in runs of about equal estimated cost
+  // (work groups x the texels a thread reads). frames = 1: one run of every stage.
+  std::vector<GrownUpdateChunk> update_chunks(const GpuCloudSolver& solver, int frames) const;
+  int updates_recorded() const { return updates_; }  // whole updates (their last stage recorded)
+  int stages_recorded() const { return stages_recorded_; }
   // Records a copy of the modeling image (RGBA8, x fastest) into `dst` (a host-readable buffer of
   // grid().count() x 4 bytes), visible to the host once the submission completes; after an update.
   void record_modeling_copy(VkCommandBuffer cmd, VkBuffer dst) const;
@@ -152,7 +170,14 @@ class GpuGrownAsset {
     const gpu::Pipeline *resample, *jfa, *distance, *store_field;
     const gpu::Pipeline *histogram, *select, *column, *rates, *dilate, *blur, *depth, *store_modeling;
   };
-  void pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, std::initializer_list<VkBuffer> buffers, uint32_t groups,
+  // A barrier interval of the update: its passes, their estimated cost, the timer range that starts with it.
+  struct Stage {
+    float cost = 0.0f;
+    const char* range = nullptr;
+    std::vector<std::function<void(VkCommandBuffer)>> passes;
+  };
+  std::vector<Stage> stages(const GpuCloudSolver& solver, GrownUpdateOrder order) const;
+  void pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, const std::vector<VkBuffer>& buffers, uint32_t groups,
             int pass_x = 0, int axis = 0, int radix = 0) const;
   uint32_t voxel_groups() const;
   uint32_t cell_groups() const;
@@ -169,6 +194,7 @@ class GpuGrownAsset {
   gpu::Buffer select_, columns_, attributes_a_, attributes_b_;  // the percentiles' state, per column, per cell
   std::vector<int> jfa_steps_;
   int updates_ = 0;
+  int stages_recorded_ = 0;
 };
 
 }  // namespace cumulo::clouds::grow_gpu

@@ -83,6 +83,17 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "a growing cloud's images and light grid are rebuilt in the frame after its steps, not the same one, so "
               "no frame pays for both (default on)",
               &o.growth_spread)
+      .option("--cloud-growth-update-frames", "N",
+              "with the spread, a growing cloud's images are updated over N frames: the distance field and the "
+              "attributes in the first N - 1, the images in the last; no step meanwhile (default 0: by device, 4 on "
+              "a GPU, 8 on a CPU device; 1: the whole update in one frame)",
+              &o.growth_update_frames)
+      .range(0.0, 32.0)
+      .on_off("--cloud-growth-light-sweep",
+              "a growing cloud's new images are swept into its light grid over the next frames (the sweep's cycle, from "
+              "the level nearest the sun) instead of rebuilding the grid in the update's last frame (default on; "
+              "with --cloud-light-grid-method sweep)",
+              &o.growth_light_sweep)
       .on_off("--cloud-sky-occlusion",
               "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",
               &o.sky_occlusion)

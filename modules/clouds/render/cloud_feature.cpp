@@ -115,11 +115,14 @@ CloudFrameInputs CloudFeature::frame_inputs(const cumulo::render::StageContext& 
         over_budget_.push_back(i.growth->spec);
         continue;
       }
-      const CloudGrowthRuntime::Plan plan = g->plan(*i.growth, options_.growth_steps_per_frame, options_.growth_spread, int(f.slot));
+      const CloudGrowthRuntime::Plan plan = g->plan(*i.growth, options_.growth_steps_per_frame, options_.growth_spread,
+                                                          int(f.slot),
+                                                          growth_update_frames_for_device(options_, ctx_->info().is_cpu()));
       growth_work_.push_back({g, plan});
       if (g->images_cloudless()) continue;  // still stepped; not marched, lit or traced until it shows a cloud
       ci.asset = g->asset();
-      ci.asset_changed = plan.update;
+      // A generation's first images rebuild the grid (it may hold the last generation's cloud), later ones are swept in.
+      (options_.growth_light_sweep && !plan.first_images ? ci.asset_grew : ci.asset_changed) = plan.update;
     } else {
       ci.asset = asset_within_budget(i.folder, formats);
     }

@@ -48,11 +48,17 @@ void CloudGrowthRuntime::restart() {
   solver_->upload(start);
   const std::vector<float>& qc = start.cloud_water();
   start_cloudless_ = std::none_of(qc.begin(), qc.end(), [&](float q) { return q > spec_.iso; });
-  dirty_ = true;
+  // The images of a start with no cloud are not made: none is drawn until a step shows one (images_cloudless), so a
+  // storm waiting for its event costs no update at all. Whatever the images held (the last generation's cloud) is
+  // not drawn from here on: they show no step of this generation.
+  dirty_ = !start_cloudless_;
+  shown_step_ = -1;
+  next_chunk_ = -1;  // an update under way is dropped: its scratch state came from the old generation
   readback_step_ = -1;  // the old generation's copy no longer shows the cloud
 }
 
-CloudGrowthRuntime::Plan CloudGrowthRuntime::plan(const CloudGrowthFrame& frame, int max_steps, bool spread, int slot) {
+CloudGrowthRuntime::Plan CloudGrowthRuntime::plan(const CloudGrowthFrame& frame, int max_steps, bool spread, int slot,
+                                                  int update_frames) {
   // The copy this slot's last frame made is complete (the slot's fence has been waited for): the host's now.
   if (slot >= 0 && size_t(slot) < slot_copies_.size()) {
     SlotCopy& c = slot_copies_[size_t(slot)];
@@ -73,19 +79,39 @@ CloudGrowthRuntime::Plan CloudGrowthRuntime::plan(const CloudGrowthFrame& frame,
     ++restarts_;
   }
   Plan p;
-  const int target = std::min(frame.target_steps, spec_.steps);
-  p.steps = std::clamp(target - solver_->steps_done(), 0, std::max(max_steps, 0));
-  if (spread && stepped_last_ && dirty_) {
-    // Last frame stepped: this one draws the images (and the light grid) from it and steps nothing, so no frame
-    // pays for both. A cloud that must catch up alternates, at half the rate.
-    p.steps = 0;
-    p.update = true;
+  if (next_chunk_ >= 0) {
+    // An update spread over frames is under way: its next run, and no step until it is done (its stages read the
+    // solver's buffers).
+    p.update_stages = chunks_[size_t(next_chunk_)];
+    if (size_t(++next_chunk_) == chunks_.size()) {
+      p.update = true;
+      next_chunk_ = -1;
+    }
+    stepped_last_ = false;
   } else {
-    p.update = dirty_ || (!spread && p.steps > 0);
-    if (spread && p.steps > 0) p.update = false;
+    const int target = std::min(frame.target_steps, spec_.steps);
+    p.steps = std::clamp(target - solver_->steps_done(), 0, std::max(max_steps, 0));
+    if (spread && stepped_last_ && dirty_) {
+      // Last frame stepped: this one draws the images (and the light grid) from it and steps nothing, so no frame
+      // pays for both. A cloud that must catch up alternates, at half the rate.
+      p.steps = 0;
+      p.update = true;
+    } else {
+      p.update = dirty_ || (!spread && p.steps > 0);
+      if (spread && p.steps > 0) p.update = false;
+    }
+    stepped_last_ = p.steps > 0;
+    if (p.update) {
+      chunks_ = grown_->update_chunks(*solver_, spread ? update_frames : 1);
+      p.update_stages = chunks_.front();
+      if (chunks_.size() > 1) {
+        p.update = false;  // the images change in the update's last frame
+        next_chunk_ = 1;
+      }
+    }
   }
-  stepped_last_ = p.steps > 0;
   if (p.update) {
+    p.first_images = shown_step_ < 0;
     ++asset_->revision;  // this frame's graph rebuilds the images before anything samples them
     shown_step_ = solver_->steps_done() + p.steps;  // the update follows this frame's steps
   }
@@ -107,9 +133,11 @@ void CloudGrowthRuntime::record_steps(VkCommandBuffer cmd, int steps) {
   if (steps > 0) dirty_ = true;
 }
 
-void CloudGrowthRuntime::record_update(VkCommandBuffer cmd, gpu::GpuTimer* timer, grow_gpu::GrownUpdateOrder order,
-                                       int readback_slot) {
-  grown_->record_update(cmd, *solver_, timer, order);
+void CloudGrowthRuntime::record_update(VkCommandBuffer cmd, grow_gpu::GrownUpdateChunk run, gpu::GpuTimer* timer,
+                                       grow_gpu::GrownUpdateOrder order, int readback_slot) {
+  const int updates = grown_->updates_recorded();
+  grown_->record_update_stages(cmd, *solver_, run.first, run.count, timer, order);
+  if (grown_->updates_recorded() == updates) return;  // not the update's last stages
   if (readback_slot >= 0 && size_t(readback_slot) < slot_copies_.size()) {
     SlotCopy& c = slot_copies_[size_t(readback_slot)];
     grown_->record_modeling_copy(cmd, c.buffer.handle());
@@ -184,8 +212,9 @@ void add_cloud_growth_passes(cumulo::render::RenderGraph& graph, const std::vect
       kGrowAssetPass, Queue::Compute, [](PassBuilder& b) { b.side_effect(); },
       [work](PassContext& c) {
         for (const CloudGrowthWork& w : work)
-          if (w.plan.update)
-            w.runtime->record_update(c.cmd(), nullptr, grow_gpu::GrownUpdateOrder::Interleaved, w.plan.readback_slot);
+          if (w.plan.update_stages.count > 0)
+            w.runtime->record_update(c.cmd(), w.plan.update_stages, nullptr, grow_gpu::GrownUpdateOrder::Interleaved,
+                                     w.plan.readback_slot);
       });
 }
 

@@ -5,8 +5,8 @@
 //
 //   CloudGrowthRuntimes growth(ctx, library);                 // one per CloudFeature (level lifetime)
 //   CloudGrowthRuntime& g = growth.runtime(*instance.growth);  // one per growing cloud (CloudGrowthFrame::key)
-//   CloudGrowthRuntime::Plan plan = g.plan(*instance.growth, options.growth_steps_per_frame);
-//   ci.asset = g.asset();  ci.asset_changed = plan.update;    // the instance draws the grown images
+//   CloudGrowthRuntime::Plan plan = g.plan(*instance.growth, options.growth_steps_per_frame, true, slot, 8);
+//   ci.asset = g.asset();  ci.asset_grew = plan.update;       // the instance draws the grown images
 //   add_cloud_growth_passes(graph, {{&g, plan}});             // before the light passes
 //
 // Index:  CloudGrowthRuntime  CloudGrowthRuntimes  CloudGrowthWork  add_cloud_growth_passes
@@ -61,21 +61,27 @@ class CloudGrowthRuntime {
 
   // This frame's work toward `frame`: a new generation starts again from the first step (now: waits for the GPU);
   // then up to `max_steps` steps toward target_steps (never back: a lower target holds), and an update of the images
-  // after any step (or after a restart). `spread`: the images are updated in the frame after the steps, never in
-  // the same one (a frame pays for the simulation or for the images and light grid, not both); else in the same.
+  // after any step (or after a restart). `spread`: the images are updated in the frames after the steps, never in
+  // the same one (a frame pays for the simulation or for the images and light grid, not both), over `update_frames`
+  // frames (GpuGrownAsset::update_chunks: the distance field's and the attributes' passes in the first ones, the
+  // images and the light grid in the last), with no step until the update is done; else all in the steps' frame.
   struct Plan {
     int steps = 0;
-    bool update = false;    // the images change this frame
+    grow_gpu::GrownUpdateChunk update_stages;  // the update's stages this frame records (count 0: none)
+    bool update = false;     // the images change this frame (the update's last stages)
+    bool first_images = false;  // ... and they are this generation's first (its light grid is built whole)
     int readback_slot = -1;  // the update's modeling image is copied for the host into this frame slot's buffer
   };
   // `slot`: the frame slot this frame records in (its previous submission complete): the modeling image copied in
   // that slot's last frame becomes the host's copy (modeling_readback). -1: no read-backs.
-  Plan plan(const CloudGrowthFrame& frame, int max_steps, bool spread = true, int slot = -1);
+  Plan plan(const CloudGrowthFrame& frame, int max_steps, bool spread = true, int slot = -1, int update_frames = 1);
   // What the passes record (in the frame's command buffer, before anything samples the images).
   void record_steps(VkCommandBuffer cmd, int steps);
-  // With a timer: the update's stages as ranges (`cumulo bench` times the apart order).
-  void record_update(VkCommandBuffer cmd, gpu::GpuTimer* timer = nullptr,
+  // The update's stages `run` (Plan::update_stages; {0, INT32_MAX}: all of them). With a timer: the update's stages
+  // as ranges (`cumulo bench` times the apart order).
+  void record_update(VkCommandBuffer cmd, grow_gpu::GrownUpdateChunk run, gpu::GpuTimer* timer = nullptr,
                      grow_gpu::GrownUpdateOrder order = grow_gpu::GrownUpdateOrder::Interleaved, int readback_slot = -1);
+  bool updating() const { return next_chunk_ >= 0; }  // an update spread over frames is under way
 
   // The host's copy of the modeling image (the march's profile, detail type, density scale and coverage, as a
   // baked modeling NVDF in the cloud's local frame) for the CPU density query (scene/density_query.h): the last
@@ -91,10 +97,11 @@ class CloudGrowthRuntime {
   const grow_gpu::GpuCloudSolver& solver() const { return *solver_; }
   const grow_gpu::GpuGrownAsset& grown() const { return *grown_; }
   int steps_done() const;  // recorded since the last (re)start
-  // After this frame's plan: the images it draws hold no cloud (none drawn yet, or the first step's state and that
-  // state has no cloud water above the iso). The renderer leaves such a cloud out of the frame's instances, so a
-  // storm waiting for its event costs the march nothing; the frame that first shows cloud updates the images, so
-  // its light grid is rebuilt (CloudInstance::asset_changed) as it joins.
+  // After this frame's plan: the images it draws hold no cloud (none drawn yet in this generation, or the first
+  // step's state and that state has no cloud water above the iso). The renderer leaves such a cloud out of the frame's
+  // instances, so a storm waiting for its event costs the march nothing (and, with a cloudless start, no update); the
+  // frame that first shows cloud updates the images (Plan::first_images), so its light grid is rebuilt
+  // (CloudInstance::asset_changed) as it joins; later images are swept in (asset_grew) or rebuild it.
   bool images_cloudless() const { return shown_step_ < 0 || (shown_step_ == 0 && start_cloudless_); }
   uint32_t generation() const { return generation_; }
   int restarts() const { return restarts_; }  // new generations seen (the first start not counted)
@@ -113,6 +120,8 @@ class CloudGrowthRuntime {
   bool started_ = false;
   bool dirty_ = true;  // the images do not show the solver's state yet
   bool stepped_last_ = false;  // the last plan stepped
+  std::vector<grow_gpu::GrownUpdateChunk> chunks_;  // the update under way, a run a frame
+  int next_chunk_ = -1;                             // its next run (-1: none under way)
   int shown_step_ = -1;          // the solver's step the images show after this frame's update (-1: none yet)
   bool start_cloudless_ = true;  // the first step's state has no cloud water above the iso
   struct SlotCopy {

@@ -160,12 +160,29 @@ LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in) 
     g.frames_same_sun = sun_asset == g.last_sun && weather == g.last_weather ? g.frames_same_sun + 1 : 0;
     g.last_sun = sun_asset;
     g.last_weather = weather;
-    const bool current = sweep && !s.light_grid_always_update && g.frames_same_sun >= res.desc.light_grid_divisions;
+    const uint32_t divisions = res.desc.light_grid_divisions;
+    if (inst.asset_grew && sweep && !rebuild) {
+      // The new images swept in. A cycle that starts at the first level (the one nearest the light) makes the grid
+      // current: each level reads a level above it already swept over the new images. With no cycle under way one
+      // starts now; else the one under way finishes and one more whole cycle follows (restarting it instead would
+      // starve its last levels when the images change faster than a cycle).
+      const bool under_way = g.sweep_left > 0 || g.frames_same_sun < divisions;
+      if (!under_way) {
+        g.sweep_phase = uint32_t(in.frame_index % divisions);
+        g.sweep_left = divisions;
+      } else {
+        const uint32_t at = uint32_t((in.frame_index + divisions - g.sweep_phase) % divisions);
+        g.sweep_left = divisions - at + divisions;
+      }
+    }
+    const bool current =
+        sweep && !s.light_grid_always_update && g.frames_same_sun >= divisions && g.sweep_left == 0;
     if (rebuild) {
       w.first = 0, w.layers = gs.z;
       w.level_first = 0, w.level_count = gs.y;
       g.sun = sun_asset, g.key = key, g.valid = true, g.weather = weather;
       g.frames_same_sun = res.desc.light_grid_divisions;  // every level computed with this sun
+      g.sweep_left = 0;
       ++res.rebuilds;
       work.rebuilt = true;
     } else if (current) {
@@ -173,7 +190,9 @@ LightGridWork plan_light_grids(CloudResources& res, const CloudFrameInputs& in) 
       w.level_first = 0, w.level_count = 0;
     } else if (sweep) {
       w.first = 0, w.layers = gs.z;
-      w.level_first = std::min(gs.y, uint32_t(in.frame_index % res.desc.light_grid_divisions) * levels_per_frame);
+      const uint32_t at = uint32_t((in.frame_index + divisions - g.sweep_phase) % divisions);
+      w.level_first = std::min(gs.y, at * levels_per_frame);
+      if (g.sweep_left > 0) --g.sweep_left;
       w.level_count = std::min(levels_per_frame, gs.y - w.level_first);
     } else {
       w.first = uint32_t(in.frame_index % res.desc.light_grid_divisions) * slab;

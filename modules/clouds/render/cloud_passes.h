@@ -51,6 +51,8 @@ struct CloudResources {
     uint32_t frames_same_sun = 0;   // frames since the sun or the weather last moved (the sweep is current after a cycle)
     glm::vec3 weather{0.0f};        // the instance's density, dissipation and coverage at the last full rebuild
     glm::vec3 last_weather{0.0f};   // ... of the last frame
+    uint32_t sweep_phase = 0;       // the frame index (mod the divisions) at which the sweep's cycle starts its first level
+    uint32_t sweep_left = 0;        // frames of sweep still owed to a change of the asset's images (asset_grew)
   };
   // ablation, segment, bc1 SDF, distance noise mip, mean-noise light samples, asset slots, terrain shadow,
   // coverage texture (the BC1 modeling NVDF), the solved multiple scattering (MS_FIELD)

@@ -46,4 +46,9 @@ float split_distance_for_device(const CloudRenderOptions& o, bool cpu_device) {
   return cpu_device ? kCpuSplitDistanceM : CloudSettings{}.split_distance_m;
 }
 
+int growth_update_frames_for_device(const CloudRenderOptions& o, bool cpu_device) {
+  if (o.growth_update_frames > 0) return o.growth_update_frames;
+  return cpu_device ? 8 : 4;
+}
+
 }  // namespace cumulo::clouds::render

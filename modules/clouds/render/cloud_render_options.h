@@ -67,10 +67,22 @@ struct CloudRenderOptions {
   int growth_steps_per_frame = 1;
   // --cloud-growth-spread: the images (and the light grid) in the frame after the steps (CloudGrowthRuntime::plan).
   bool growth_spread = true;
+  // --cloud-growth-update-frames: with the spread, the images' update over this many frames (the distance field's
+  // and attributes' passes, then the images alone), no step meanwhile; 0: by device (growth_update_frames_for_device).
+  int growth_update_frames = 0;
+  // --cloud-growth-light-sweep: a grown cloud's new images are swept into its light grid over the next cycle of
+  // frames (the sweep method's, from the level nearest the light) instead of a rebuild in the update's last frame.
+  bool growth_light_sweep = true;
 };
 
 // The march's settings of these options: the lighting preset with its overridden constants, and the rest.
 CloudSettings cloud_settings(const CloudRenderOptions& o);
+
+// A growing cloud's update spread over frames where --cloud-growth-update-frames does not say: 4 on a GPU (with the
+// step's frame, 12 steps a second at 60 Hz, the talk's goal is 10), 8 on a CPU device (the sample storm's update is
+// 190 ms of lavapipe's time: about 25 ms a frame; 9 frames a step still allow 2 steps a second at 20 fps, the
+// storm takes 1.2).
+int growth_update_frames_for_device(const CloudRenderOptions& o, bool cpu_device);
 
 // The 40/60 Hz split's distance where --cloud-split-distance does not set it: the talk's 200 m on a GPU,
 // kCpuSplitDistanceM on a CPU device. Issue 23 measured the lair (the Stormbird's chamber, whose walls stand

@@ -314,6 +314,10 @@ struct CloudInstance : CloudPlacement {
   std::shared_ptr<const CloudAsset> asset;
   // Its asset's images changed this frame (a grown cloud stepped, cloud_growth_runtime.h): its light grid is rebuilt.
   bool asset_changed = false;
+  // Its images changed by a little this frame (a grown cloud's step): with the sweep method its light grid is swept
+  // again over the next cycle of frames, from the level nearest the light, instead of rebuilt in this one (a rebuild
+  // is the update's most expensive part on a CPU device). Rebuilt anyway where the grid is not current otherwise.
+  bool asset_grew = false;
 };
 
 // Its block of CloudParams (transform, box, sun and sky in asset space, density, dissipation, wind

@@ -420,6 +420,45 @@ TEST(GrowGpu, AssetUpdateIsDeterministic) {
     EXPECT_TRUE(one.modeling == apart.modeling) << "the apart order's modeling differs from the interleaved one's";
     EXPECT_TRUE(one.field == apart.field) << "the apart order's field differs from the interleaved one's";
     EXPECT_FALSE(one.field == empty.field);
+
+    // Spread over frames (the renderer's --cloud-growth-update-frames): each run of stages in a submission of its own,
+    // from the empty sky's images. The images keep the empty sky's bytes until the last run, which gives the same
+    // bytes as the update in one; a run of a later frame reads only what the runs before it left.
+    solver.upload(grow::CloudSolver(g.spec.solver));
+    update(ctx, solver, grown);
+    solver.upload(g.cpu);
+    for (int frames : {2, 4, 7}) {
+      const std::vector<grow_gpu::GrownUpdateChunk> chunks = grown.update_chunks(solver, frames);
+      ASSERT_EQ(int(chunks.size()), frames);
+      int next = 0;
+      for (const grow_gpu::GrownUpdateChunk& c : chunks) {
+        EXPECT_EQ(c.first, next) << frames << " frames: the runs leave a gap or overlap";
+        EXPECT_GT(c.count, 0);
+        next = c.first + c.count;
+      }
+      EXPECT_EQ(chunks.back().count, 1) << "the images' stage is not alone in the last run";
+      const int updates = grown.updates_recorded(), stages = grown.stages_recorded();
+      for (size_t k = 0; k < chunks.size(); ++k) {
+        ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+          grown.record_update_stages(cmd, solver, chunks[k].first, chunks[k].count);
+        });
+        if (k + 1 < chunks.size()) {
+          const Bytes during = read();
+          EXPECT_TRUE(during.modeling == (frames == 2 ? empty.modeling : one.modeling) &&
+                      during.field == (frames == 2 ? empty.field : one.field))
+              << frames << " frames: the images changed before the update's last run (run " << k << ")";
+          EXPECT_EQ(grown.updates_recorded(), updates);
+        }
+      }
+      EXPECT_EQ(grown.updates_recorded(), updates + 1);
+      EXPECT_EQ(grown.stages_recorded(), stages + next);
+      const Bytes spread = read();
+      EXPECT_TRUE(one.modeling == spread.modeling) << frames << " frames: the modeling differs from one update's";
+      EXPECT_TRUE(one.field == spread.field) << frames << " frames: the field differs from one update's";
+    }
+    const std::vector<grow_gpu::GrownUpdateChunk> whole = grown.update_chunks(solver, 1);
+    ASSERT_EQ(whole.size(), 1u);
+    EXPECT_EQ(whole[0].first, 0);
     const grow_gpu::GrownAssetView view = grown.view();
     EXPECT_EQ(view.dims, glm::uvec3(grown.grid().voxels));
     EXPECT_EQ(view.field->extent().width, view.dims.x);

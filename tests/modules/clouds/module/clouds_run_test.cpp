@@ -432,11 +432,16 @@ TEST_F(CloudsRun, AGrowingCloudBuildsAfterItsEvent) {
                                     "time": {"steps": 40, "dt": 30}, "atmosphere": {"humidity": [0.95, 0.9]}})"));
   const fs::path grows = level("grows", R"("Cloudscape": {"asset": "small_cloud.json"})",
                                R"("Cloudscape": {"density": 1}, "CloudGrowth": {"spec": "growth.json", "event": "grow_now", "speed": 300, "voxel": 24})");
-  ASSERT_EQ(run(grows, "held.png", {"--start-at", "4", "--cloud-growth-steps-per-frame", "16"}, 6), 0);
-  ASSERT_EQ(run(grows, "grown.png", {"--event", "grow_now@0", "--start-at", "4", "--cloud-growth-steps-per-frame", "16"}, 6), 0);
+  const std::vector<std::string> pace = {"--start-at", "4", "--cloud-growth-steps-per-frame", "16",
+                                         "--cloud-growth-update-frames", "2"};
+  std::vector<std::string> event = pace;
+  event.insert(event.begin(), {"--event", "grow_now@0"});
+  ASSERT_EQ(run(grows, "held.png", pace, 6), 0);
+  ASSERT_EQ(run(grows, "grown.png", event, 6), 0);
   const Png held = load_png(dir_ / "held.png"), grown = load_png(dir_ / "grown.png");
-  // 4 s of play at 300 / 30 = 10 steps a second: the target is the spec's last step (40), reached in 3 frames of up to
-  // 16 steps (spread: a frame steps, the next draws the images).
+  // 4 s of play at 300 / 30 = 10 steps a second: the target is the spec's last step (40), taken 16 steps a frame
+  // (spread: a frame steps, the next two draw the images, the second of them the images themselves): by the 6th frame
+  // the images show 32 steps.
   const double d = mean_diff(held, grown);
   std::printf("growing cloud: mean |grown - held| %.2f per channel\n", d);
   EXPECT_GT(d, 2.0) << "the grown cloud does not show";

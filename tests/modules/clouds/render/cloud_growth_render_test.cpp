@@ -84,6 +84,7 @@ class CloudGrowthRender : public gpu::test::GpuTest {
     s.camera = scene::make_camera_view(scene::Transform::look_at({0, 160, 700}, {0, 160, 0}), scene::Camera{},
                                        float(kWidth) / float(kHeight));
     s.camera_name = "test";
+    s.frame_index = ++frame_index_;  // as the engine's frames (the light grid's sweep goes by it)
     CloudFrame cf;
     CloudInstanceFrame inst;
     inst.folder = dir_;  // not loaded: the growing cloud draws its own images
@@ -99,6 +100,16 @@ class CloudGrowthRender : public gpu::test::GpuTest {
     for (const auto& [n, ms] : renderer_->pass_timings())
       if (n == name) return ms;
     return -1.0;
+  }
+  // Held frames (the target reached) until one rebuilds or sweeps no level of the light grid; how many it took.
+  int settle(int target, uint32_t generation = 0) {
+    const int most = 2 * int(CloudResourcesDesc::for_device(ctx().info()).light_grid_divisions) + 4;
+    for (int f = 1; f <= most; ++f) {
+      frame(target, generation);
+      if (pass_ms("clouds.light_grid") < 0.0) return f;
+    }
+    ADD_FAILURE() << "the light grid still worked after " << most << " held frames";
+    return most;
   }
   const CloudGrowthRuntime& runtime() const {
     const CloudGrowthRuntime* r = feature_.growth_runtime(kKey);
@@ -121,6 +132,7 @@ class CloudGrowthRender : public gpu::test::GpuTest {
   CloudFeature feature_;
   std::unique_ptr<cumulo::render::FrameRenderer> renderer_;
   double last_ms_ = 0.0;
+  uint64_t frame_index_ = 0;
 };
 
 size_t cells_above(const std::vector<float>& qc, float iso) {
@@ -134,7 +146,8 @@ TEST_F(CloudGrowthRender, TheCloudBuildsAsItSteps) {
   feature_.options().growth_spread = false;  // the steps and their images in one frame
   const gpu::Rgba8Image start = frame(0);
   EXPECT_EQ(runtime().steps_done(), 0);
-  EXPECT_EQ(runtime().grown().updates_recorded(), 1);  // the start state's images
+  EXPECT_EQ(runtime().grown().updates_recorded(), 0);  // a start with no cloud: no images made, none drawn
+  EXPECT_TRUE(runtime().images_cloudless());
   EXPECT_EQ(cells_above(runtime().solver().read(grow_gpu::Field::CloudWater), runtime().spec().iso), 0u);
   frame(20);
   EXPECT_EQ(runtime().steps_done(), 10);  // at most 10 a frame
@@ -149,7 +162,7 @@ TEST_F(CloudGrowthRender, TheCloudBuildsAsItSteps) {
               pass_ms(kGrowPass), pass_ms(kGrowAssetPass), pass_ms("clouds.light_grid"), last_ms_);
   const gpu::Rgba8Image grown = frame(20);
   EXPECT_EQ(runtime().steps_done(), 20);
-  EXPECT_EQ(runtime().grown().updates_recorded(), 3);
+  EXPECT_EQ(runtime().grown().updates_recorded(), 2);
   const size_t cells = cells_above(runtime().solver().read(grow_gpu::Field::CloudWater), runtime().spec().iso);
   EXPECT_GT(cells, 20u);
   if (const char* dir = std::getenv("CUMULO_CLOUD_TEST_IMAGES"); dir && *dir) {  // for a person to look at
@@ -170,6 +183,7 @@ TEST_F(CloudGrowthRender, AHeldCloudGivesTheSameFrame) {
   frame(16);
   frame(16);
   ASSERT_EQ(runtime().steps_done(), 16);
+  settle(16);                           // the light grid's sweep of the last images done
   const gpu::Rgba8Image a = frame(16);  // held: no step, no update (the light grid rests)
   const std::vector<float> qc = runtime().solver().read(grow_gpu::Field::CloudWater);
   const std::vector<float> u = runtime().solver().read(grow_gpu::Field::U);
@@ -208,6 +222,7 @@ TEST_F(CloudGrowthRender, ANewGenerationStartsAgain) {
 // its frame slot comes round again (a frame later), byte-equal to the GPU's; its densest voxel has density.
 TEST_F(CloudGrowthRender, TheHostSeesTheGrownCloudAFrameLater) {
   feature_.options().growth_steps_per_frame = 10;
+  feature_.options().growth_update_frames = 1;
   for (int f = 0; f < 4; ++f) frame(20);  // steps, images, steps, images
   ASSERT_EQ(runtime().steps_done(), 20);
   EXPECT_LT(runtime().modeling_readback_step(), 20);  // the last update's copy is not taken yet
@@ -238,9 +253,10 @@ TEST_F(CloudGrowthRender, TheHostSeesTheGrownCloudAFrameLater) {
 // that must catch up alternates.
 TEST_F(CloudGrowthRender, StepsAndImagesTakeTurns) {
   feature_.options().growth_steps_per_frame = 4;
+  feature_.options().growth_update_frames = 1;  // the update whole in the frame after the steps
   frame(0);
   EXPECT_EQ(runtime().steps_done(), 0);
-  EXPECT_EQ(runtime().grown().updates_recorded(), 1);  // the start state's images: no step to wait for
+  EXPECT_EQ(runtime().grown().updates_recorded(), 0);  // a start with no cloud: no images to make
   struct Seen {
     int steps, updates;
   };
@@ -249,7 +265,7 @@ TEST_F(CloudGrowthRender, StepsAndImagesTakeTurns) {
     frame(8);
     seen.push_back({runtime().steps_done(), runtime().grown().updates_recorded()});
   }
-  const Seen expected[] = {{4, 1}, {4, 2}, {8, 2}, {8, 3}, {8, 3}};
+  const Seen expected[] = {{4, 0}, {4, 1}, {8, 1}, {8, 2}, {8, 2}};
   for (size_t f = 0; f < seen.size(); ++f) {
     EXPECT_EQ(seen[f].steps, expected[f].steps) << "frame " << f + 1;
     EXPECT_EQ(seen[f].updates, expected[f].updates) << "frame " << f + 1;
@@ -263,6 +279,99 @@ TEST_F(CloudGrowthRender, StepsAndImagesTakeTurns) {
   frame(8, 1);
   ASSERT_EQ(runtime().steps_done(), 8);
   EXPECT_TRUE(spread == runtime().grown().read_modeling());
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+// The update spread over frames (the default, --cloud-growth-update-frames 4): after a frame that steps, three frames
+// of the distance field's and attributes' passes that leave the images and the picture as they were (no step
+// meanwhile), then the images and the light grid; the same bytes as the update whole in one frame.
+TEST_F(CloudGrowthRender, AnUpdateSpreadOverFramesChangesThePictureOnlyInItsLast) {
+  feature_.options().growth_steps_per_frame = 24;
+  feature_.options().growth_update_frames = 1;
+  frame(24);
+  frame(24);  // 24 steps, then their images whole
+  ASSERT_EQ(runtime().steps_done(), 24);
+  ASSERT_FALSE(runtime().images_cloudless());
+  settle(24);
+  const gpu::Rgba8Image before = frame(24);  // held
+  const std::vector<uint8_t> modeling_before = runtime().grown().read_modeling();
+
+  feature_.options().growth_steps_per_frame = 4;
+  feature_.options().growth_update_frames = 4;
+  frame(28);  // 4 steps
+  EXPECT_EQ(runtime().steps_done(), 28);
+  const int updates = runtime().grown().updates_recorded(), stages = runtime().grown().stages_recorded();
+  for (int f = 0; f < 3; ++f) {
+    const gpu::Rgba8Image during = frame(32);  // the target moved on: still no step while the update runs
+    EXPECT_EQ(runtime().steps_done(), 28) << "update frame " << f;
+    EXPECT_TRUE(runtime().updating()) << "update frame " << f;
+    EXPECT_GT(runtime().grown().stages_recorded(), stages) << "update frame " << f;
+    EXPECT_EQ(runtime().grown().updates_recorded(), updates) << "update frame " << f;
+    EXPECT_EQ(pass_ms("clouds.light_grid"), -1.0) << "the light grid was rebuilt in update frame " << f;
+    EXPECT_TRUE(during.pixels == before.pixels) << changed_pixels(during, before) << " pixels changed in update frame " << f;
+    EXPECT_TRUE(runtime().grown().read_modeling() == modeling_before) << "the images changed in update frame " << f;
+  }
+  const gpu::Rgba8Image after = frame(32);  // the images, and the light grid's sweep begins
+  EXPECT_GT(pass_ms("clouds.light_grid"), 0.0);
+  EXPECT_FALSE(runtime().updating());
+  EXPECT_EQ(runtime().grown().updates_recorded(), updates + 1);
+  EXPECT_EQ(runtime().asset()->revision, uint64_t(runtime().grown().updates_recorded()));
+  EXPECT_GT(changed_pixels(after, before), 0u) << "4 more steps changed no pixel";
+  const std::vector<uint8_t> spread = runtime().grown().read_modeling();
+  frame(32);
+  EXPECT_EQ(runtime().steps_done(), 32) << "the next step waited for more than the update";
+
+  // The same 28 steps with the update in one frame: the same images.
+  feature_.options().growth_spread = false;
+  feature_.options().growth_steps_per_frame = 28;
+  frame(28, 1);
+  frame(28, 1);
+  ASSERT_EQ(runtime().steps_done(), 28);
+  EXPECT_TRUE(spread == runtime().grown().read_modeling());
+  EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
+}
+
+// The light grid follows new images by the sweep's cycle (--cloud-growth-light-sweep, the default) instead of a
+// rebuild: a level or so a frame from the one nearest the sun, done within a cycle of frames (16 on a CPU device),
+// and then the picture is the one a rebuild gives. New images while a cycle is under way let it finish and add one.
+TEST_F(CloudGrowthRender, TheLightGridSweepsNewImagesInWithinACycle) {
+  const int divisions = int(CloudResourcesDesc::for_device(ctx().info()).light_grid_divisions);
+  feature_.options().growth_spread = false;  // the steps and their images in one frame
+  feature_.options().growth_steps_per_frame = 24;
+  frame(24);  // the first images: the grid is built whole
+  settle(24);
+  feature_.options().growth_steps_per_frame = 4;
+  frame(28);  // 4 steps and their images: the sweep's cycle starts
+  EXPECT_GT(pass_ms("clouds.light_grid"), 0.0);
+  const int swept = settle(28);
+  std::printf("growth: the light grid swept the new images in over %d frames (a cycle: %d)\n", swept, divisions);
+  EXPECT_EQ(swept, divisions) << "a cycle is " << divisions << " frames after the one that changed the images";
+  const gpu::Rgba8Image sweep = frame(28);
+
+  // New images half-way through a cycle: it finishes and one whole cycle follows.
+  frame(32);
+  for (int f = 0; f < divisions / 2; ++f) frame(32);
+  frame(36);
+  EXPECT_EQ(settle(36), divisions - divisions / 2 - 1 + divisions) << "the cycle under way and one more";
+
+  // The same steps with a rebuild: the same picture.
+  feature_.options().growth_light_sweep = false;
+  feature_.options().growth_steps_per_frame = 24;
+  frame(24, 1);
+  settle(24, 1);
+  feature_.options().growth_steps_per_frame = 4;
+  frame(28, 1);
+  EXPECT_GT(pass_ms("clouds.light_grid"), 0.0);
+  EXPECT_EQ(settle(28, 1), 1) << "a rebuilt grid is current in the next frame";
+  const gpu::Rgba8Image rebuilt = frame(28, 1);
+  size_t differ = 0;
+  int most = 0;
+  for (size_t i = 0; i < sweep.pixels.size() / 4; ++i) {
+    differ += pixel_diff(sweep, rebuilt, i) > 0;
+    most = std::max(most, pixel_diff(sweep, rebuilt, i));
+  }
+  std::printf("growth: swept against rebuilt: %zu pixels differ, by %d levels at most\n", differ, most);
+  EXPECT_LE(most, 1) << "the swept light grid gives another picture than the rebuilt one";
   EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
 }
 
