@@ -91,8 +91,9 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
       .range(0.0, 32.0)
       .on_off("--cloud-growth-light-sweep",
               "a growing cloud's new images are swept into its light grid over the next frames (the sweep's cycle, from "
-              "the level nearest the sun) instead of rebuilding the grid in the update's last frame (default on; "
-              "with --cloud-light-grid-method sweep)",
+              "the level nearest the sun) instead of rebuilding the grid in the update's last frame (default off: the "
+              "gradual change shows the temporal reprojection's pattern over the growing cloud; with "
+              "--cloud-light-grid-method sweep)",
               &o.growth_light_sweep)
       .on_off("--cloud-sky-occlusion",
               "the 2.5D sky is not marched where this frame's voxel clouds hide it (it keeps its last value; default on)",

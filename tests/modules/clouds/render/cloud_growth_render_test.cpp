@@ -311,7 +311,7 @@ TEST_F(CloudGrowthRender, AnUpdateSpreadOverFramesChangesThePictureOnlyInItsLast
     EXPECT_TRUE(during.pixels == before.pixels) << changed_pixels(during, before) << " pixels changed in update frame " << f;
     EXPECT_TRUE(runtime().grown().read_modeling() == modeling_before) << "the images changed in update frame " << f;
   }
-  const gpu::Rgba8Image after = frame(32);  // the images, and the light grid's sweep begins
+  const gpu::Rgba8Image after = frame(32);  // the images and the light grid
   EXPECT_GT(pass_ms("clouds.light_grid"), 0.0);
   EXPECT_FALSE(runtime().updating());
   EXPECT_EQ(runtime().grown().updates_recorded(), updates + 1);
@@ -331,11 +331,12 @@ TEST_F(CloudGrowthRender, AnUpdateSpreadOverFramesChangesThePictureOnlyInItsLast
   EXPECT_EQ(ctx().validation_errors(), 0u) << ctx().last_validation_message();
 }
 
-// The light grid follows new images by the sweep's cycle (--cloud-growth-light-sweep, the default) instead of a
+// The light grid follows new images by the sweep's cycle (--cloud-growth-light-sweep on) instead of a
 // rebuild: a level or so a frame from the one nearest the sun, done within a cycle of frames (16 on a CPU device),
 // and then the picture is the one a rebuild gives. New images while a cycle is under way let it finish and add one.
 TEST_F(CloudGrowthRender, TheLightGridSweepsNewImagesInWithinACycle) {
   const int divisions = int(CloudResourcesDesc::for_device(ctx().info()).light_grid_divisions);
+  feature_.options().growth_light_sweep = true;
   feature_.options().growth_spread = false;  // the steps and their images in one frame
   feature_.options().growth_steps_per_frame = 24;
   frame(24);  // the first images: the grid is built whole
