@@ -160,6 +160,11 @@ GrowthFigures measure_growth(app::HeadlessSession& session, render::CloudFeature
     }
   }
 
+  // An update spread over frames that is still under way is finished first (its runs share the scratch buffers the
+  // apart timings use).
+  c.target_steps = runtime->steps_done();
+  for (int f = 0; f < 40 && runtime->updating(); ++f) render_frame(session, runtime, camera, mode, find);
+
   // Apart, outside the frame: a step, the distance field, the attributes.
   gpu::Context& ctx = session.ctx();
   ctx.wait_idle();
