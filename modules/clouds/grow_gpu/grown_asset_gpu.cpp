@@ -214,7 +214,20 @@ void GpuGrownAsset::pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, const s
 // barrier follows every stage but the last. Only the last stage writes the images, so an update spread over frames
 // (record_update_stages) leaves the images whole until its last frame; the stages before it read the solver's buffers
 // and write the scratch buffers only.
-std::vector<GpuGrownAsset::Stage> GpuGrownAsset::stages(const GpuCloudSolver& solver, GrownUpdateOrder order) const {
+const std::vector<GpuGrownAsset::Stage>& GpuGrownAsset::stages(const GpuCloudSolver& solver,
+                                                                GrownUpdateOrder order) const {
+  StageCache& c = stage_cache_[size_t(order)];
+  const std::array<VkBuffer, 4> reads = {solver.buffer(Field::CloudWater), solver.buffer(Field::Condensation),
+                                          solver.buffer(Field::Growth), solver.buffer(Field::V)};
+  if (c.list.empty() || c.solver != reads || solver.dims() != grid_.cells) {
+    c.list = build_stages(solver, order);
+    c.solver = reads;
+  }
+  return c.list;
+}
+
+std::vector<GpuGrownAsset::Stage> GpuGrownAsset::build_stages(const GpuCloudSolver& solver,
+                                                              GrownUpdateOrder order) const {
   if (solver.dims() != grid_.cells)
     fail("grow_gpu: a grown asset for %dx%dx%d cells updated from a %dx%dx%d solver", grid_.cells.x, grid_.cells.y,
          grid_.cells.z, solver.dims().x, solver.dims().y, solver.dims().z);
@@ -356,7 +369,7 @@ std::vector<GpuGrownAsset::Stage> GpuGrownAsset::stages(const GpuCloudSolver& so
 }
 
 std::vector<GrownUpdateChunk> GpuGrownAsset::update_chunks(const GpuCloudSolver& solver, int frames) const {
-  const std::vector<Stage> list = stages(solver, GrownUpdateOrder::Interleaved);
+  const std::vector<Stage>& list = stages(solver, GrownUpdateOrder::Interleaved);
   const int n = int(list.size());
   frames = std::clamp(frames, 1, n);
   std::vector<GrownUpdateChunk> chunks;
@@ -391,7 +404,7 @@ void GpuGrownAsset::record_update(VkCommandBuffer cmd, const GpuCloudSolver& sol
 
 void GpuGrownAsset::record_update_stages(VkCommandBuffer cmd, const GpuCloudSolver& solver, int first, int count,
                                          gpu::GpuTimer* timer, GrownUpdateOrder order) {
-  const std::vector<Stage> list = stages(solver, order);
+  const std::vector<Stage>& list = stages(solver, order);
   const int n = int(list.size());
   if (first < 0 || first >= n || count < 1)
     fail("grow_gpu: update stages [%d, +%d) outside the update's %d", first, count, n);

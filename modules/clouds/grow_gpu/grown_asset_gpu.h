@@ -176,7 +176,10 @@ class GpuGrownAsset {
     const char* range = nullptr;
     std::vector<std::function<void(VkCommandBuffer)>> passes;
   };
-  std::vector<Stage> stages(const GpuCloudSolver& solver, GrownUpdateOrder order) const;
+  // The stages for `solver`'s buffers, built once per solver and order (an update spread over frames records a run
+  // of them every frame).
+  const std::vector<Stage>& stages(const GpuCloudSolver& solver, GrownUpdateOrder order) const;
+  std::vector<Stage> build_stages(const GpuCloudSolver& solver, GrownUpdateOrder order) const;
   void pass(VkCommandBuffer cmd, const gpu::Pipeline& pipe, const std::vector<VkBuffer>& buffers, uint32_t groups,
             int pass_x = 0, int axis = 0, int radix = 0) const;
   uint32_t voxel_groups() const;
@@ -195,6 +198,11 @@ class GpuGrownAsset {
   std::vector<int> jfa_steps_;
   int updates_ = 0;
   int stages_recorded_ = 0;
+  struct StageCache {
+    std::array<VkBuffer, 4> solver{};  // the solver buffers they read (cloud water, condensation, growth, v)
+    std::vector<Stage> list;
+  };
+  mutable std::array<StageCache, 2> stage_cache_;  // by GrownUpdateOrder
 };
 
 }  // namespace cumulo::clouds::grow_gpu
