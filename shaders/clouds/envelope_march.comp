@@ -23,6 +23,9 @@
 // jitter is fixed per pixel. On a CPU device the far pass marches one pixel of each BxB block a frame (CloudMarchPush
 // sub) and reconstruct.comp reprojects the rest, as the voxel clouds' far segment does (EnvelopeMarchSettings).
 // The stretch of the ray marched: [E.stepping.w, E.misc.x) (the 40/60 Hz split's near and far passes).
+// TERRAIN_SHADOW 1: the terrain between a sample and the sun hides it (the voxel clouds' terrain_visibility, issue 10):
+// these clouds lie on the terrain, and a bank on a slope away from a low sun is in the hill's shadow, as the path
+// tracer shows (issue 21: before it, the shadowed end of the sample level's bank read 2-3x too bright).
 #extension GL_GOOGLE_include_directive : require
 #include "clouds/envelope_density.glsl"
 #include "shared/cloud_params.h"
@@ -38,6 +41,42 @@ layout(set = 0, binding = ENV_BINDING_SCENE_DEPTH) uniform sampler2D scene_depth
 layout(set = 0, binding = ENV_BINDING_OUT_COLOR, rgba16f) uniform writeonly image2D out_color;
 layout(set = 0, binding = ENV_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
+
+#ifndef TERRAIN_SHADOW
+#define TERRAIN_SHADOW 0
+#endif
+#if TERRAIN_SHADOW
+layout(set = 0, binding = ENV_BINDING_TERRAIN_DEPTH) uniform sampler2D terrain_depth_tex;
+// The shadow's edge softened over 40 m of depth, as the voxel clouds'.
+float terrain_visibility(vec3 world) {
+  vec4 c = E.light_depth * vec4(world, 1.0);
+  vec3 n = c.xyz / c.w;
+  vec2 uv = n.xy * 0.5 + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || n.z <= 0.0) return 1.0;
+  float occluder = textureLod(terrain_depth_tex, uv, 0.0).r;
+  return saturate(1.0 - (n.z - occluder) * E.terrain.x / 40.0);
+}
+#else
+float terrain_visibility(vec3 world) { return 1.0; }
+#endif
+
+// VOXEL_SHADOW 1: the voxel clouds above shadow these (the path tracer's sun crosses both media): their shadow map's
+// transmittance (shadow_map.comp), on its plane under their boxes, where the ray toward the sun crosses it.
+#ifndef VOXEL_SHADOW
+#define VOXEL_SHADOW 0
+#endif
+#if VOXEL_SHADOW
+layout(set = 0, binding = ENV_BINDING_VOXEL_SHADOW_MAP) uniform sampler2D voxel_shadow_tex;
+float voxel_transmittance(vec3 p, vec3 l) {
+  if (l.y <= 1e-3) return 1.0;
+  vec2 xz = p.xz + l.xz * ((E.terrain.y - p.y) / l.y);
+  vec2 uv = (xz - E.voxel_shadow.xy) / E.voxel_shadow.zw;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+  return textureLod(voxel_shadow_tex, uv, 0.0).r;
+}
+#else
+float voxel_transmittance(vec3 p, vec3 l) { return 1.0; }
+#endif
 
 // The ray's stretch inside the envelope's box ([map extent] x [lowest bottom, highest top]); x >= y: none.
 vec2 box_segment(vec3 ro, vec3 rd) {
@@ -76,7 +115,7 @@ float light_optical_depth(vec3 p, vec3 l) {
 // the upper hemisphere's phase-weighted share of the sky, occluded by the column above; the sky's light diffused in,
 // darkened at the edges by the optical depth to the nearest of the column's surfaces (E.octaves.w, the voxel clouds'
 // edge scale); the ground's (albedo E.sun_color.w) from the lower hemisphere through the column below.
-vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, EnvelopeSample es) {
+vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, float sun_visible, EnvelopeSample es) {
   vec3 sun = vec3(0.0);
   float a = 1.0, b = 1.0, c = 1.0;
   for (int n = 0; n < 4; ++n) {
@@ -84,6 +123,7 @@ vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, EnvelopeSampl
     sun += E.sun_color.rgb * (b * exp(-a * od_sun) * ph);
     a *= E.octaves.x, b *= E.octaves.y, c *= E.octaves.z;
   }
+  sun *= sun_visible;
   vec2 uv = env_uv(p.xz);
   vec4 shape = textureLod(shape_tex, uv, 0.0);
   float edge_m = textureLod(aux_tex, uv, 0.0).y;
@@ -153,9 +193,9 @@ void main() {
       float od = light_optical_depth(p, l);
       vec3 light_in;
       if (E.octaves.x + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
-        light_in = octave_light(p, rd, l, mu, od, es);
+        light_in = octave_light(p, rd, l, mu, od, terrain_visibility(p) * voxel_transmittance(p, l), es);
       } else {
-        light_in = E.sun_color.rgb * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi));
+        light_in = E.sun_color.rgb * (terrain_visibility(p) * voxel_transmittance(p, l) * (exp(-od) * phase + E.phase.w * exp(-od * 0.5) * 0.5 / (4.0 * kPi)));
         light_in += E.ambient_color.rgb * mix(E.misc.y, 1.0, es.hf);
       }
       float sigma_t = max(es.density * E.wind.w, 1e-7);

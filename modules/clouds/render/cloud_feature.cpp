@@ -166,6 +166,7 @@ void CloudFeature::add_passes(cumulo::render::Stage stage, cumulo::render::Stage
     add_cloud_growth_passes(f.graph, growth_work_);
     growth_work_.clear();
     light_ = add_cloud_light_passes(*resources_, f.graph, *inputs_);
+    inputs_->voxel_shadow = light_.shadow;
     cumulo::render::LightShadowMap shadow = light_.shadow;
     for (CloudFramePass* p : drawn_passes_) p->add_before_scene(f, *frame, *inputs_, shadow);
     if (shadow.texture.valid()) f.resources.publish(shadow);

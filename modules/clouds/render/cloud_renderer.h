@@ -366,6 +366,9 @@ struct CloudFrameInputs {
   TextureHandle terrain_depth;
   glm::mat4 terrain_depth_matrix{1.0f};
   float terrain_depth_range_m = 1.0f;
+  // The voxel clouds' shadow map this frame (CloudLightOutputs::shadow, on the plane under their boxes): the envelope
+  // clouds below them read it (envelope_march.comp VOXEL_SHADOW); invalid: none.
+  cumulo::render::LightShadowMap voxel_shadow;
   bool camera_cut = false;                    // history invalid this frame
   // The march, its reconstruction and history and the 2.5D sky at this fraction of the output's width and
   // height (dynamic resolution, FrameSnapshot::resolution_scale); the composite upsamples them depth-aware.

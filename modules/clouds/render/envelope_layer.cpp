@@ -75,8 +75,19 @@ struct EnvelopeLayer::Impl {
   gpu::Image shape, steps, aux;
   std::shared_ptr<const envelope::EnvelopeMaps> maps;
   std::vector<std::pair<uint64_t, gpu::Image>> retired;  // (frame replaced, image)
-  gpu::Pipeline* march_cone = nullptr;
-  gpu::Pipeline* march_fixed = nullptr;
+  // The march's variants, built on first use: [cone stepping][the terrain's shadow][the voxel clouds' shadow].
+  gpu::Pipeline* march_pipes[2][2][2] = {};
+  gpu::Pipeline* march_pipeline(bool cone, bool terrain, bool voxel) {
+    gpu::Pipeline*& pipe = march_pipes[cone][terrain][voxel];
+    if (!pipe)
+      pipe = &library.compute({.shader = "clouds/envelope_march.comp",
+                               .defines = {{"CONE_STEPPING", cone ? "1" : "0"},
+                                           {"TERRAIN_SHADOW", terrain ? "1" : "0"},
+                                           {"VOXEL_SHADOW", voxel ? "1" : "0"}},
+                               .name = std::string("clouds.envelope (") + (cone ? "cone stepping" : "fixed steps") +
+                                       (terrain ? ", terrain shadow" : "") + (voxel ? ", voxel clouds' shadow" : "") + ")"});
+    return pipe;
+  }
   gpu::Pipeline* probe = nullptr;  // built on first use
   gpu::Buffer ubo[gpu::kFramesInFlight][3];  // [slot][near, far, the path tracer's medium]
   // The sub-sampled far pass's reprojection (EnvelopeMarchSettings::far_block > 1).
@@ -148,6 +159,9 @@ struct EnvelopeLayer::Impl {
       ++boxes;
     }
     p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), envelope::kYieldFadeM);
+    p.light_depth = in.terrain_depth_matrix;
+    p.terrain = glm::vec4(in.terrain_depth_range_m, in.voxel_shadow.height, 0.0f, 0.0f);
+    p.voxel_shadow = glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size);
     return p;
   }
 
@@ -187,12 +201,6 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
   Impl& m = *impl_;
   m.base = m.load(dir / "sky_noise_base.nvdf");
   m.detail = m.load(dir / "sky_noise_detail.nvdf");
-  m.march_cone = &library.compute({.shader = "clouds/envelope_march.comp",
-                                   .defines = {{"CONE_STEPPING", "1"}},
-                                   .name = "clouds.envelope (cone stepping)"});
-  m.march_fixed = &library.compute({.shader = "clouds/envelope_march.comp",
-                                    .defines = {{"CONE_STEPPING", "0"}},
-                                    .name = "clouds.envelope (fixed steps)"});
   m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.envelope_reconstruct"});
   m.reconstruct_merge = &library.compute({.shader = "clouds/reconstruct.comp",
                                           .defines = {{"MERGE_NEAR", "1"}},
@@ -524,7 +532,11 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   // The split's near pass only where the envelope comes within the split distance of the camera (as the voxel clouds
   // leave out theirs): from afar the far pass marches the whole ray.
   const bool split = march.split_m > 0.0f && envelope_within(*m.maps, in.camera.position, march.split_m);
-  gpu::Pipeline* pipe = march.cone_stepping ? m.march_cone : m.march_fixed;
+  const bool terrain = in.settings.terrain_shadow && in.terrain_depth.valid();
+  const TextureHandle terrain_depth = in.terrain_depth;
+  const bool voxel = in.voxel_shadow.texture.valid();
+  const TextureHandle voxel_shadow = in.voxel_shadow.texture;
+  gpu::Pipeline* pipe = m.march_pipeline(march.cone_stepping, terrain, voxel);
   Impl* mp = &m;
 
   // One segment of the rays [start, end) at `seg_scale` of the output, one pixel of each `block` x `block` a frame (at
@@ -545,17 +557,22 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
         [&](PassBuilder& b) {
           Impl::read_density(b, density);
           b.read(scene_depth, Usage::Sampled);
+          if (terrain) b.read(terrain_depth, Usage::Sampled);
+          if (voxel) b.read(voxel_shadow, Usage::Sampled);
           color = b.write(color, Usage::StorageWrite);
           depth = b.write(depth, Usage::StorageWrite);
         },
-        [mp, pipe, density, scene_depth, color, depth, fw, fh, block, offset](PassContext& c) {
+        [mp, pipe, density, scene_depth, terrain, terrain_depth, voxel, voxel_shadow, color, depth, fw, fh, block, offset](PassContext& c) {
           pipe->bind(c.cmd());
           gpu::DescriptorWriter w;
           mp->bind_density(w, c, density)
               .sampled_image(ENV_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
               .storage_image(ENV_BINDING_OUT_COLOR, c.view(color))
-              .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth))
-              .push(mp->ctx, c.cmd(), *pipe);
+              .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth));
+          if (terrain)
+            w.sampled_image(ENV_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), mp->nearest_clamp, c.layout(terrain_depth));
+          if (voxel) w.sampled_image(ENV_BINDING_VOXEL_SHADOW_MAP, c.view(voxel_shadow), mp->linear_clamp, c.layout(voxel_shadow));
+          w.push(mp->ctx, c.cmd(), *pipe);
           shared::CloudMarchPush pc{};
           pc.target = glm::vec4(float(fw), float(fh), 1.0f / float(fw), 1.0f / float(fh));
           pc.sub = glm::vec4(float(block), float(offset.x), float(offset.y), 0.0f);

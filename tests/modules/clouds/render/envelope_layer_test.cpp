@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+
+#include <glm/gtc/packing.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "engine/core/json.h"
 #include "engine/gpu/readback.h"
@@ -93,7 +97,9 @@ class EnvelopeLayerTest : public CloudRenderFixture {
                                                  depth_.handle(), depth_.view(), ResourceState::shader_read_only());
     EnvelopeDraw draw;
     draw.maps = test_maps();
-    const EnvelopeLayer::Outputs o = layer_->add_passes(g, draw, m, in, depth);
+    CloudFrameInputs with = in;
+    if (before_march_) before_march_(g, with);
+    const EnvelopeLayer::Outputs o = layer_->add_passes(g, draw, m, with, depth);
     BufferHandle rb_color = g.import_buffer("test.rb_color", readback_color_.handle(), readback_color_.size(),
                                             ResourceState::host_read(), ResourceState::host_read());
     BufferHandle rb_depth = g.import_buffer("test.rb_depth", readback_env_depth_.handle(), readback_env_depth_.size(),
@@ -179,8 +185,23 @@ class EnvelopeLayerTest : public CloudRenderFixture {
     return out;
   }
 
+  // An R16F or R32F image of `n` x `n` texels, row by row.
+  gpu::Image float_image(uint32_t n, VkFormat format, const std::vector<float>& values, const char* name) {
+    gpu::Image img(ctx(), gpu::ImageDesc::tex2d(n, n, format, VK_IMAGE_USAGE_SAMPLED_BIT, 1, name));
+    if (format == VK_FORMAT_R16_SFLOAT) {
+      std::vector<uint16_t> h(values.size());
+      for (size_t i = 0; i < h.size(); ++i) h[i] = glm::packHalf1x16(values[i]);
+      img.upload({{h.data(), h.size() * 2}});
+    } else {
+      img.upload({{values.data(), values.size() * 4}});
+    }
+    return img;
+  }
+
   std::unique_ptr<EnvelopeLayer> layer_;
   gpu::Buffer readback_env_depth_;
+  // Called on each march's graph and inputs before the layer's passes (a test's shadow maps).
+  std::function<void(cumulo::render::RenderGraph&, CloudFrameInputs&)> before_march_;
 };
 
 TEST_F(EnvelopeLayerTest, TheGpuProfileIsTheTalksFormulaOnAKnownHeightfield) {
@@ -491,6 +512,108 @@ TEST_F(EnvelopeLayerTest, TheSlabPresetsOctavesLightTheEnvelopeWithinAThirdOfThe
     EXPECT_NEAR(oct_sum / ref_sum, 1.0, 0.3);
     EXPECT_GT(std::abs(err_oct - err_24), 0.001);  // the two presets light it differently
   }
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// The sun's light on the envelope goes through what lies between: the voxel clouds above (their shadow map, on its
+// plane under their boxes, read where the sample's ray toward the sun crosses it) and the terrain (the light's depth
+// map). Issue 21: the path tracer showed the sample level's bank in the hero cloud's shadow where the march lit it.
+TEST_F(EnvelopeLayerTest, TheVoxelCloudsAndTheTerrainHideTheSunFromTheEnvelope) {
+  using namespace cumulo::render;
+  set_size(96, 54);
+  const scene::CameraView cam = camera({700.0f, 1200.0f, 900.0f}, {0.0f, 300.0f, 0.0f}, 60.0f);
+  EnvelopeMarchSettings m;
+  m.max_steps = 4096;
+  const CloudFrameInputs in = env_inputs(cam);
+  const glm::vec3 l = glm::normalize(in.sun_direction);
+  constexpr uint32_t kTexels = 64;
+  constexpr float kPlane = 800.0f;  // the voxel clouds' map: world y
+  // Its halves meet where the light from the cap's middle (x = 0 at 300 m) crosses the plane.
+  const float split = l.x * (kPlane - 300.0f) / l.y;
+  auto voxel_map = [&](float left, float right) {  // transmittance for plane x < split and x >= split
+    std::vector<float> v(kTexels * kTexels);
+    for (uint32_t j = 0; j < kTexels; ++j)
+      for (uint32_t i = 0; i < kTexels; ++i) v[j * kTexels + i] = i < kTexels / 2 ? left : right;
+    return float_image(kTexels, VK_FORMAT_R16_SFLOAT, v, "test.voxel_shadow");
+  };
+  auto with_voxel = [&](const gpu::Image& img) {
+    before_march_ = [&img, split](RenderGraph& g, CloudFrameInputs& i) {
+      i.voxel_shadow.texture = g.import_texture("test.voxel_shadow", TextureDesc::absolute(VK_FORMAT_R16_SFLOAT, kTexels, kTexels),
+                                                img.handle(), img.view(), ResourceState::shader_read_only());
+      i.voxel_shadow.origin = glm::vec2(split - 3000.0f, -3000.0f);
+      i.voxel_shadow.size = glm::vec2(6000.0f);
+      i.voxel_shadow.height = kPlane;
+    };
+    return march_with(cam, m, in).color;
+  };
+  // The terrain's depth from the light: every texel's occluder at the light's side (0: all in shadow) or the far side.
+  auto with_terrain = [&](float occluder) {
+    const gpu::Image img = float_image(2, VK_FORMAT_R32_SFLOAT, std::vector<float>(4, occluder), "test.light_depth");
+    before_march_ = [&img, l](RenderGraph& g, CloudFrameInputs& i) {
+      i.terrain_depth = g.import_texture("test.light_depth", TextureDesc::absolute(VK_FORMAT_R32_SFLOAT, 2, 2), img.handle(),
+                                         img.view(), ResourceState::shader_read_only());
+      i.terrain_depth_matrix = glm::orthoRH_ZO(-3000.0f, 3000.0f, -3000.0f, 3000.0f, 0.0f, 10000.0f) *
+                               glm::lookAt(l * 5000.0f, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f));
+      i.terrain_depth_range_m = 10000.0f;
+    };
+    return march_with(cam, m, in).color;
+  };
+  before_march_ = nullptr;
+  const Frame lit_frame = march_with(cam, m, in);
+  const std::vector<glm::vec4>& lit = lit_frame.color;
+  const std::vector<glm::vec4> clear = with_voxel(voxel_map(1.0f, 1.0f));
+  const std::vector<glm::vec4> dark = with_voxel(voxel_map(0.0f, 0.0f));
+  const std::vector<glm::vec4> half = with_voxel(voxel_map(0.0f, 1.0f));
+  const std::vector<glm::vec4> terrain_far = with_terrain(1.0f);
+  const std::vector<glm::vec4> terrain_hides = with_terrain(0.0f);
+  before_march_ = nullptr;
+
+  auto lum = [](const glm::vec4& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  double lit_sum = 0.0, dark_sum = 0.0, worst_clear = 0.0, worst_far = 0.0, worst_hidden = 0.0;
+  int cloud = 0, in_shadow = 0, in_light = 0, half_bad = 0;
+  for (size_t i = 0; i < lit.size(); ++i) {
+    if (lit[i].a > 0.5) continue;  // mostly cloud
+    ++cloud;
+    const double L = lum(lit[i]), D = lum(dark[i]);
+    lit_sum += L, dark_sum += D;
+    worst_clear = std::max(worst_clear, std::abs(lum(clear[i]) - L) / L);
+    worst_far = std::max(worst_far, std::abs(lum(terrain_far[i]) - L) / L);
+    worst_hidden = std::max(worst_hidden, std::abs(lum(terrain_hides[i]) - D) / std::max(D, 1e-3));
+  }
+  // The half map: where a cloud's rays toward the sun cross the plane well inside one half (from where its pixel turns
+  // opaque), that half's picture.
+  for (uint32_t y = 0; y < height_; ++y)
+    for (uint32_t x = 0; x < width_; ++x) {
+      const size_t i = size_t(y) * width_ + x;
+      if (lit[i].a > 0.5 || lit_frame.depth[i].x > 1e5f) continue;
+      const glm::vec2 ndc((x + 0.5f) / width_ * 2.0f - 1.0f, (y + 0.5f) / height_ * 2.0f - 1.0f);
+      const glm::vec4 w = cam.inv_view_proj * glm::vec4(ndc, 0.5f, 1.0f);
+      const glm::vec3 rd = glm::normalize(glm::vec3(w) / w.w - cam.position);
+      const glm::vec3 p = cam.position + rd * lit_frame.depth[i].x;
+      const float plane_x = p.x + l.x * (kPlane - p.y) / l.y;
+      const double H = lum(half[i]), L = lum(lit[i]), D = lum(dark[i]);
+      if (plane_x < split - 150.0f) {
+        ++in_shadow;
+        if (std::abs(H - D) > 0.1 * std::abs(L - D) + 1e-3) ++half_bad;
+      } else if (plane_x > split + 150.0f) {
+        ++in_light;
+        if (std::abs(H - L) > 0.1 * std::abs(L - D) + 1e-3) ++half_bad;
+      }
+    }
+  std::printf("envelope under the voxel clouds' shadow: %d cloud pixels, luminance %.3f lit, %.3f under T = 0; a map of 1 "
+              "changes it by %.2e at most, the terrain's far side by %.2e, the terrain hiding the sun differs from T = 0 by "
+              "%.2e; half map: %d pixels in its shadow, %d in its light, %d off\n",
+              cloud, lit_sum / std::max(cloud, 1), dark_sum / std::max(cloud, 1), worst_clear, worst_far, worst_hidden,
+              in_shadow, in_light, half_bad);
+  ASSERT_GT(cloud, 200);
+  EXPECT_LT(dark_sum, 0.8 * lit_sum);  // the sun is most of an envelope cloud's light from above
+  EXPECT_GT(dark_sum, 0.02 * lit_sum);  // the sky's is left
+  EXPECT_LT(worst_clear, 2e-3);
+  EXPECT_LT(worst_far, 2e-3);
+  EXPECT_LT(worst_hidden, 2e-3);
+  EXPECT_GT(in_shadow, 30);
+  EXPECT_GT(in_light, 30);
+  EXPECT_LE(half_bad, (in_shadow + in_light) / 20);
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
