@@ -23,9 +23,9 @@
 // jitter is fixed per pixel. On a CPU device the far pass marches one pixel of each BxB block a frame (CloudMarchPush
 // sub) and reconstruct.comp reprojects the rest, as the voxel clouds' far segment does (EnvelopeMarchSettings).
 // The stretch of the ray marched: [E.stepping.w, E.misc.x) (the 40/60 Hz split's near and far passes).
-// TERRAIN_SHADOW 1: the terrain between a sample and the sun hides it (the voxel clouds' terrain_visibility, issue 10):
-// these clouds lie on the terrain, and a bank on a slope away from a low sun is in the hill's shadow, as the path
-// tracer shows (issue 21: before it, the shadowed end of the sample level's bank read 2-3x too bright).
+// The sun's light passes the terrain and the voxel clouds above (issue 21: the path tracer's does; before, the sample
+// level's bank at the end in the hero cloud's shadow read 2-3x too bright). Both maps are always bound: without one
+// this frame, a stand-in that hides nothing (envelope_layer.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "clouds/envelope_density.glsl"
 #include "shared/cloud_params.h"
@@ -42,12 +42,11 @@ layout(set = 0, binding = ENV_BINDING_OUT_COLOR, rgba16f) uniform writeonly imag
 layout(set = 0, binding = ENV_BINDING_OUT_DEPTH, rgba32f) uniform writeonly image2D out_depth;
 layout(push_constant) uniform Push { CloudMarchPush pc; };
 
-#ifndef TERRAIN_SHADOW
-#define TERRAIN_SHADOW 0
-#endif
-#if TERRAIN_SHADOW
 layout(set = 0, binding = ENV_BINDING_TERRAIN_DEPTH) uniform sampler2D terrain_depth_tex;
-// The shadow's edge softened over 40 m of depth, as the voxel clouds'.
+layout(set = 0, binding = ENV_BINDING_VOXEL_SHADOW_MAP) uniform sampler2D voxel_shadow_tex;
+
+// The terrain between a sample and the sun (the voxel clouds' terrain_visibility, issue 10): the key light's depth
+// map, the shadow's edge softened over 40 m of depth.
 float terrain_visibility(vec3 world) {
   vec4 c = E.light_depth * vec4(world, 1.0);
   vec3 n = c.xyz / c.w;
@@ -56,27 +55,16 @@ float terrain_visibility(vec3 world) {
   float occluder = textureLod(terrain_depth_tex, uv, 0.0).r;
   return saturate(1.0 - (n.z - occluder) * E.terrain.x / 40.0);
 }
-#else
-float terrain_visibility(vec3 world) { return 1.0; }
-#endif
 
-// VOXEL_SHADOW 1: the voxel clouds above shadow these (the path tracer's sun crosses both media): their shadow map's
-// transmittance (shadow_map.comp), on its plane under their boxes, where the ray toward the sun crosses it.
-#ifndef VOXEL_SHADOW
-#define VOXEL_SHADOW 0
-#endif
-#if VOXEL_SHADOW
-layout(set = 0, binding = ENV_BINDING_VOXEL_SHADOW_MAP) uniform sampler2D voxel_shadow_tex;
+// The voxel clouds above: their shadow map's transmittance (shadow_map.comp), on its plane under their boxes, where
+// the ray toward the sun crosses it.
 float voxel_transmittance(vec3 p, vec3 l) {
-  if (l.y <= 1e-3) return 1.0;
+  if (l.y + runtime_zero() <= 1e-3) return 1.0;  // (runtime_uniform.glsl: the sun alone decides it)
   vec2 xz = p.xz + l.xz * ((E.terrain.y - p.y) / l.y);
   vec2 uv = (xz - E.voxel_shadow.xy) / E.voxel_shadow.zw;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
   return textureLod(voxel_shadow_tex, uv, 0.0).r;
 }
-#else
-float voxel_transmittance(vec3 p, vec3 l) { return 1.0; }
-#endif
 
 // The ray's stretch inside the envelope's box ([map extent] x [lowest bottom, highest top]); x >= y: none.
 vec2 box_segment(vec3 ro, vec3 rd) {

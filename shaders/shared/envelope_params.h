@@ -22,8 +22,8 @@ CUMULO_SHARED_BEGIN
 #define ENV_BINDING_SHADOW_OUT 12  // envelope_shadow.comp, envelope_shadow_combine.comp: image2D r16f, the light's transmittance
 #define ENV_BINDING_SHADOW_IN 13   // envelope_shadow_combine.comp: sampler2D, the envelope's transmittance (envelope_shadow.comp)
 #define ENV_BINDING_VOXEL_SHADOW 14  // envelope_shadow_combine.comp: sampler2D, the voxel clouds' shadow map (shadow_map.comp)
-#define ENV_BINDING_TERRAIN_DEPTH 15 // envelope_march.comp (TERRAIN_SHADOW 1): sampler2D, the geometry's depth from the key light
-#define ENV_BINDING_VOXEL_SHADOW_MAP 16  // envelope_march.comp (VOXEL_SHADOW 1): sampler2D, the voxel clouds' shadow map (shadow_map.comp)
+#define ENV_BINDING_TERRAIN_DEPTH 15 // envelope_march.comp: sampler2D, the geometry's depth from the key light (render::LightDepth)
+#define ENV_BINDING_VOXEL_SHADOW_MAP 16  // envelope_march.comp: sampler2D, the voxel clouds' shadow map (shadow_map.comp)
 #define ENV_BINDING_REFERENCE_OFFSET 32  // reference_trace.comp: the density's bindings (0..5) + this
 #define ENV_MAX_YIELD_BOXES 4      // voxel cloudscape boxes the envelope yields to (no cloud drawn twice)
 
@@ -45,10 +45,10 @@ struct EnvelopeParams {
                        // x extinction a, y contribution b, z eccentricity c per octave; w: the dark edges' scale
   vec4 yield_min[ENV_MAX_YIELD_BOXES];  // xyz: world AABB of a voxel cloudscape (the envelope yields inside it)
   vec4 yield_max[ENV_MAX_YIELD_BOXES];
-  mat4 light_depth;    // world -> the key light's depth map NDC (render::LightDepth; TERRAIN_SHADOW)
-  vec4 terrain;        // x: the light depth map's metres per unit depth (TERRAIN_SHADOW); y: the voxel clouds' shadow
-                       // map's plane (world y; VOXEL_SHADOW); zw: unused
-  vec4 voxel_shadow;   // the voxel clouds' shadow map (VOXEL_SHADOW): xy world x, z of its corner, zw its size (m)
+  mat4 light_depth;    // world -> the key light's depth map NDC (render::LightDepth)
+  vec4 terrain;        // x: the light depth map's metres per unit depth; y: the voxel clouds' shadow map's plane (world
+                       // y); zw: unused
+  vec4 voxel_shadow;   // the voxel clouds' shadow map: xy world x, z of its corner, zw its size (m)
 };
 CUMULO_SHARED_SIZE(EnvelopeParams, 496)
 

@@ -75,19 +75,12 @@ struct EnvelopeLayer::Impl {
   gpu::Image shape, steps, aux;
   std::shared_ptr<const envelope::EnvelopeMaps> maps;
   std::vector<std::pair<uint64_t, gpu::Image>> retired;  // (frame replaced, image)
-  // The march's variants, built on first use: [cone stepping][the terrain's shadow][the voxel clouds' shadow].
-  gpu::Pipeline* march_pipes[2][2][2] = {};
-  gpu::Pipeline* march_pipeline(bool cone, bool terrain, bool voxel) {
-    gpu::Pipeline*& pipe = march_pipes[cone][terrain][voxel];
-    if (!pipe)
-      pipe = &library.compute({.shader = "clouds/envelope_march.comp",
-                               .defines = {{"CONE_STEPPING", cone ? "1" : "0"},
-                                           {"TERRAIN_SHADOW", terrain ? "1" : "0"},
-                                           {"VOXEL_SHADOW", voxel ? "1" : "0"}},
-                               .name = std::string("clouds.envelope (") + (cone ? "cone stepping" : "fixed steps") +
-                                       (terrain ? ", terrain shadow" : "") + (voxel ? ", voxel clouds' shadow" : "") + ")"});
-    return pipe;
-  }
+  gpu::Pipeline* march_cone = nullptr;
+  gpu::Pipeline* march_fixed = nullptr;
+  // Bound in place of the voxel clouds' shadow map and the terrain's light depth when a frame has none (the march
+  // reads both always: no variant compiled when one appears a few frames into a view). A transmittance of 1 and an
+  // occluder at the far side hide nothing.
+  gpu::Image no_voxel_shadow, no_light_depth;
   gpu::Pipeline* probe = nullptr;  // built on first use
   gpu::Buffer ubo[gpu::kFramesInFlight][3];  // [slot][near, far, the path tracer's medium]
   // The sub-sampled far pass's reprojection (EnvelopeMarchSettings::far_block > 1).
@@ -159,9 +152,13 @@ struct EnvelopeLayer::Impl {
       ++boxes;
     }
     p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), envelope::kYieldFadeM);
+    // Without a map this frame the stand-ins are bound (add_passes); a depth range of 0 turns the terrain's shadow
+    // off in data, not in a branch, and a voxel map of no size is given one so that no uv is a NaN.
+    const bool terrain = s.terrain_shadow && in.terrain_depth.valid();
+    const bool voxel = in.voxel_shadow.texture.valid();
     p.light_depth = in.terrain_depth_matrix;
-    p.terrain = glm::vec4(in.terrain_depth_range_m, in.voxel_shadow.height, 0.0f, 0.0f);
-    p.voxel_shadow = glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size);
+    p.terrain = glm::vec4(terrain ? in.terrain_depth_range_m : 0.0f, in.voxel_shadow.height, 0.0f, 0.0f);
+    p.voxel_shadow = voxel ? glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size) : glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
     return p;
   }
 
@@ -201,6 +198,20 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
   Impl& m = *impl_;
   m.base = m.load(dir / "sky_noise_base.nvdf");
   m.detail = m.load(dir / "sky_noise_detail.nvdf");
+  m.march_cone = &library.compute({.shader = "clouds/envelope_march.comp",
+                                   .defines = {{"CONE_STEPPING", "1"}},
+                                   .name = "clouds.envelope (cone stepping)"});
+  m.march_fixed = &library.compute({.shader = "clouds/envelope_march.comp",
+                                    .defines = {{"CONE_STEPPING", "0"}},
+                                    .name = "clouds.envelope (fixed steps)"});
+  const uint16_t one_half = 0x3c00;  // 1.0
+  m.no_voxel_shadow = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
+                                                            "clouds.envelope.no_voxel_shadow"));
+  m.no_voxel_shadow.upload({{&one_half, sizeof one_half}});
+  const float far_side = 1.0f;
+  m.no_light_depth = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
+                                                           "clouds.envelope.no_light_depth"));
+  m.no_light_depth.upload({{&far_side, sizeof far_side}});
   m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.envelope_reconstruct"});
   m.reconstruct_merge = &library.compute({.shader = "clouds/reconstruct.comp",
                                           .defines = {{"MERGE_NEAR", "1"}},
@@ -533,10 +544,10 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   // leave out theirs): from afar the far pass marches the whole ray.
   const bool split = march.split_m > 0.0f && envelope_within(*m.maps, in.camera.position, march.split_m);
   const bool terrain = in.settings.terrain_shadow && in.terrain_depth.valid();
-  const TextureHandle terrain_depth = in.terrain_depth;
   const bool voxel = in.voxel_shadow.texture.valid();
-  const TextureHandle voxel_shadow = in.voxel_shadow.texture;
-  gpu::Pipeline* pipe = m.march_pipeline(march.cone_stepping, terrain, voxel);
+  const TextureHandle terrain_depth = terrain ? in.terrain_depth : m.import(graph, "clouds.envelope.no_light_depth", m.no_light_depth);
+  const TextureHandle voxel_shadow = voxel ? in.voxel_shadow.texture : m.import(graph, "clouds.envelope.no_voxel_shadow", m.no_voxel_shadow);
+  gpu::Pipeline* pipe = march.cone_stepping ? m.march_cone : m.march_fixed;
   Impl* mp = &m;
 
   // One segment of the rays [start, end) at `seg_scale` of the output, one pixel of each `block` x `block` a frame (at
@@ -557,22 +568,21 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
         [&](PassBuilder& b) {
           Impl::read_density(b, density);
           b.read(scene_depth, Usage::Sampled);
-          if (terrain) b.read(terrain_depth, Usage::Sampled);
-          if (voxel) b.read(voxel_shadow, Usage::Sampled);
+          b.read(terrain_depth, Usage::Sampled);
+          b.read(voxel_shadow, Usage::Sampled);
           color = b.write(color, Usage::StorageWrite);
           depth = b.write(depth, Usage::StorageWrite);
         },
-        [mp, pipe, density, scene_depth, terrain, terrain_depth, voxel, voxel_shadow, color, depth, fw, fh, block, offset](PassContext& c) {
+        [mp, pipe, density, scene_depth, terrain_depth, voxel_shadow, color, depth, fw, fh, block, offset](PassContext& c) {
           pipe->bind(c.cmd());
           gpu::DescriptorWriter w;
           mp->bind_density(w, c, density)
               .sampled_image(ENV_BINDING_SCENE_DEPTH, c.view(scene_depth), mp->nearest_clamp, c.layout(scene_depth))
               .storage_image(ENV_BINDING_OUT_COLOR, c.view(color))
-              .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth));
-          if (terrain)
-            w.sampled_image(ENV_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), mp->nearest_clamp, c.layout(terrain_depth));
-          if (voxel) w.sampled_image(ENV_BINDING_VOXEL_SHADOW_MAP, c.view(voxel_shadow), mp->linear_clamp, c.layout(voxel_shadow));
-          w.push(mp->ctx, c.cmd(), *pipe);
+              .storage_image(ENV_BINDING_OUT_DEPTH, c.view(depth))
+              .sampled_image(ENV_BINDING_TERRAIN_DEPTH, c.view(terrain_depth), mp->nearest_clamp, c.layout(terrain_depth))
+              .sampled_image(ENV_BINDING_VOXEL_SHADOW_MAP, c.view(voxel_shadow), mp->linear_clamp, c.layout(voxel_shadow))
+              .push(mp->ctx, c.cmd(), *pipe);
           shared::CloudMarchPush pc{};
           pc.target = glm::vec4(float(fw), float(fh), 1.0f / float(fw), 1.0f / float(fh));
           pc.sub = glm::vec4(float(block), float(offset.x), float(offset.y), 0.0f);
