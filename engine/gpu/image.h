@@ -99,6 +99,13 @@ class Image {
               VkImageLayout final_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL) {
     upload(std::span<const MipData>(mips.begin(), mips.size()), final_layout);
   }
+  // A 1x1 sampled 2D image holding one texel (`texel`: its bytes in `format`): the stand-in bound where a pass reads a
+  // map that a frame may not have (no shadow: a transmittance of 1; no occluder: the far depth).
+  static Image single_texel(Context& ctx, VkFormat format, const void* texel, size_t bytes, const char* name) {
+    Image img(ctx, ImageDesc::tex2d(1, 1, format, VK_IMAGE_USAGE_SAMPLED_BIT, 1, name));
+    img.upload({{texel, bytes}});
+    return img;
+  }
   // Fills mips 1..n-1 from mip 0 with linear blits (2D or 3D box-filter downsampling), leaving the
   // whole image in `final_layout`. Mip 0 must hold data in layout(). Needs a format with linear
   // blit support (checked: throws otherwise).

@@ -159,10 +159,8 @@ struct FrameRenderer::Impl {
         geometry_variant(v | lights);
     sky = &library.graphics(sky_desc());
     atmosphere = std::make_unique<AtmospherePasses>(ctx, library, default_atmosphere());
-    no_shadow = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
-                                                      "no light shadow"));
     const uint16_t one = 0x3C00;  // 1.0 in half precision
-    no_shadow.upload({{&one, sizeof one}});
+    no_shadow = gpu::Image::single_texel(ctx, VK_FORMAT_R16_SFLOAT, &one, sizeof one, "no light shadow");
     // 4 m texels over the 4 km sample level at 1024 (8 m at 512 on CPU devices, where the map's rare
     // re-renders cost more).
     light_depth = std::make_unique<LightDepthMap>(ctx, library, scene, ctx.info().is_cpu() ? 512u : 1024u);

@@ -34,6 +34,9 @@ using cumulo::render::Usage;
 
 namespace {
 
+// The terrain hides the sun from the envelope this frame (the march's light depth; else its stand-in).
+bool terrain_shadowed(const CloudFrameInputs& in) { return in.settings.terrain_shadow && in.terrain_depth.valid(); }
+
 TextureDesc texture_desc(const gpu::Image& img) {
   const VkExtent3D e = img.extent();
   TextureDesc d = TextureDesc::absolute(img.format(), e.width, e.height, e.depth);
@@ -153,12 +156,10 @@ struct EnvelopeLayer::Impl {
     }
     p.misc = glm::vec4(segment_end, kAmbientBottom, float(boxes), envelope::kYieldFadeM);
     // Without a map this frame the stand-ins are bound (add_passes); a depth range of 0 turns the terrain's shadow
-    // off in data, not in a branch, and a voxel map of no size is given one so that no uv is a NaN.
-    const bool terrain = s.terrain_shadow && in.terrain_depth.valid();
-    const bool voxel = in.voxel_shadow.texture.valid();
+    // off in data, not in a branch.
     p.light_depth = in.terrain_depth_matrix;
-    p.terrain = glm::vec4(terrain ? in.terrain_depth_range_m : 0.0f, in.voxel_shadow.height, 0.0f, 0.0f);
-    p.voxel_shadow = voxel ? glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size) : glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
+    p.terrain = glm::vec4(terrain_shadowed(in) ? in.terrain_depth_range_m : 0.0f, in.voxel_shadow.height, 0.0f, 0.0f);
+    p.voxel_shadow = glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size);
     return p;
   }
 
@@ -204,14 +205,11 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
   m.march_fixed = &library.compute({.shader = "clouds/envelope_march.comp",
                                     .defines = {{"CONE_STEPPING", "0"}},
                                     .name = "clouds.envelope (fixed steps)"});
-  const uint16_t one_half = 0x3c00;  // 1.0
-  m.no_voxel_shadow = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
-                                                            "clouds.envelope.no_voxel_shadow"));
-  m.no_voxel_shadow.upload({{&one_half, sizeof one_half}});
+  const uint16_t one = 0x3c00;  // 1.0 in half precision
+  m.no_voxel_shadow = gpu::Image::single_texel(ctx, VK_FORMAT_R16_SFLOAT, &one, sizeof one, "clouds.envelope.no_voxel_shadow");
   const float far_side = 1.0f;
-  m.no_light_depth = gpu::Image(ctx, gpu::ImageDesc::tex2d(1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT, 1,
-                                                           "clouds.envelope.no_light_depth"));
-  m.no_light_depth.upload({{&far_side, sizeof far_side}});
+  m.no_light_depth = gpu::Image::single_texel(ctx, VK_FORMAT_R32_SFLOAT, &far_side, sizeof far_side,
+                                              "clouds.envelope.no_light_depth");
   m.reconstruct = &library.compute({.shader = "clouds/reconstruct.comp", .name = "clouds.envelope_reconstruct"});
   m.reconstruct_merge = &library.compute({.shader = "clouds/reconstruct.comp",
                                           .defines = {{"MERGE_NEAR", "1"}},
@@ -543,10 +541,8 @@ EnvelopeLayer::Outputs EnvelopeLayer::add_passes(cumulo::render::RenderGraph& gr
   // The split's near pass only where the envelope comes within the split distance of the camera (as the voxel clouds
   // leave out theirs): from afar the far pass marches the whole ray.
   const bool split = march.split_m > 0.0f && envelope_within(*m.maps, in.camera.position, march.split_m);
-  const bool terrain = in.settings.terrain_shadow && in.terrain_depth.valid();
-  const bool voxel = in.voxel_shadow.texture.valid();
-  const TextureHandle terrain_depth = terrain ? in.terrain_depth : m.import(graph, "clouds.envelope.no_light_depth", m.no_light_depth);
-  const TextureHandle voxel_shadow = voxel ? in.voxel_shadow.texture : m.import(graph, "clouds.envelope.no_voxel_shadow", m.no_voxel_shadow);
+  const TextureHandle terrain_depth = terrain_shadowed(in) ? in.terrain_depth : m.import(graph, "clouds.envelope.no_light_depth", m.no_light_depth);
+  const TextureHandle voxel_shadow = in.voxel_shadow.texture.valid() ? in.voxel_shadow.texture : m.import(graph, "clouds.envelope.no_voxel_shadow", m.no_voxel_shadow);
   gpu::Pipeline* pipe = march.cone_stepping ? m.march_cone : m.march_fixed;
   Impl* mp = &m;
 
