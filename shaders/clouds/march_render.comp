@@ -236,6 +236,11 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
   float absent_step = 2.0 * (inst.bounds_max.x - inst.bounds_min.x) / float(textureSize(field, 0).x) * scale;
 #endif
   float sigma_prev = 1e30;  // the last sample's extinction (1/m): none yet
+  // The cavity (slab, P.slab.y > 0): where the ray entered this stretch of cloud from a chamber's air (the air at
+  // air_t: under a sky optical depth and with an own cloud away from the sun both of the enclosed depth or more), the
+  // surface it crossed faces walls of cloud on every side, which send back the light it loses: an integrating
+  // sphere, so the dark edges' in-scatter deficit is not there (cavity 1).
+  float air_t = -1.0, cloud_t = -1.0, cavity = 0.0;
   for (uint s = 0u; s < max_steps; ++s) {
     if (t >= t1 || px.transmittance * t_front < P.march.z) break;
     px.steps += 1.0;
@@ -247,6 +252,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
     // it at each of its SDF steps; this loop ends for a lane when it reaches cloud (or the segment's
     // end), so air steps cost one fetch. The same steps and samples as one loop (bit-exact).
     while (sdf >= 0.0 && s + 1u < max_steps) {
+      air_t = t;
       t += max(sdf, adaptive);
       if (t >= t1) break;
       ++s;
@@ -274,8 +280,14 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
       vec3 q = ao + ad * ts;
       float mip = noise_mip(ts);
       DensitySample ds = sample_density(CLOUD_MODELING(modeling, coverage), inst, q, ts, mip, true);
-      if (!(ds.full > 0.0)) sigma_prev = 1e-7;
+      if (!(ds.full > 0.0)) sigma_prev = 1e-7, air_t = ts;
       CLOUD_WHERE(ds.full > 0.0) {
+        if (air_t > cloud_t && P.slab.y + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
+          vec4 a = light_grid(i, ao + ad * air_t) * ext;
+          float depth = max(P.sun_dir.w, 1e-3);
+          cavity = P.slab.y * smoothstep(depth, 2.0 * depth, a.x) * smoothstep(depth, 2.0 * depth, a.y) * smoothstep(depth, 2.0 * depth, a.w);
+        }
+        cloud_t = ts;
 #if ABLATION != CLOUD_ABLATION_FULL
         sdf = cloud_distance(field, asset_uvw(inst, q)) * scale;  // for the ms relaxation only
 #endif
@@ -310,7 +322,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // meaning differs between a recipe's clouds and grown ones, the optical depth does not.
         float tau_surface = max(-sdf, 0.0) * ds.full * ext;  // the optical depth to the nearest surface (local density)
         float edge = inst.sun_dir.w;
-        if (dark_edges) edge = slab && P.sky_horizon.w > 0.0 ? inst.sun_dir.w * (1.0 - exp(-P.sky_horizon.w * tau_surface)) : ds.profile;
+        if (dark_edges) edge = slab && P.sky_horizon.w > 0.0 ? inst.sun_dir.w * (1.0 - (1.0 - cavity) * exp(-P.sky_horizon.w * tau_surface)) : ds.profile;
         // Lateral leak (slab, P.sun_color.w = c > 0): the slab's boundaries lie along the sun's line; where the
         // nearest surface (the SDF's depth x the density) is nearer than both ends of that line, the diffused light
         // leaks out through it on its way in, as in a slab of that half-thickness lit edge-on.

@@ -159,6 +159,12 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "elevation), overriding the preset's (slab: 0.5; 0: the light enters a face square to the sun)",
               &o.ms_incidence)
       .range(0.0, 1.0)
+      .option("--cloud-ms-cavity", "X",
+              "with the slab lighting, how far a cloud's surface seen from a chamber's air (enclosed air) keeps its edge "
+              "lit, the chamber's walls sending back the light it loses, overriding the preset's (0: it darkens as an "
+              "edge toward open air does)",
+              &o.ms_cavity)
+      .range(0.0, 1.0)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)

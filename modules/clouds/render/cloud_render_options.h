@@ -44,6 +44,7 @@ struct CloudRenderOptions {
   float ground_albedo = -1.0f;          // --cloud-ground-albedo
   float ms_anisotropy = -1.0f;          // --cloud-ms-anisotropy
   float ms_incidence = -1.0f;           // --cloud-ms-incidence
+  float ms_cavity = -1.0f;              // --cloud-ms-cavity
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   int light_samples = -1;               // --cloud-light-samples
   float light_sample_growth = -1.0f;    // --cloud-light-sample-growth

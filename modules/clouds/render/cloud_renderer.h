@@ -194,6 +194,10 @@ struct CloudSettings {
   // With ms_slab: how far the slab's falloff takes the sun's incidence on a horizontal face where the sun's line leaves
   // the own cloud through its top (march_render.comp; 0: the light enters a face square to the sun, as before).
   float ms_incidence = 0.0f;
+  // With ms_slab and the dark edges: how far a surface that the view ray reached from a chamber's air (enclosed air,
+  // see ms_enclosed_sky_depth, with the own cloud away from the sun as deep) loses its edge darkening, because the
+  // chamber's walls send back the light it loses (march_render.comp; 0: every surface darkens, as before).
+  float ms_cavity = 0.0f;
   // With ms_slab: the dark edges from the optical depth to the nearest surface, 1 - exp(-this x depth) (0: the
   // talks' profile).
   float edge_depth_scale = 0.0f;

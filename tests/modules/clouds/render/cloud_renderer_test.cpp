@@ -1202,6 +1202,41 @@ TEST_F(CloudRender, SlabIncidenceDarkensASheetUnderALowSunNotAHighOne) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The cavity (ms_cavity, issue 21): a surface that the view ray reaches from a chamber's air faces walls of cloud on
+// every side, which send back the light it loses, so it keeps its edge lit; a surface seen from open air (a solid
+// cloud from outside, its base under a thick column included) keeps its dark edges.
+TEST_F(CloudRender, AChambersWallsKeepTheirEdgesLitAndTheOutsideKeepsItsDarkEdges) {
+  CloudFrameInputs in = inputs(asset({}, chamber_cloudscape()),
+                               camera(kCloudCentre + glm::vec3(0.0f, 20.0f, 0.0f), kCloudCentre + glm::vec3(30.0f, -100.0f, 0.0f), 70.0f));
+  in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  EXPECT_GT(in.settings.ms_cavity, 0.0f);
+  EXPECT_GT(in.settings.edge_depth_scale, 0.0f);
+  in.settings.ms_enclosed_sky_depth = 1.0f;  // the 70 m roof (see SlabLightingLightsTheWallsOfAChamber)
+  double ratio[2];
+  for (int k = 0; k < 2; ++k) {
+    if (k == 1) {  // a solid cloud from outside (the hollow one's far wall would be seen from its chamber through the near one)
+      const CloudSettings settings = in.settings;
+      in = inputs(asset(), camera({-150.0f, 330.0f, 450.0f}, kCloudCentre, 60.0f));
+      in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
+      in.settings = settings;
+    }
+    in.rebuild_light_grid = true;
+    in.settings.ms_cavity = 1.0f;
+    const Frame with = render(in);
+    for (const glm::vec4& c : with.hdr) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b + c.a));
+    in.settings.ms_cavity = 0.0f;
+    const double without = radiance_sum(render(in));
+    ASSERT_GT(without, 0.0);
+    ratio[k] = radiance_sum(with) / without;
+    std::printf("  %s: radiance with the cavity %.2f, without %.2f (%.4f)\n", k == 0 ? "inside the chamber" : "outside",
+                radiance_sum(with), without, ratio[k]);
+  }
+  EXPECT_GT(ratio[0], 1.05) << "the chamber's walls keep the light their surface would lose";
+  EXPECT_NEAR(ratio[1], 1.0, 1e-4) << "a surface toward open air keeps its dark edges";
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 }  // namespace
 }  // namespace cumulo::clouds::render::test
 
@@ -1247,6 +1282,7 @@ TEST_F(CloudRender, SolvedMultipleScatteringConvergesRestsAndLightsAChamber) {
   apply_lighting_preset(in.settings, CloudLightingPreset::Solve);
   in.settings.ms_solve_weight = 1.0f;
   in.settings.ground_albedo = 0.0f;
+  in.settings.ms_cavity = 0.0f;  // the solved field's evenness alone
   in.settings.ms_enclosed_sky_depth = 0.0f;  // the chamber's air is open air: the walls' light leaks into it
   const Frame open = render(in);
   in.settings.ms_enclosed_sky_depth = 1.0f;  // the 70 m roof: its air is enclosed and carries light wall to wall
