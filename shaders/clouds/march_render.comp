@@ -237,7 +237,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
 #endif
   float sigma_prev = 1e30;  // the last sample's extinction (1/m): none yet
   // The cavity (slab, P.slab.y > 0): where the ray entered this stretch of cloud from a chamber's air (the air at
-  // air_t: under a sky optical depth and with an own cloud away from the sun both of the enclosed depth or more), the
+  // air_t: its optical depths toward the sun, toward the sky and away from the sun all of the enclosed depth or more), the
   // surface it crossed faces walls of cloud on every side, which send back the light it loses: an integrating
   // sphere, so the dark edges' in-scatter deficit is not there (cavity 1).
   float air_t = -1.0, cloud_t = -1.0, cavity = 0.0;
@@ -321,6 +321,20 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // P.sky_horizon.w > 0) the optical depth to the nearest surface, 1 - exp(-k x depth x sigma): the profile's
         // meaning differs between a recipe's clouds and grown ones, the optical depth does not.
         float tau_surface = max(-sdf, 0.0) * ds.full * ext;  // the optical depth to the nearest surface (local density)
+        // The sky through the nearest surface (slab, P.slab.z > 0): the column straight up is one direction of the
+        // sky's hemisphere; a point near a cloud's side sees the sky through that side. A face of normal n sees
+        // (1 + n.y) / 2 of the upper hemisphere (the SDF's vertical gradient, two fetches), through the optical depth to
+        // it; the sky's light takes the more open of the two ways. Past an optical depth of 4 to the surface (under 2 %
+        // of the sky) the two fetches are skipped.
+        if (slab && ambient_direction && tau_surface < 4.0 && P.slab.z + runtime_zero() > 0.0) {
+          vec3 up_a = mat3(inst.world_to_asset)[1];  // asset units per world metre, straight up
+          float e = 2.0 * (inst.bounds_max.y - inst.bounds_min.y) / float(textureSize(field, 0).y) * scale;  // two field voxels (m)
+          float d_up = cloud_distance(field, asset_uvw(inst, q + up_a * e)) * scale;
+          float d_dn = cloud_distance(field, asset_uvw(inst, q - up_a * e)) * scale;
+          float ny = clamp((d_up - d_dn) / (2.0 * e), -1.0, 1.0);
+          float open_side = min(P.slab.z * 0.5 * (1.0 + ny), 1.0) * exp(-tau_surface);
+          od_sky = min(od_sky, -log(max(open_side, 1e-6)));
+        }
         float edge = inst.sun_dir.w;
         if (dark_edges) edge = slab && P.sky_horizon.w > 0.0 ? inst.sun_dir.w * (1.0 - (1.0 - cavity) * exp(-P.sky_horizon.w * tau_surface)) : ds.profile;
         // Lateral leak (slab, P.sun_color.w = c > 0): the slab's boundaries lie along the sun's line; where the

@@ -165,6 +165,11 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "edge toward open air does)",
               &o.ms_cavity)
       .range(0.0, 1.0)
+      .option("--cloud-sky-side", "X",
+              "with the slab lighting, the clouds' sky light also through the nearest surface (a face sees (1 + n.y) / 2 of "
+              "the sky's hemisphere) times X, overriding the preset's (0: through the column straight up only)",
+              &o.sky_side)
+      .range(0.0, 2.0)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)

@@ -45,6 +45,7 @@ struct CloudRenderOptions {
   float ms_anisotropy = -1.0f;          // --cloud-ms-anisotropy
   float ms_incidence = -1.0f;           // --cloud-ms-incidence
   float ms_cavity = -1.0f;              // --cloud-ms-cavity
+  float sky_side = -1.0f;               // --cloud-sky-side
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   int light_samples = -1;               // --cloud-light-samples
   float light_sample_growth = -1.0f;    // --cloud-light-sample-growth

@@ -198,6 +198,9 @@ struct CloudSettings {
   // see ms_enclosed_sky_depth, with the own cloud away from the sun as deep) loses its edge darkening, because the
   // chamber's walls send back the light it loses (march_render.comp; 0: every surface darkens, as before).
   float ms_cavity = 0.0f;
+  // With ms_slab and the ambient direction: the sky's light also through the nearest surface, which a face of normal n
+  // sees (1 + n.y) / 2 of the sky's hemisphere through, times this (march_render.comp; 0: the column straight up only).
+  float sky_side = 0.0f;
   // With ms_slab: the dark edges from the optical depth to the nearest surface, 1 - exp(-this x depth) (0: the
   // talks' profile).
   float edge_depth_scale = 0.0f;

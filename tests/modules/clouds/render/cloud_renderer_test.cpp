@@ -1237,6 +1237,36 @@ TEST_F(CloudRender, AChambersWallsKeepTheirEdgesLitAndTheOutsideKeepsItsDarkEdge
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The sky through the nearest surface (sky_side, issue 21): the column straight up is one direction of the sky's
+// hemisphere; the shaded side of a cloud (the sun behind it) sees the sky through that side, so it is lighter with it.
+// It is the sky's light alone: without a sky nothing changes.
+TEST_F(CloudRender, TheSkyReachesACloudsShadedSideThroughThatSide) {
+  CloudFrameInputs in = inputs(asset(), camera(kCloudCentre + glm::vec3(0.0f, -40.0f, 450.0f), kCloudCentre, 50.0f));
+  in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.5f, -1.0f));  // behind the cloud
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  EXPECT_GT(in.settings.sky_side, 0.0f);
+  const float side = in.settings.sky_side;
+  const glm::vec3 sky = in.ambient_color;
+  ASSERT_GT(sky.b, 0.0f);
+  double sum[2][2];  // [sky off, on][side off, on]
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j) {
+      in.ambient_color = k ? sky : glm::vec3(0.0f);
+      in.settings.sky_side = j ? side : 0.0f;
+      const Frame f = render(in);
+      for (const glm::vec4& c : f.hdr) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b + c.a));
+      sum[k][j] = radiance_sum(f);
+    }
+  const double sky_without = sum[1][0] - sum[0][0], sky_with = sum[1][1] - sum[0][1];
+  std::printf("  the sky's light on the cloud: through the column %.2f, and through the side %.2f (%.3f)\n", sky_without,
+              sky_with, sky_with / sky_without);
+  ASSERT_GT(sky_without, 0.0);
+  EXPECT_GT(sky_with, 1.05 * sky_without) << "the shaded side sees the sky through itself";
+  EXPECT_DOUBLE_EQ(sum[0][1], sum[0][0]) << "the sky's light only";
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+
 }  // namespace
 }  // namespace cumulo::clouds::render::test
 
