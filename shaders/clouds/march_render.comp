@@ -283,9 +283,9 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
       if (!(ds.full > 0.0)) sigma_prev = 1e-7, air_t = ts;
       CLOUD_WHERE(ds.full > 0.0) {
         if (air_t > cloud_t && P.slab.y + runtime_zero() > 0.0) {  // (runtime_uniform.glsl: lavapipe would inline it)
-          vec4 a = light_grid(i, ao + ad * air_t) * ext;
-          float depth = max(P.sun_dir.w, 1e-3);
-          cavity = P.slab.y * smoothstep(depth, 2.0 * depth, a.x) * smoothstep(depth, 2.0 * depth, a.y) * smoothstep(depth, 2.0 * depth, a.w);
+          // Past the enclosed depth (P.sun_dir.w > 0 wherever P.slab.y is: cloud_renderer.cpp), fully at twice it.
+          vec3 past = smoothstep(vec3(P.sun_dir.w), vec3(2.0 * P.sun_dir.w), light_grid(i, ao + ad * air_t).xyw * ext);
+          cavity = P.slab.y * past.x * past.y * past.z;
         }
         cloud_t = ts;
 #if ABLATION != CLOUD_ABLATION_FULL

@@ -169,7 +169,7 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "with the slab lighting, the clouds' sky light also through the nearest surface (a face sees (1 + n.y) / 2 of "
               "the sky's hemisphere) times X, overriding the preset's (0: through the column straight up only)",
               &o.sky_side)
-      .range(0.0, 2.0)
+      .range(0.0, 4.0)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)

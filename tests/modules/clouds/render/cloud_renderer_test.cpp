@@ -1266,7 +1266,6 @@ TEST_F(CloudRender, TheSkyReachesACloudsShadedSideThroughThatSide) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
-
 }  // namespace
 }  // namespace cumulo::clouds::render::test
 
