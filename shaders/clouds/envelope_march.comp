@@ -106,11 +106,19 @@ float light_optical_depth(vec3 p, vec3 l) {
 vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, float sun_visible, EnvelopeSample es) {
   vec3 sun = vec3(0.0);
   float a = 1.0, b = 1.0, c = 1.0;
+  float orders = 0.0, ph_last = 0.0;
   for (int n = 0; n < 4; ++n) {
     float ph = mix(henyey_greenstein(mu, c * E.phase.y), henyey_greenstein(mu, c * E.phase.x), E.phase.z);
-    sun += E.sun_color.rgb * (b * exp(-a * od_sun) * ph);
+    if (n == 0) sun += E.sun_color.rgb * (exp(-od_sun) * ph);
+    else orders += b * exp(-a * od_sun) * ph;
+    ph_last = ph;
     a *= E.octaves.x, b *= E.octaves.y, c *= E.octaves.z;
   }
+  // Past the first order, at least diffusion's transmission through the optical depth toward the sun (E.sun_dir.w x
+  // 1 / (1 + 0.75 (1 - g) od)): the octaves' exp(-a^n od) falls off far faster in a thick bank, diffusion's is what a
+  // thick slab passes (its last octave's phase: the orders past the octaves are as isotropic).
+  float diffused = E.sun_dir.w * ph_last / (1.0 + 0.75 * (1.0 - mix(E.phase.y, E.phase.x, E.phase.z)) * od_sun);
+  sun += E.sun_color.rgb * max(orders, diffused);
   sun *= sun_visible;
   vec2 uv = env_uv(p.xz);
   vec4 shape = textureLod(shape_tex, uv, 0.0);

@@ -30,7 +30,7 @@ CUMULO_SHARED_BEGIN
 struct EnvelopeParams {
   mat4 inv_view_proj;
   vec4 camera_pos;     // xyz world (m); w: time (s)
-  vec4 sun_dir;        // xyz toward the key light; w: unused
+  vec4 sun_dir;        // xyz toward the key light; w: octave_light's diffused floor past the first order (0: the octaves)
   vec4 sun_color;      // rgb (as the voxel clouds'); w: the ground's albedo (octave_light)
   vec4 ambient_color;  // rgb: sky ambient; w: unused
   vec4 map;            // xy: world x, z of texel (0, 0)'s corner; z: texel size (m); w: texels per side

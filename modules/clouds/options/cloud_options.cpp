@@ -170,6 +170,12 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "the sky's hemisphere) times X, overriding the preset's (0: through the column straight up only)",
               &o.sky_side)
       .range(0.0, 4.0)
+      .option("--envelope-ms-diffused", "X",
+              "with the slab lighting, the envelope clouds' sun light past the first order of scattering is at least "
+              "X times diffusion's through the cloud's optical depth toward the sun, 1 / (1 + 0.75 (1 - g) depth), where "
+              "Wrenninge's octaves fall off faster (a thick bank), overriding the preset's (0: the octaves alone)",
+              &o.envelope_ms_diffused)
+      .range(0.0, 4.0)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)

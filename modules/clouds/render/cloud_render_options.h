@@ -46,6 +46,7 @@ struct CloudRenderOptions {
   float ms_incidence = -1.0f;           // --cloud-ms-incidence
   float ms_cavity = -1.0f;              // --cloud-ms-cavity
   float sky_side = -1.0f;               // --cloud-sky-side
+  float envelope_ms_diffused = -1.0f;   // --envelope-ms-diffused
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   int light_samples = -1;               // --cloud-light-samples
   float light_sample_growth = -1.0f;    // --cloud-light-sample-growth

@@ -129,7 +129,7 @@ struct EnvelopeLayer::Impl {
     shared::EnvelopeParams p{};
     p.inv_view_proj = in.camera.inv_view_proj;
     p.camera_pos = glm::vec4(in.camera.position, float(in.time));
-    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
+    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), s.ms_slab ? s.envelope_ms_diffused : 0.0f);
     p.sun_color = glm::vec4(in.sun_color, s.ms_slab ? s.ground_albedo : 0.0f);
     p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
     // The slab presets (issue 21) light the envelope by octave_light; the others by issue 24's terms (x = 0).

@@ -515,6 +515,56 @@ TEST_F(EnvelopeLayerTest, TheSlabPresetsOctavesLightTheEnvelopeWithinAThirdOfThe
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// Issue 21: past the first order the envelope's sun light is at least diffusion's through the optical depth toward the
+// sun (envelope_ms_diffused): a thick bank passes far more of it than the octaves' exp(-a^n od). The floor only adds light
+// (no pixel darker), adds it where the bank is thick toward the sun (backlit under a low sun), far less where the sun's
+// path through it is short (the lit side), and 0 is the octaves alone. (Calibrated on the
+// sample level's envelope views against the path tracer: docs/fidelity/envelope_lighting.md, "Session 53".)
+TEST_F(EnvelopeLayerTest, TheDiffusedFloorPassesAThickBanksLightWhereTheOctavesFallOff) {
+  using namespace cumulo::render;
+  set_size(48, 27);
+  EnvelopeDraw draw;
+  draw.maps = test_maps();
+  EnvelopeMarchSettings m;
+  m.max_steps = 4096;
+  m.step_m = 2.0f, m.step_growth = 0.0f;
+  // A low sun beyond the bank from the backlit camera, behind the lit one.
+  const glm::vec3 l = glm::normalize(glm::vec3(1.4f, 0.3f, -1.0f));
+  const scene::CameraView backlit = camera({-1400.0f, 250.0f, 1000.0f}, {0.0f, 400.0f, 0.0f}, 60.0f);
+  const scene::CameraView lit = camera(glm::vec3(0.0f, 400.0f, 0.0f) + 1700.0f * l, {0.0f, 400.0f, 0.0f}, 60.0f);
+  auto inputs = [&](const scene::CameraView& cam, float diffused) {
+    CloudFrameInputs in = env_inputs(cam);
+    in.sun_direction = l;
+    apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+    if (diffused >= 0.0f) in.settings.envelope_ms_diffused = diffused;
+    return in;
+  };
+  EXPECT_GT(inputs(lit, -1.0f).settings.envelope_ms_diffused, 0.0f);  // the slab preset has the floor
+  auto lum = [](glm::vec4 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  double gain[2] = {0.0, 0.0};
+  for (int v = 0; v < 2; ++v) {
+    const scene::CameraView& cam = v == 0 ? backlit : lit;
+    const std::vector<glm::vec4> with = march_with(cam, m, inputs(cam, -1.0f)).color;
+    const std::vector<glm::vec4> without = march_with(cam, m, inputs(cam, 0.0f)).color;
+    ASSERT_EQ(with.size(), without.size());
+    double sum_with = 0.0, sum_without = 0.0;
+    int darker = 0, cloud = 0;
+    for (size_t i = 0; i < with.size(); ++i) {
+      if (lum(with[i]) < lum(without[i]) - 1e-5) ++darker;
+      if (without[i].a > 0.2) continue;  // nearly opaque cloud
+      sum_with += lum(with[i]), sum_without += lum(without[i]), ++cloud;
+    }
+    ASSERT_GT(cloud, 20);
+    gain[v] = sum_with / sum_without - 1.0;
+    std::printf("%s: the diffused floor adds %.1f %% over %d cloud pixels\n", v == 0 ? "backlit" : "lit side", 100.0 * gain[v],
+                cloud);
+    EXPECT_EQ(darker, 0);
+  }
+  EXPECT_GT(gain[0], 0.05);
+  EXPECT_LT(gain[1], 0.5 * gain[0]);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 // The sun's light on the envelope goes through what lies between: the voxel clouds above (their shadow map, on its
 // plane under their boxes, read where the sample's ray toward the sun crosses it) and the terrain (the light's depth
 // map). Issue 21: the path tracer showed the sample level's bank in the hero cloud's shadow where the march lit it.
