@@ -176,6 +176,11 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "Wrenninge's octaves fall off faster (a thick bank), overriding the preset's (0: the octaves alone)",
               &o.envelope_ms_diffused)
       .range(0.0, 4.0)
+      .option("--envelope-octave-eccentricity", "C",
+              "with the slab lighting, how much of the phase's eccentricity each of the envelope clouds' octaves of "
+              "scattering keeps from the one before (Wrenninge's c), overriding the preset's (slab: 0.7)",
+              &o.envelope_eccentricity)
+      .range(0.0, 1.0)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
               &o.light_sample_m)

@@ -47,6 +47,7 @@ struct CloudRenderOptions {
   float ms_cavity = -1.0f;              // --cloud-ms-cavity
   float sky_side = -1.0f;               // --cloud-sky-side
   float envelope_ms_diffused = -1.0f;   // --envelope-ms-diffused
+  float envelope_eccentricity = -1.0f;  // --envelope-octave-eccentricity
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   int light_samples = -1;               // --cloud-light-samples
   float light_sample_growth = -1.0f;    // --cloud-light-sample-growth

@@ -204,6 +204,8 @@ struct CloudSettings {
   // With ms_slab: the envelope clouds' sun light past the first order at least this times diffusion's through the
   // optical depth toward the sun, where the octaves fall off faster (envelope_march.comp octave_light; 0: the octaves).
   float envelope_ms_diffused = 0.0f;
+  // With ms_slab: the share of the phase's eccentricity each envelope octave keeps from the one before (Wrenninge's c).
+  float envelope_eccentricity = 0.0f;
   // With ms_slab: the dark edges from the optical depth to the nearest surface, 1 - exp(-this x depth) (0: the
   // talks' profile).
   float edge_depth_scale = 0.0f;

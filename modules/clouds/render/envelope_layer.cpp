@@ -47,9 +47,9 @@ TextureDesc texture_desc(const gpu::Image& img) {
 
 // The ambient at the envelope's bottom, as a share of the top's (the 2.5D sky's 0.35: bases see less sky).
 constexpr float kAmbientBottom = 0.35f;
-// With the slab lighting: Wrenninge's octaves a, b, c (extinction, contribution, eccentricity per octave), measured on
-// the envelope's calibration views (docs/fidelity/envelope_lighting.md).
-constexpr float kOctaveExtinction = 0.5f, kOctaveContribution = 0.7f, kOctaveEccentricity = 0.5f;
+// With the slab lighting: Wrenninge's octaves a, b (extinction, contribution per octave), measured on the envelope's
+// calibration views (docs/fidelity/envelope_lighting.md); their eccentricity c is a setting (envelope_eccentricity).
+constexpr float kOctaveExtinction = 0.5f, kOctaveContribution = 0.7f;
 
 }  // namespace
 
@@ -133,7 +133,7 @@ struct EnvelopeLayer::Impl {
     p.sun_color = glm::vec4(in.sun_color, s.ms_slab ? s.ground_albedo : 0.0f);
     p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
     // The slab presets (issue 21) light the envelope by octave_light; the others by issue 24's terms (x = 0).
-    if (s.ms_slab) p.octaves = glm::vec4(kOctaveExtinction, kOctaveContribution, kOctaveEccentricity, s.edge_depth_scale);
+    if (s.ms_slab) p.octaves = glm::vec4(kOctaveExtinction, kOctaveContribution, s.envelope_eccentricity, s.edge_depth_scale);
     p.map = glm::vec4(e.origin, e.texel_m, float(e.resolution));
     p.heights = glm::vec4(e.min_bottom, e.max_top, std::max(draw.edge_m, 1e-3f),
                           std::max(draw.density, 0.0f) * std::max(m.density_scale, 0.0f));
