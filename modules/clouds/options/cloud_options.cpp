@@ -182,7 +182,7 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               &o.envelope_eccentricity)
       .range(0.0, 1.0)
       .option("--cloud-light-sample-m", "M",
-              "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m)",
+              "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m, slab: 12 m)",
               &o.light_sample_m)
       .range(1.0, 200.0)
       .option("--cloud-light-samples", "N",
@@ -190,7 +190,7 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               &o.light_samples)
       .range(1.0, double(render::kMaxLightSamples))
       .option("--cloud-light-sample-growth", "R",
-              "each marched light sample R times longer than the one before, overriding the preset's (talk: 1)",
+              "each marched light sample R times longer than the one before, overriding the preset's (talk: 1, slab: 3)",
               &o.light_sample_growth)
       .range(1.0, 4.0)
       .option("--cloud-step-growth", "X",

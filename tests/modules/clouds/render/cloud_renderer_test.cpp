@@ -563,6 +563,41 @@ TEST_F(CloudRender, MarchedLightSamplesPartitionTheSameOpticalDepth) {
   EXPECT_NE(talk.hdr, growing.hdr);
 }
 
+// The slab preset's marched light samples (issue 21, session 54): the talk's two fetches and 48 m reach, so the light
+// grid takes over where it does in the talk's presets, with the first sample shorter (nearer the surface the sun
+// enters by); the talk's preset keeps its two of 24 m. The split reaches the march: the picture changes, by little.
+TEST_F(CloudRender, TheSlabPresetsLightSamplesKeepTheTalksReachWithAShorterFirst) {
+  const CloudSettings talk_defaults;
+  CloudSettings s;
+  apply_lighting_preset(s, CloudLightingPreset::Talk);
+  EXPECT_EQ(s.light_sample_m, talk_defaults.light_sample_m);
+  EXPECT_EQ(s.light_sample_growth, talk_defaults.light_sample_growth);
+  apply_lighting_preset(s, CloudLightingPreset::Slab);
+  const auto reach = [](const CloudSettings& c) {
+    float r = 0.0f;
+    for (uint32_t k = 0; k < c.light_samples; ++k) r += c.light_sample_m * std::pow(c.light_sample_growth, float(k));
+    return r;
+  };
+  EXPECT_EQ(s.light_samples, talk_defaults.light_samples);
+  EXPECT_LT(s.light_sample_m, talk_defaults.light_sample_m);
+  EXPECT_NEAR(reach(s), reach(talk_defaults), 1e-3f);
+
+  const scene::CameraView cam = camera();
+  CloudFrameInputs in = inputs(asset(), cam);
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  render(in);
+  const Frame split = render(in);
+  in.settings.light_sample_m = talk_defaults.light_sample_m;
+  in.settings.light_sample_growth = talk_defaults.light_sample_growth;
+  render(in);
+  const Frame even = render(in);
+  const double p = psnr(split.hdr, even.hdr);
+  std::printf("  slab light samples 12 + 36 m vs 24 + 24 m: %.1f dB\n", p);
+  EXPECT_GT(p, 30.0);
+  EXPECT_LT(p, 99.0);
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 // 40/60 Hz with the cloud box beyond the split distance: the near march and the merge are left out and
 // the picture is the one both passes draw.
 TEST_F(CloudRender, SplitSkipsAnEmptyNearSegment) {
