@@ -80,11 +80,8 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   const float solve_ratio = s.ms_strength > 0.0f ? s.ms_solve_strength / s.ms_strength : 0.0f;
   p.effects = glm::uvec4(s.effects, s.instance_shadows ? 1u : 0u, glm::floatBitsToUint(solve_weight),
                          glm::floatBitsToUint(solve_ratio));
-  const uint32_t light_samples = std::clamp(s.light_samples, 1u, kMaxLightSamples);
-  const float growth = std::max(s.light_sample_growth, 1.0f);
-  float reach = 0.0f;
-  for (uint32_t k = 0; k < light_samples; ++k) reach += s.light_sample_m * std::pow(growth, float(k));
-  p.light_march = glm::vec4(float(light_samples), growth, reach, std::max(s.step_growth, 1.0f));
+  p.light_march = glm::vec4(float(std::clamp(s.light_samples, 1u, kMaxLightSamples)), std::max(s.light_sample_growth, 1.0f),
+                            marched_light_reach_m(s), std::max(s.step_growth, 1.0f));
   p.ms = glm::vec4(s.ms_attenuation_inside, s.ms_attenuation, s.ms_diffusion ? (s.ms_slab ? 2.0f : 1.0f) : 0.0f, s.ms_other_cloud_attenuation);
   p.sky_zenith = glm::vec4(in.sky_zenith, s.ms_slab ? s.ms_anisotropy : 0.0f);
   p.sky_horizon = glm::vec4(in.sky_horizon, s.ms_slab ? s.edge_depth_scale : 0.0f);
@@ -210,6 +207,14 @@ constexpr float kSlabAmbientOcclusion = 1.0f;
 constexpr float kSlabEnclosedSkyDepth = 3.0f;
 // Mostly ocean below the sample's clouds: 0 / 0.05 / 0.1 moved the three cameras by 1-3 points.
 constexpr float kSlabGroundAlbedo = 0.1f;
+
+float marched_light_reach_m(const CloudSettings& s) {
+  const uint32_t n = std::clamp(s.light_samples, 1u, kMaxLightSamples);
+  const float growth = std::max(s.light_sample_growth, 1.0f);
+  float reach = 0.0f;
+  for (uint32_t k = 0; k < n; ++k) reach += s.light_sample_m * std::pow(growth, float(k));
+  return reach;
+}
 
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p) {
   const CloudSettings talk;

@@ -301,6 +301,8 @@ inline constexpr std::array kCloudLightingPresetNames{
     EnumName<CloudLightingPreset>{CloudLightingPreset::Solve, "solve"}};
 inline const char* lighting_preset_name(CloudLightingPreset p) { return name_of(kCloudLightingPresetNames, p); }
 void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p);
+// World metres the marched light samples span before the light grid takes over (the march's P.light_march.z).
+float marched_light_reach_m(const CloudSettings& s);
 
 // Budget modes (DESIGN.md; talk "30hz, 60hz, 40hz"): 30 Hz = one full-resolution march; 40 and 60 Hz =
 // the near segment (< split_distance_m) at half resolution and the far one at full resolution.

@@ -573,14 +573,10 @@ TEST_F(CloudRender, TheSlabPresetsLightSamplesKeepTheTalksReachWithAShorterFirst
   EXPECT_EQ(s.light_sample_m, talk_defaults.light_sample_m);
   EXPECT_EQ(s.light_sample_growth, talk_defaults.light_sample_growth);
   apply_lighting_preset(s, CloudLightingPreset::Slab);
-  const auto reach = [](const CloudSettings& c) {
-    float r = 0.0f;
-    for (uint32_t k = 0; k < c.light_samples; ++k) r += c.light_sample_m * std::pow(c.light_sample_growth, float(k));
-    return r;
-  };
   EXPECT_EQ(s.light_samples, talk_defaults.light_samples);
   EXPECT_LT(s.light_sample_m, talk_defaults.light_sample_m);
-  EXPECT_NEAR(reach(s), reach(talk_defaults), 1e-3f);
+  EXPECT_NEAR(marched_light_reach_m(s), marched_light_reach_m(talk_defaults), 1e-3f);
+  EXPECT_NEAR(marched_light_reach_m(talk_defaults), 48.0f, 1e-3f);  // the talk's two of 24 m
 
   const scene::CameraView cam = camera();
   CloudFrameInputs in = inputs(asset(), cam);
