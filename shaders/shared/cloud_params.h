@@ -175,7 +175,9 @@ struct CloudParams {
                         // y each next one's length over the one before (the talk: 1), z their total length (m), where the
                         // grid takes over; the first one's length is light.x; w: the in-cloud step's growth
                         // cap (CloudSettings::step_growth; 1: the talk's step)
-  vec4 slab;            // x: the slab's incidence blend (CloudSettings::ms_incidence; 0: off); yzw: unused
+  vec4 slab;            // the slab's terms (0: off): x its incidence blend (CloudSettings::ms_incidence), y the cavity
+                        // (ms_cavity), z the sky through the nearest surface (sky_side), w the forward lobe past the
+                        // first order (ms_forward)
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
 CUMULO_SHARED_SIZE(CloudParams, 1312)

@@ -170,6 +170,13 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "the sky's hemisphere) times X, overriding the preset's (0: through the column straight up only)",
               &o.sky_side)
       .range(0.0, 4.0)
+      .option("--cloud-ms-forward", "X",
+              "with the slab lighting and the silver lining, the light the phase's forward lobe scatters past the first "
+              "order, which goes on near the sun's direction and reaches deeper than the direct light (X x the lobe's "
+              "excess over the isotropic at 0.7 of its eccentricity, through 0.3 of the optical depth toward the sun), "
+              "overriding the preset's (slab: 0.21; 0: none)",
+              &o.ms_forward)
+      .range(0.0, 4.0)
       .option("--envelope-ms-diffused", "X",
               "with the slab lighting, the envelope clouds' sun light past the first order of scattering is at least "
               "X times diffusion's through the cloud's optical depth toward the sun, 1 / (1 + 0.75 (1 - g) depth), where "

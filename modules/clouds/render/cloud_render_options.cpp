@@ -27,6 +27,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   if (o.ms_incidence >= 0.0f) s.ms_incidence = o.ms_incidence;
   if (o.ms_cavity >= 0.0f) s.ms_cavity = o.ms_cavity;
   if (o.sky_side >= 0.0f) s.sky_side = o.sky_side;
+  if (o.ms_forward >= 0.0f) s.ms_forward = o.ms_forward;
   if (o.envelope_ms_diffused >= 0.0f) s.envelope_ms_diffused = o.envelope_ms_diffused;
   if (o.envelope_eccentricity >= 0.0f) s.envelope_eccentricity = o.envelope_eccentricity;
   if (o.light_sample_m > 0.0f) s.light_sample_m = o.light_sample_m;

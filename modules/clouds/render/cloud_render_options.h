@@ -46,6 +46,7 @@ struct CloudRenderOptions {
   float ms_incidence = -1.0f;           // --cloud-ms-incidence
   float ms_cavity = -1.0f;              // --cloud-ms-cavity
   float sky_side = -1.0f;               // --cloud-sky-side
+  float ms_forward = -1.0f;             // --cloud-ms-forward
   float envelope_ms_diffused = -1.0f;   // --envelope-ms-diffused
   float envelope_eccentricity = -1.0f;  // --envelope-octave-eccentricity
   float light_sample_m = -1.0f;         // --cloud-light-sample-m

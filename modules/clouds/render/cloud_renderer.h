@@ -201,6 +201,9 @@ struct CloudSettings {
   // With ms_slab and the ambient direction: the sky's light also through the nearest surface, which a face of normal n
   // sees (1 + n.y) / 2 of the sky's hemisphere through, times this (march_render.comp; 0: the column straight up only).
   float sky_side = 0.0f;
+  // With ms_slab and the silver lining: the light the phase's forward lobe scatters past the first order, which goes on
+  // near the sun's direction and so reaches deeper than the direct light (march_render.comp; 0: none, the talks').
+  float ms_forward = 0.0f;
   // With ms_slab: the envelope clouds' sun light past the first order at least this times diffusion's through the
   // optical depth toward the sun, where the octaves fall off faster (envelope_march.comp octave_light; 0: the octaves).
   float envelope_ms_diffused = 0.0f;

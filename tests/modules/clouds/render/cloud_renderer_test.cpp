@@ -1127,6 +1127,34 @@ TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
+// The slab's forward lobe past the first order (ms_forward, issue 21, session 55): a cloud seen against the sun gains
+// light, one seen with the sun behind the viewer gains none (only the lobe's excess over the isotropic is added, and the
+// forward lobe has none there); with the silver lining off (the lobe's switch) it is not there at all.
+TEST_F(CloudRender, SlabForwardLobeLightsACloudAgainstTheSunOnly) {
+  for (const float toward : {1.0f, -1.0f}) {  // +1: the sun behind the cloud; -1: behind the viewer
+    CloudFrameInputs in = inputs(asset(), camera());  // from +z toward the sphere
+    in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.5f, -toward));
+    apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+    ASSERT_GT(in.settings.ms_forward, 0.0f);
+    const Frame with = render(in);
+    in.settings.ms_forward = 0.0f;
+    const Frame without = render(in);
+    std::printf("  sun %s: radiance sum with the forward lobe %.3f, without %.3f\n", toward > 0 ? "behind the cloud" : "behind the viewer",
+                radiance_sum(with), radiance_sum(without));
+    if (toward > 0) {
+      EXPECT_GT(radiance_sum(with), 1.03 * radiance_sum(without));
+      in.settings.effects = CLOUD_EFFECTS_ALL & ~CLOUD_EFFECT_SILVER_LINING;
+      const Frame lobe_off_without = render(in);
+      in.settings.ms_forward = 0.21f;
+      const Frame lobe_off_with = render(in);
+      EXPECT_EQ(lobe_off_with.hdr, lobe_off_without.hdr) << "the silver lining's switch takes the forward lobe with it";
+    } else {
+      EXPECT_NEAR(radiance_sum(with), radiance_sum(without), 1e-3 * radiance_sum(without));
+    }
+  }
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 // The slab's dark edges from the optical depth to the nearest surface (edge_depth_scale, issue 21): the in-scatter
 // probability 1 - exp(-k x depth to the surface x sigma) darkens the outer metres of a cloud, where the talks' profile
 // darkens a recipe's fraction of its height; a steep k leaves only the outermost voxels dark (as with the effect off),
