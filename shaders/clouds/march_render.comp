@@ -212,7 +212,7 @@ vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, v
 // far layer's own radiance and transmittance stay unattenuated for the merge.
 // The forward lobe past the first order (march_render.comp's forward_phase; cloud_renderer.cpp kSlabMsForward says how
 // these were measured).
-const float kForwardExtinction = 0.3, kForwardEccentricity = 0.7;
+const float kForwardEccentricity = 0.7;
 
 void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
                     float t_front, vec4 mean_noise, inout PixelData px) {
@@ -228,7 +228,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
   float phase = silver_lining ? dual_lobe_phase(sun_dot) : henyey_greenstein(sun_dot, P.phase.y);
   // The forward lobe past the first order (slab, P.slab.w = strength; with the silver lining, whose lobe it is): light
   // scattered within the phase's forward lobe goes on near the sun's direction, so it reaches deeper than the direct
-  // light (Wrenninge's first octave: kForwardExtinction of the optical depth, kForwardEccentricity of the lobes'
+  // light (Wrenninge's first octave: a quarter of the optical depth, kForwardEccentricity of the lobes'
   // eccentricity). Only its excess over the isotropic: the slab's diffused light already counts the rest. One per ray.
   float forward_phase = 0.0;
   if (silver_lining)
@@ -376,8 +376,10 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         float ms_phase = 1.0 / (4.0 * kPi);
         if (slab && P.sky_zenith.w > 0.0)
           ms_phase = henyey_greenstein(sun_dot, P.sky_zenith.w * g_mean / (1.0 + 0.75 * r * od.y));
-        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (exp(-od_sun) * phase + ms * ms_strength * ms_phase +
-                                                                           edge * forward_phase * exp(-kForwardExtinction * od_sun)));
+        // The forward lobe sees a quarter of the optical depth: the direct light's transmittance is its fourth power (one exp).
+        float quarter = exp(-0.25 * od_sun), quarter2 = quarter * quarter;
+        vec3 light_in = P.sun_color.rgb * (terrain_visibility(world_q) * (quarter2 * quarter2 * phase + ms * ms_strength * ms_phase +
+                                                                           edge * forward_phase * quarter));
         // The sky's light: the talks' isotropic ambient takes it from the whole sphere; the slab takes it from the
         // upper hemisphere only, weighted by the phase function there (sky_share, first order in the phase's mean
         // cosine: a cloud seen from below forward-scatters the sky, one seen from above the ground), and the lower

@@ -173,7 +173,7 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
       .option("--cloud-ms-forward", "X",
               "with the slab lighting and the silver lining, the light the phase's forward lobe scatters past the first "
               "order, which goes on near the sun's direction and reaches deeper than the direct light (X x the lobe's "
-              "excess over the isotropic at 0.7 of its eccentricity, through 0.3 of the optical depth toward the sun), "
+              "excess over the isotropic at 0.7 of its eccentricity, through a quarter of the optical depth toward the sun), "
               "overriding the preset's (slab: 0.21; 0: none)",
               &o.ms_forward)
       .range(0.0, 4.0)

@@ -192,14 +192,14 @@ constexpr float kSlabEnvelopeEccentricity = 0.7f;
 constexpr float kSlabLightSampleM = 12.0f;
 constexpr float kSlabLightSampleGrowth = 3.0f;
 // The forward lobe past the first order (issue 21, session 55; march_render.comp): strength S of the phase's excess over
-// the isotropic at an eccentricity of 0.7 x its own, seen through 0.3 of the optical depth toward the sun (Wrenninge's
-// first octave, a 0.3 / c 0.7, as far as it exceeds the diffused light the slab already counts). On our own views
+// the isotropic at an eccentricity of 0.7 x its own, seen through a quarter of the optical depth toward the sun
+// (Wrenninge's first octave, a 0.25 / c 0.7, as far as it exceeds the diffused light the slab already counts). On our own views
 // (calibration 64 spp, noise-corrected mean; session 54's 14.54 %), S = octave weight x 0.7: a 0.5, c 0.7, S 0.21: 14.52
 // (0.42: 14.57; two octaves: 14.53; three, without the edges' in-scatter: 14.89, the mediocris from below 15.4 -> 17.3);
 // a 0.3: 14.47, a 0.7: 14.55; c 0.5: 14.55, c 0.85 with a 0.3: 14.41, c 1: 14.38 (S 0.35: 14.54, S 0.1: 14.39). c 0.85
 // and 1 sharpen the lair's glow under its roof past the band-pass bar (the acceptance record: +25.7 / +31.8 % against
-// 25 %), so c 0.7 (+24.8 %) with a 0.3 and S 0.21: own 14.47 %, chamber 24.04 -> 23.73 %
-// (docs/fidelity/envelope_lighting.md, "Session 55").
+// 25 %), so c 0.7 (+24.8 %) and S 0.21; a 0.25 ties a 0.3 (own 14.47 %, chamber 23.58 / 23.73 %) and its transmittance
+// gives the direct light's as its fourth power, so the term costs no exp (docs/fidelity/envelope_lighting.md, "Session 55").
 constexpr float kSlabMsForward = 0.21f;
 // The solved field is the scattered light's fluence itself, in-scattered as fluence / 4 pi at strength 1 in theory;
 // against the reference it is 3-5x short (calibrated on our seven views: docs/fidelity/solve_lighting.md).
