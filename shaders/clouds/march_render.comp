@@ -207,13 +207,13 @@ vec2 sun_optical_depth(CLOUD_MODELING_PARAMS, int i, CloudInstanceParams inst, v
   return vec2(sum, own) * P.march.x;
 }
 
+// The forward lobe past the first order's share of the phase's eccentricity (march_instance's forward_phase;
+// cloud_renderer.cpp kSlabMsForward says how it was measured).
+const float kForwardEccentricity = 0.7;
+
 // `t_front`: transmittance in front of this segment (the near layer's, for the far march; 1 otherwise).
 // It only ends the march early (where the near layer is already opaque the far one cannot show); the
 // far layer's own radiance and transmittance stay unattenuated for the merge.
-// The forward lobe past the first order (march_render.comp's forward_phase; cloud_renderer.cpp kSlabMsForward says how
-// these were measured).
-const float kForwardEccentricity = 0.7;
-
 void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int i, vec3 ro, vec3 rd, float t_begin, float t_end, float hash_animated, float hash_static,
                     float t_front, vec4 mean_noise, inout PixelData px) {
   CloudInstanceParams inst = P.instances[i];
