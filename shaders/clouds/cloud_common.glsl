@@ -235,10 +235,12 @@ DensitySample sample_density_with_noise(CLOUD_MODELING_PARAMS, CloudInstancePara
 // The voxel noise's mean: its last mip's single texel.
 vec4 noise_mean() { return textureLod(noise_tex, vec3(0.5), float(textureQueryLevels(noise_tex) - 1)); }
 
-// Dual-lobe HG (2017 talk's silver lining: a forward lobe toward the sun plus a backward lobe).
-float dual_lobe_phase(float cos_theta) {
-  return mix(henyey_greenstein(cos_theta, P.phase.y), henyey_greenstein(cos_theta, P.phase.x), P.phase.z);
+// Dual-lobe HG (2017 talk's silver lining: a forward lobe toward the sun plus a backward lobe); `eccentricity` scales
+// both lobes' g (an order of scattering past the first keeps a share of it: march_render.comp's forward lobe).
+float dual_lobe_phase(float cos_theta, float eccentricity) {
+  return mix(henyey_greenstein(cos_theta, eccentricity * P.phase.y), henyey_greenstein(cos_theta, eccentricity * P.phase.x), P.phase.z);
 }
+float dual_lobe_phase(float cos_theta) { return dual_lobe_phase(cos_theta, 1.0); }
 
 
 #endif

@@ -232,8 +232,7 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
   // eccentricity). Only its excess over the isotropic: the slab's diffused light already counts the rest. One per ray.
   float forward_phase = 0.0;
   if (silver_lining)
-    forward_phase = P.slab.w * max(mix(henyey_greenstein(sun_dot, kForwardEccentricity * P.phase.y),
-                                       henyey_greenstein(sun_dot, kForwardEccentricity * P.phase.x), P.phase.z) - 1.0 / (4.0 * kPi), 0.0);
+    forward_phase = P.slab.w * max(dual_lobe_phase(sun_dot, kForwardEccentricity) - 1.0 / (4.0 * kPi), 0.0);
   float ms_strength = (P.effects.x & CLOUD_EFFECT_INNER_GLOW) != 0u ? P.phase.w : 0.0;
   bool dark_edges = (P.effects.x & CLOUD_EFFECT_DARK_EDGES) != 0u;
   bool ambient_direction = (P.effects.x & CLOUD_EFFECT_AMBIENT_DIRECTION) != 0u;
