@@ -57,6 +57,10 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
       .choice("--cloud-light-sample-noise", kLightSampleNoiseNames,
               "noise in the two marched light samples: its mean (default), or sampled as in the talk",
               &o.light_sample_noise_mean)
+      .choice("--cloud-lights", render::kCloudLightsNames,
+              "which lights reach the clouds: all (default), the sun alone or the sky alone (cumulo fidelity traces its "
+              "reference with the same one, to measure each source's share of the lighting model)",
+              &o.lights)
       .on_off("--cloud-shadows", "the clouds' shadow on the terrain and the ocean (default on)", &o.shadows)
       .on_off("--cloud-terrain-shadow", "the terrain's shadow on the clouds (default on)", &o.terrain_shadow)
       .on_off("--cloud-light-shafts", "light shafts through gaps in the clouds (default on)", &o.light_shafts)

@@ -117,9 +117,13 @@ std::vector<glm::vec4> realtime_image(RenderSession& s, render::CloudFeature& f,
   return sum;
 }
 
+// The lights a reference was traced with, in its standard-error EXR's alpha (1: all, as before --cloud-lights).
+float lights_tag(render::CloudLights l) { return 1.0f + float(l); }
+
 // A previous run's reference of this view (`base`_reference.exr, _reference_stderr.exr, _reference.png) when it
-// has the size and samples asked for.
-bool load_reference(const std::string& base, const FidelityOptions& o, render::ReferenceImage& ref, gpu::Rgba8Image& png) {
+// has the size, samples and lights asked for.
+bool load_reference(const std::string& base, const FidelityOptions& o, render::CloudLights lights, render::ReferenceImage& ref,
+                    gpu::Rgba8Image& png) {
   namespace fs = std::filesystem;
   if (!fs::exists(base + "_reference.exr") || !fs::exists(base + "_reference_stderr.exr") || !fs::exists(base + "_reference.png"))
     return false;
@@ -127,6 +131,7 @@ bool load_reference(const std::string& base, const FidelityOptions& o, render::R
   std::vector<glm::vec4> radiance = read_exr(base + "_reference.exr", &w, &h);
   std::vector<glm::vec4> se = read_exr(base + "_reference_stderr.exr", &w2, &h2);
   if (w != o.width || h != o.height || w2 != w || h2 != h || se.empty() || uint32_t(se[0].y) != o.ref.spp) return false;
+  if (se[0].w != lights_tag(lights)) return false;
   ref.width = w, ref.height = h;
   ref.samples = uint32_t(se[0].y);
   ref.majorant_violations = se[0].z;
@@ -179,6 +184,10 @@ int run_fidelity(FidelityOptions& o, const CloudsRun& run) {
   d.width = o.width, d.height = o.height;
   RenderSession session(d, run);
   render::ReferenceTracer tracer(session.ctx(), feature.pipeline_library());
+  // One light alone (--cloud-lights sun|sky): the reference traces the same one (the lightning's point lights stay in both).
+  const render::CloudLights lights = feature.options().lights;
+  tracer.settings().sun = lights != render::CloudLights::Sky;
+  tracer.settings().sky = lights != render::CloudLights::Sun;
   render::HdrCapture capture(session.ctx());
   const float level_tod = session.time_of_day();
   const uint32_t all_effects = feature.options().effects;
@@ -230,13 +239,14 @@ int run_fidelity(FidelityOptions& o, const CloudsRun& run) {
     // (the tracer is deterministic: the same scene, settings and seed give the same image).
     render::ReferenceImage ref;
     gpu::Rgba8Image ref_png;
-    if (!(o.reuse_references && load_reference(base, o, ref, ref_png))) {
+    if (!(o.reuse_references && load_reference(base, o, lights, ref, ref_png))) {
       feature.set_reference(&tracer);
       ref = accumulate_reference(session, tracer, camera, o.ref, v.name, &r.reference_seconds);
       feature.set_reference(nullptr);
       ref_png = session.screenshot();
       std::vector<glm::vec4> se(ref.radiance.size());
-      for (size_t i = 0; i < se.size(); ++i) se[i] = glm::vec4(ref.luminance_stderr[i], float(ref.samples), float(ref.majorant_violations), 1.0f);
+      for (size_t i = 0; i < se.size(); ++i)
+        se[i] = glm::vec4(ref.luminance_stderr[i], float(ref.samples), float(ref.majorant_violations), lights_tag(lights));
       write_exr(base + "_reference_stderr.exr", ref.width, ref.height, se);
     } else {
       std::fprintf(stderr, "cumulo fidelity: %s: reusing %s_reference.exr (%u spp)\n", v.name.c_str(), base.c_str(), ref.samples);
@@ -359,6 +369,8 @@ int run_fidelity(FidelityOptions& o, const CloudsRun& run) {
                    {"realtime_warmup_frames", o.warmup},
                    {"realtime_frames_averaged", o.frames},
                    {"cloud_opacity_threshold", kCloudOpacity},
+                   {"opaque_opacity_threshold", kOpaqueOpacity},
+                   {"lights", name_of(render::kCloudLightsNames, lights)},
                    {"constants", nlohmann::ordered_json::array()}};
   for (render::CloudLightingPreset p : o.presets) j["settings"]["constants"].push_back(render::lighting_preset_name(p));
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
@@ -387,6 +399,9 @@ int run_fidelity(FidelityOptions& o, const CloudsRun& run) {
           {"error_in_cloud", r.preset_err[k].error_in_cloud},
           {"error_in_cloud_noise_corrected", r.preset_err[k].error_in_cloud_corrected},
           {"bias_in_cloud", r.preset_err[k].bias_in_cloud},
+          {"error_opaque_noise_corrected", r.preset_err[k].error_opaque_corrected},
+          {"bias_opaque", r.preset_err[k].bias_opaque},
+          {"opaque_pixels", r.preset_err[k].opaque_pixels},
           {"belly_lower_third", {{"realtime", num(f.belly_realtime)}, {"reference", num(f.belly_reference)}, {"difference", num(f.belly_difference())}}},
           {"rim_core_ratio", {{"realtime", num(f.rim_core_realtime)}, {"reference", num(f.rim_core_reference)}, {"difference", num(f.rim_core_difference())}}},
           {"band_pass_contrast", {{"realtime", num(f.band_pass_realtime)}, {"reference", num(f.band_pass_reference)}, {"difference", num(f.band_pass_difference())}}}};

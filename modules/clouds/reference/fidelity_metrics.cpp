@@ -38,7 +38,13 @@ FidelityError fidelity_error(const std::vector<glm::vec4>& rt, const render::Ref
       e.bias_in_cloud += (lt - lr) / denom;
       const double se = ref.luminance_stderr.empty() ? 0.0 : ref.luminance_stderr[i];
       const double rel_se = se / denom;
-      e.error_in_cloud_corrected += std::sqrt(std::max(0.0, (lt - lr) * (lt - lr) - se * se)) / denom;
+      const double corrected = std::sqrt(std::max(0.0, (lt - lr) * (lt - lr) - se * se)) / denom;
+      e.error_in_cloud_corrected += corrected;
+      if (ref.radiance[i].a >= kOpaqueOpacity) {
+        e.error_opaque_corrected += corrected;
+        e.bias_opaque += (lt - lr) / denom;
+        ++e.opaque_pixels;
+      }
       e.stderr_in_cloud += rel_se;
       e.noise_in_cloud += std::sqrt(2.0 / 3.14159265358979) * rel_se;
       ++e.cloud_pixels;
@@ -50,6 +56,7 @@ FidelityError fidelity_error(const std::vector<glm::vec4>& rt, const render::Ref
     e.realtime_luminance_in_cloud /= n, e.reference_luminance_in_cloud /= n;
     e.error_in_cloud /= n, e.error_in_cloud_corrected /= n, e.bias_in_cloud /= n, e.noise_in_cloud /= n, e.stderr_in_cloud /= n;
   }
+  if (e.opaque_pixels) e.error_opaque_corrected /= double(e.opaque_pixels), e.bias_opaque /= double(e.opaque_pixels);
   return e;
 }
 

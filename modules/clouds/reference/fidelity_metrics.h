@@ -25,8 +25,14 @@ struct FidelityError {
   double error_in_cloud_corrected = 0.0;
   double realtime_luminance_in_cloud = 0.0, reference_luminance_in_cloud = 0.0;  // means
   uint64_t cloud_pixels = 0;
+  // The same noise-corrected error and bias over the opaque pixels only (reference opacity >= kOpaqueOpacity), where
+  // the background does not show: the measure of a run with one light alone (--cloud-lights sun|sky), whose
+  // background keeps every light in the real-time image and not in the reference.
+  double error_opaque_corrected = 0.0, bias_opaque = 0.0;
+  uint64_t opaque_pixels = 0;
 };
 inline constexpr float kCloudOpacity = 0.2f;
+inline constexpr float kOpaqueOpacity = 0.99f;
 
 float luminance(glm::vec3 c);
 // Pixels with reference luminance below `floor_fraction` x the image's mean count as that floor (a black

@@ -9,6 +9,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   s.temporal = o.temporal;
   s.light_grid_method = o.light_grid_method;
   s.light_sample_noise_mean = o.light_sample_noise_mean;
+  s.lights = o.lights;
   s.light_grid_always_update = o.light_grid_always_update;
   s.reprojection_block = o.reprojection_block;
   s.near_reprojection_block = o.near_reprojection_block;

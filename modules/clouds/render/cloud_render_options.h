@@ -23,6 +23,7 @@ struct CloudRenderOptions {
   uint32_t light_grid_samples = 0;  // CloudResourcesDesc::light_grid_sweep_samples (0: the device's)
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean
+  CloudLights lights = CloudLights::All;  // --cloud-lights: CloudSettings::lights
   bool light_grid_always_update = false;  // CloudSettings::light_grid_always_update (cumulo bench)
   bool shadows = true;  // --cloud-shadows: the clouds' shadow on the terrain and the ocean
   std::optional<bool> sky;  // --cloud-sky on|off; none (auto): on when the level has a WeatherScheduler

@@ -365,6 +365,8 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
   in.ambient_color = (in.settings.sky_mean_ambient && mean_known ? snap.lighting.sky_mean
                                                                  : 0.5f * (snap.lighting.sky_zenith + snap.lighting.sky_horizon)) *
                      snap.lighting.ambient;
+  if (in.settings.lights == CloudLights::Sky) in.sun_color = glm::vec3(0.0f);
+  if (in.settings.lights == CloudLights::Sun) in.ambient_color = glm::vec3(0.0f);
   in.haze_density = snap.lighting.fog_density;
   in.haze_falloff = snap.lighting.fog_falloff;
   in.sky_zenith = snap.lighting.sky_zenith;

@@ -127,6 +127,10 @@ inline constexpr uint32_t kMaxSolveLevels = 32;
 inline constexpr float kTalkAnimatedJitterDistanceM = 250.0f;
 inline constexpr float kJitterAnimatedEverywhereM = 1e30f;
 
+enum class CloudLights : uint8_t { All, Sun, Sky };
+inline constexpr std::array kCloudLightsNames{EnumName<CloudLights>{CloudLights::All, "all"}, EnumName<CloudLights>{CloudLights::Sun, "sun"},
+                                              EnumName<CloudLights>{CloudLights::Sky, "sky"}};
+
 struct CloudSettings {
   CloudAblation ablation = CloudAblation::Full;
   CloudDebugView debug = CloudDebugView::None;
@@ -218,6 +222,9 @@ struct CloudSettings {
   // The clouds' sky light is the sky's mean radiance over the upper hemisphere (SceneLighting::sky_mean), not
   // 0.5 (zenith + horizon), which is about twice as bright and, at a low sun, warm where the sky is blue.
   bool sky_mean_ambient = false;
+  // Which lights reach the clouds (cumulo fidelity --cloud-lights): all, the sun alone or the sky alone, so each
+  // source's share of the lighting model can be measured against the path tracer's with the same source alone.
+  CloudLights lights = CloudLights::All;
   // With ms_slab: the lateral leak's coefficient c (march_render.comp): where the nearest surface lies nearer than
   // both ends of the sun's line through the own cloud (a tower's top under a grazing sun), the multiple scattering
   // falls by exp(-c tau'_excess / (2 tau'_surface + 4/3)) (transport optical depths). 0: none.

@@ -44,6 +44,22 @@ TEST(FidelityError, IsZeroForTheSameImageAndTheRelativeLuminanceDifferenceOtherw
   EXPECT_THROW(fidelity_error(std::vector<glm::vec4>(3), ref), Error);
 }
 
+// The opaque pixels' error (a run with one light alone is read there): the thin pixels, where the background
+// shows, are left out.
+TEST(FidelityError, MeasuresTheOpaquePixelsApart) {
+  render::ReferenceImage ref = image(4, 1, glm::vec3(0.5f), 1.0f);
+  ref.radiance[2].a = ref.radiance[3].a = 0.5f;  // thin: the background shows through
+  std::vector<glm::vec4> rt(ref.radiance.begin(), ref.radiance.end());
+  rt[0] = rt[1] = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);  // 20 % brighter where opaque
+  rt[2] = rt[3] = glm::vec4(1.0f, 1.0f, 1.0f, 1.0f);  // twice as bright where thin
+  const FidelityError e = fidelity_error(rt, ref);
+  EXPECT_EQ(e.opaque_pixels, 2u);
+  EXPECT_EQ(e.cloud_pixels, 4u);
+  EXPECT_NEAR(e.bias_opaque, 0.2, 1e-5);
+  EXPECT_NEAR(e.error_opaque_corrected, std::sqrt(0.1 * 0.1 - 0.01 * 0.01) / 0.5, 1e-5);
+  EXPECT_NEAR(e.bias_in_cloud, 0.6, 1e-5);
+}
+
 TEST(FidelityError, MapsTheErrorToColourInsideTheCloudOnly) {
   render::ReferenceImage ref = image(2, 1, glm::vec3(1.0f), 1.0f);
   ref.radiance[1].a = 0.0f;

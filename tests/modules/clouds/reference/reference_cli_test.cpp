@@ -100,6 +100,32 @@ TEST(FidelityCli, WritesTheJsonTheImagesAndTheTable) {
   EXPECT_TRUE(fs::exists(out.parent_path() / j["views"][1]["images"]["realtime_without_effect"].get<std::string>()));
 }
 
+// One light alone (--cloud-lights): the reference is traced with the same one, and a reference traced with other
+// lights is not reused.
+TEST(FidelityCli, TracesTheReferenceWithTheLightsTheRealTimeImageHas) {
+  const fs::path dir = cumulo::test::fresh_temp_dir("cumulo_fidelity_lights");
+  {
+    std::ofstream v(dir / "views.json");
+    v << R"({"views": [{"name": "mixed", "camera": "mixed"}]})";
+  }
+  auto run = [&](const std::string& lights, const std::string& out) {
+    auto r = run_cumulo("fidelity " + sample_level() + " --views-file " + (dir / "views.json").string() +
+                        " --size 32x18 --spp 2 --max-bounces 4 --frames 2 --warmup 1 --constants slab --reuse-references --images " +
+                        (dir / "images").string() + " --cloud-lights " + lights + " --out " + (dir / out).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream f(dir / out);
+    return nlohmann::json::parse(f);
+  };
+  const auto sun = run("sun", "sun.json");
+  EXPECT_EQ(sun["settings"]["lights"], "sun");
+  EXPECT_GT(sun["views"][0]["constants"]["slab"]["opaque_pixels"].get<int>(), 0);
+  const auto all = run("all", "all.json");
+  EXPECT_FALSE(all["views"][0]["reference_reused"].get<bool>()) << "traced with the sun alone: not the reference of all the lights";
+  EXPECT_GT(all["views"][0]["reference_luminance_in_cloud"].get<double>(), sun["views"][0]["reference_luminance_in_cloud"].get<double>());
+  EXPECT_GT(all["views"][0]["realtime_luminance_in_cloud"].get<double>(), sun["views"][0]["realtime_luminance_in_cloud"].get<double>());
+  EXPECT_TRUE(run("all", "again.json")["views"][0]["reference_reused"].get<bool>());
+}
+
 TEST(FidelityCli, ABadViewsFileIsReportedWithItsPlace) {
   const fs::path dir = cumulo::test::fresh_temp_dir("cumulo_fidelity_bad");
   auto write = [&](const char* text) {

@@ -883,6 +883,13 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   snap.lighting.sky_mean = glm::vec3(0.1f, 0.2f, 0.4f);
   EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, mean).ambient_color.b, 0.2f, 1e-6f);
   EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0).ambient_color.b, 0.35f, 1e-6f);
+  // One light alone (--cloud-lights): the other's colour is zero, the one kept unchanged.
+  CloudSettings sun_only, sky_only;
+  sun_only.lights = CloudLights::Sun, sky_only.lights = CloudLights::Sky;
+  EXPECT_EQ(cloud_inputs_from_snapshot(snap, 0, sun_only).ambient_color, glm::vec3(0.0f));
+  EXPECT_EQ(cloud_inputs_from_snapshot(snap, 0, sun_only).sun_color, in.sun_color);
+  EXPECT_EQ(cloud_inputs_from_snapshot(snap, 0, sky_only).sun_color, glm::vec3(0.0f));
+  EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, sky_only).ambient_color.b, 0.35f, 1e-6f);
 }
 
 TEST_F(CloudRender, DebugViewsDrawSomethingDifferentFromTheImage) {
@@ -1130,6 +1137,34 @@ TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
 // The slab's forward lobe past the first order (ms_forward, issue 21, session 55): a cloud seen against the sun gains
 // light, one seen with the sun behind the viewer gains none (only the lobe's excess over the isotropic is added, and the
 // forward lobe has none there); with the silver lining off (the lobe's switch) it is not there at all.
+// The sun's and the sky's shares of the slab lighting, each measured alone against the path tracer's with that light
+// alone (cumulo fidelity --cloud-lights sun|sky), add up to the whole: every term of the march scales with the one
+// light it stands for, so no term is counted in neither share or in both.
+TEST_F(CloudRender, TheSunAloneAndTheSkyAloneAddUpToAllTheLights) {
+  CloudFrameInputs in = inputs(asset(), camera({-300.0f, 160.0f, 250.0f}));
+  in.sun_direction = glm::normalize(glm::vec3(0.3f, 0.4f, -0.6f));
+  apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
+  ASSERT_GT(length(in.sun_color), 0.0f);
+  ASSERT_GT(length(in.ambient_color), 0.0f);
+  const Frame all = render(in);
+  const glm::vec3 sun = in.sun_color, sky = in.ambient_color;
+  in.ambient_color = glm::vec3(0.0f);
+  const Frame sun_alone = render(in);
+  in.sun_color = glm::vec3(0.0f), in.ambient_color = sky;
+  const Frame sky_alone = render(in);
+  in.sun_color = sun;
+  const double a = radiance_sum(all), s = radiance_sum(sun_alone), k = radiance_sum(sky_alone);
+  std::printf("  radiance sum: all %.3f, the sun alone %.3f, the sky alone %.3f (sum %.3f)\n", a, s, k, s + k);
+  EXPECT_GT(s, 0.2 * a);
+  EXPECT_GT(k, 0.05 * a);
+  EXPECT_NEAR(s + k, a, 1e-3 * a);
+  double worst = 0.0;
+  for (size_t i = 0; i < all.color.size(); ++i)
+    worst = std::max(worst, double(length(glm::vec3(sun_alone.color[i]) + glm::vec3(sky_alone.color[i]) - glm::vec3(all.color[i]))));
+  EXPECT_LT(worst, 1e-3 * a / double(all.color.size()) + 1e-3) << "pixel by pixel";
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
 TEST_F(CloudRender, SlabForwardLobeLightsACloudAgainstTheSunOnly) {
   for (const float toward : {1.0f, -1.0f}) {  // +1: the sun behind the cloud; -1: behind the viewer
     CloudFrameInputs in = inputs(asset(), camera());  // from +z toward the sphere
