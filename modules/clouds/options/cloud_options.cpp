@@ -171,14 +171,14 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
       .range(0.0, 1.0)
       .option("--cloud-sky-side", "X",
               "with the slab lighting, the clouds' sky light also through the nearest surface (a face sees (1 + n.y) / 2 of "
-              "the sky's hemisphere) times X, overriding the preset's (0: through the column straight up only)",
+              "the sky's hemisphere) times X, overriding the preset's (slab: 2; 0: through the column straight up only)",
               &o.sky_side)
       .range(0.0, 4.0)
       .option("--cloud-ms-forward", "X",
               "with the slab lighting and the silver lining, the light the phase's forward lobe scatters past the first "
               "order, which goes on near the sun's direction and reaches deeper than the direct light (X x the lobe's "
               "excess over the isotropic at 0.7 of its eccentricity, through a quarter of the optical depth toward the sun), "
-              "overriding the preset's (slab: 0.21; 0: none)",
+              "overriding the preset's (slab: 0.5; 0: none)",
               &o.ms_forward)
       .range(0.0, 4.0)
       .option("--envelope-ms-diffused", "X",
@@ -257,7 +257,7 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               &o.sky_mean)
       .option("--cloud-ms-anisotropy", "X",
               "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
-              "phase function's mean cosine, overriding the preset's (0: isotropic)",
+              "phase function's mean cosine, overriding the preset's (slab: 0.2; 0: isotropic)",
               &o.ms_anisotropy)
       .range(0.0, 2.0);
 }

