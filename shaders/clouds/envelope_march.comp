@@ -83,10 +83,17 @@ float cone_step(float h, float ratio, float horizontal, float up) {
   return denom > 1e-6 ? ratio * h / denom : 1e9;
 }
 
+// The light samples skip the detail noise (a fetch each), but the view ray's density is eroded by it: without the
+// erosion they see more cloud toward the sun than the ray does, and the path tracer, which traces the eroded density
+// both ways, lights a bank's underside a quarter brighter (docs/fidelity/envelope_lighting.md, session 57). With the
+// slab presets they erode by the detail's mean fBm (E.terrain.z; 0: not at all, the talk's), as
+// envelope_density.glsl erodes by the sampled one.
 float light_optical_depth(vec3 p, vec3 l) {
   float od = 0.0, t = 0.0, len = E.march.w;
+  float erosion = E.terrain.z * E.noise.z * 0.25;
   for (int k = 0; k < 4; ++k) {
-    od += envelope_sample(p + l * (t + 0.5 * len), false).density * len;
+    float d = envelope_sample(p + l * (t + 0.5 * len), false).density;
+    od += max(d - erosion * E.heights.w, 0.0) / max(1.0 - erosion, 1e-3) * len;
     t += len;
     len *= 2.0;
   }
@@ -118,8 +125,6 @@ vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, float sun_vis
   // 1 / (1 + 0.75 (1 - g) od)): the octaves' exp(-a^n od) falls off far faster in a thick bank, diffusion's is what a
   // thick slab passes (its last octave's phase: the orders past the octaves are as isotropic).
   float diffused = E.sun_dir.w * ph_last / (1.0 + 0.75 * (1.0 - mix(E.phase.y, E.phase.x, E.phase.z)) * od_sun);
-  sun += E.sun_color.rgb * max(orders, diffused);
-  sun *= sun_visible;
   vec2 uv = env_uv(p.xz);
   vec4 shape = textureLod(shape_tex, uv, 0.0);
   float edge_m = textureLod(aux_tex, uv, 0.0).y;
@@ -130,6 +135,10 @@ vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, float sun_vis
   float g = mix(E.phase.y, E.phase.x, E.phase.z);  // the phase's mean cosine
   float r = 1.0 - g;
   float edge = 1.0 - exp(-E.octaves.w * sigma * min(min(below, above), edge_m));
+  // The orders past the first need cloud around the point to scatter in: near a surface most of the light escapes
+  // first, so they take the dark edges' in-scatter probability, as the voxel clouds' multiple scattering does.
+  sun += E.sun_color.rgb * (max(orders, diffused) * edge);
+  sun *= sun_visible;
   float sky_share = saturate(0.5 + 0.75 * g * rd.y);
   vec3 light_in = sun + E.ambient_color.rgb * (sky_share * exp(-tau_up) + edge * E.phase.w * 0.25 / (1.0 + 0.75 * r * tau_up));
   light_in += (E.sun_color.rgb * (max(l.y, 0.0) / kPi) + E.ambient_color.rgb) *

@@ -47,7 +47,8 @@ struct EnvelopeParams {
   vec4 yield_max[ENV_MAX_YIELD_BOXES];
   mat4 light_depth;    // world -> the key light's depth map NDC (render::LightDepth)
   vec4 terrain;        // x: the light depth map's metres per unit depth; y: the voxel clouds' shadow map's plane (world
-                       // y); zw: unused
+                       // y); z: the detail noise's mean fBm the light samples erode by (the slab presets; 0: none);
+                       // w: unused
   vec4 voxel_shadow;   // the voxel clouds' shadow map: xy world x, z of its corner, zw its size (m)
 };
 CUMULO_SHARED_SIZE(EnvelopeParams, 496)

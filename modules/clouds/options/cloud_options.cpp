@@ -189,9 +189,14 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
       .range(0.0, 4.0)
       .option("--envelope-octave-eccentricity", "C",
               "with the slab lighting, how much of the phase's eccentricity each of the envelope clouds' octaves of "
-              "scattering keeps from the one before (Wrenninge's c), overriding the preset's (slab: 0.7)",
+              "scattering keeps from the one before (Wrenninge's c), overriding the preset's (slab: 0.5)",
               &o.envelope_eccentricity)
       .range(0.0, 1.0)
+      .choice("--envelope-light-erosion", kOnOffNames, "preset",
+              "with the slab lighting, the envelope clouds' light samples toward the sun erode by the detail noise's mean "
+              "as the view ray's density is eroded by the detail (on), or see the density without it (off, the talk's), "
+              "overriding the preset's (slab: on)",
+              &o.envelope_light_erosion)
       .option("--cloud-light-sample-m", "M",
               "the length of the first marched light sample before the light grid, overriding the preset's (talk: 24 m, slab: 12 m)",
               &o.light_sample_m)

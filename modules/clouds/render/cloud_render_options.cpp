@@ -31,6 +31,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   if (o.ms_forward >= 0.0f) s.ms_forward = o.ms_forward;
   if (o.envelope_ms_diffused >= 0.0f) s.envelope_ms_diffused = o.envelope_ms_diffused;
   if (o.envelope_eccentricity >= 0.0f) s.envelope_eccentricity = o.envelope_eccentricity;
+  if (o.envelope_light_erosion) s.envelope_light_erosion = *o.envelope_light_erosion;
   if (o.light_sample_m > 0.0f) s.light_sample_m = o.light_sample_m;
   if (o.light_samples > 0) s.light_samples = uint32_t(o.light_samples);
   if (o.light_sample_growth > 0.0f) s.light_sample_growth = o.light_sample_growth;

@@ -50,6 +50,7 @@ struct CloudRenderOptions {
   float ms_forward = -1.0f;             // --cloud-ms-forward
   float envelope_ms_diffused = -1.0f;   // --envelope-ms-diffused
   float envelope_eccentricity = -1.0f;  // --envelope-octave-eccentricity
+  std::optional<bool> envelope_light_erosion;  // --envelope-light-erosion
   float light_sample_m = -1.0f;         // --cloud-light-sample-m
   int light_samples = -1;               // --cloud-light-samples
   float light_sample_growth = -1.0f;    // --cloud-light-sample-growth

@@ -213,6 +213,9 @@ struct CloudSettings {
   float envelope_ms_diffused = 0.0f;
   // With ms_slab: the share of the phase's eccentricity each envelope octave keeps from the one before (Wrenninge's c).
   float envelope_eccentricity = 0.0f;
+  // With ms_slab: the envelope clouds' light samples erode by the detail noise's mean, as the view ray's density is
+  // eroded by the sampled detail (envelope_march.comp light_optical_depth; off: the talk's, no erosion toward the sun).
+  bool envelope_light_erosion = false;
   // With ms_slab: the dark edges from the optical depth to the nearest surface, 1 - exp(-this x depth) (0: the
   // talks' profile).
   float edge_depth_scale = 0.0f;

@@ -53,6 +53,15 @@ constexpr float kOctaveExtinction = 0.5f, kOctaveContribution = 0.7f;
 
 }  // namespace
 
+float detail_mean_fbm(const Volume& detail) {
+  if (detail.levels.empty() || detail.encoding != VolumeEncoding::RGBA8) return 0.0f;
+  const std::vector<uint8_t>& t = detail.levels[0];
+  double sum = 0.0;
+  for (size_t i = 0; i + 3 < t.size(); i += 4) sum += 0.625 * t[i] + 0.25 * t[i + 1] + 0.125 * t[i + 2];
+  const size_t texels = t.size() / 4;
+  return texels ? float(sum / (255.0 * double(texels))) : 0.0f;
+}
+
 uint32_t envelope_block_for_device(bool cpu_device, bool split) { return cpu_device ? (split ? 4u : 2u) : 1u; }
 
 bool envelope_within(const envelope::EnvelopeMaps& e, glm::vec3 p, float distance) {
@@ -75,6 +84,7 @@ struct EnvelopeLayer::Impl {
   gpu::Context& ctx;
   gpu::PipelineLibrary& library;
   gpu::Image base, detail;
+  float detail_fbm = 0.0f;  // the detail noise's mean fBm (envelope_march.comp light_optical_depth's erosion)
   gpu::Image shape, steps, aux;
   std::shared_ptr<const envelope::EnvelopeMaps> maps;
   std::vector<std::pair<uint64_t, gpu::Image>> retired;  // (frame replaced, image)
@@ -115,10 +125,11 @@ struct EnvelopeLayer::Impl {
 
   Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
 
-  gpu::Image load(const fs::path& file) {
+  gpu::Image load(const fs::path& file, float* mean_fbm = nullptr) {
     const Volume v = load_volume(file);
     if (v.encoding != VolumeEncoding::RGBA8)
       fail("%s: encoding %s; the envelope clouds sample RGBA8 noise", file.string().c_str(), encoding_name(v.encoding));
+    if (mean_fbm) *mean_fbm = detail_mean_fbm(v);
     return upload_volume(ctx, v, VK_FORMAT_R8G8B8A8_UNORM, file);
   }
 
@@ -158,7 +169,8 @@ struct EnvelopeLayer::Impl {
     // Without a map this frame the stand-ins are bound (add_passes); a depth range of 0 turns the terrain's shadow
     // off in data, not in a branch.
     p.light_depth = in.terrain_depth_matrix;
-    p.terrain = glm::vec4(terrain_shadowed(in) ? in.terrain_depth_range_m : 0.0f, in.voxel_shadow.height, 0.0f, 0.0f);
+    p.terrain = glm::vec4(terrain_shadowed(in) ? in.terrain_depth_range_m : 0.0f, in.voxel_shadow.height,
+                          s.ms_slab && s.envelope_light_erosion ? detail_fbm : 0.0f, 0.0f);
     p.voxel_shadow = glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size);
     return p;
   }
@@ -198,7 +210,7 @@ EnvelopeLayer::EnvelopeLayer(gpu::Context& ctx, gpu::PipelineLibrary& library, c
     : impl_(std::make_unique<Impl>(ctx, library)) {
   Impl& m = *impl_;
   m.base = m.load(dir / "sky_noise_base.nvdf");
-  m.detail = m.load(dir / "sky_noise_detail.nvdf");
+  m.detail = m.load(dir / "sky_noise_detail.nvdf", &m.detail_fbm);
   m.march_cone = &library.compute({.shader = "clouds/envelope_march.comp",
                                    .defines = {{"CONE_STEPPING", "1"}},
                                    .name = "clouds.envelope (cone stepping)"});

@@ -25,6 +25,7 @@
 #include "modules/clouds/envelope/envelope_query.h"
 #include "modules/clouds/render/cloud_renderer.h"
 #include "modules/clouds/render/terrain_heightfield.h"
+#include "modules/clouds/volume/volume.h"
 
 namespace cumulo::gpu {
 class Context;
@@ -74,6 +75,9 @@ struct EnvelopeMarchSettings {
 // The far pass's block on a device: 1 on a GPU; on a CPU device the voxel clouds' own (2 at 30 Hz, 4 for the 40/60 Hz
 // far segment).
 uint32_t envelope_block_for_device(bool cpu_device, bool split);
+// The mean over an RGBA8 detail noise's level 0 of its fBm (R 0.625 + G 0.25 + B 0.125, as envelope_density.glsl
+// erodes with), 0 for an empty volume: the slab lighting's light samples erode by it (envelope_march.comp).
+float detail_mean_fbm(const Volume& detail);
 // Whether any texel column of the envelope (its conservative bottom to top) comes within `distance` of `p`.
 bool envelope_within(const envelope::EnvelopeMaps& maps, glm::vec3 p, float distance);
 // Whether the box [lo, hi] may be seen through `view_proj` (conservative: false only when all its corners lie beyond

@@ -508,8 +508,9 @@ TEST_F(EnvelopeLayerTest, TheSlabPresetsOctavesLightTheEnvelopeWithinAThirdOfThe
     err_oct /= n, err_24 /= n;
     std::printf("envelope lighting against the path tracer (%.0f pixels): octaves %.1f %% (mean %.3f, reference %.3f), "
                 "issue 24's %.1f %%\n", n, 100.0 * err_oct, oct_sum / n, ref_sum / n, 100.0 * err_24);
-    // The octaves' eccentricity is calibrated on the sample level's envelope views (c 0.7, where every lit side is within
-    // 12 % of the tracer); under this uniform sky over a black ground the lit side comes out 34 % under (27 % at c 0.5).
+    // The octaves' eccentricity is calibrated on the sample level's envelope views (session 57: c 0.5, with the light
+    // samples eroded as the view ray's density and the orders past the first darkened at the edges); under this uniform
+    // sky over a black ground the lit side comes out 23 % under (34 % before those, at c 0.7), the backlit 26 % off.
     EXPECT_LT(err_oct, 0.35);
     EXPECT_NEAR(oct_sum / ref_sum, 1.0, 0.36);
     EXPECT_GT(std::abs(err_oct - err_24), 0.001);  // the two presets light it differently
@@ -562,9 +563,83 @@ TEST_F(EnvelopeLayerTest, TheDiffusedFloorPassesAThickBanksLightWhereTheOctavesF
                 cloud);
     EXPECT_EQ(darker, 0);
   }
-  EXPECT_GT(gain[0], 0.05);
+  // Session 57: the eroded light samples pass more light through the octaves themselves, so the floor adds less (4.7 %;
+  // more than 5 % before).
+  EXPECT_GT(gain[0], 0.03);
   EXPECT_LT(gain[1], 0.5 * gain[0]);
   EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// Issue 21, session 57: the view ray's density is eroded by the detail noise, the light samples toward the sun skip it
+// (a fetch each), so they saw more cloud than the ray: with the slab presets they erode by the detail's mean fBm. That
+// only takes optical depth away (no pixel darker), lights the cloud seen against the sun more than its lit side, and is
+// off in the talk's preset (which the switch does not touch).
+TEST_F(EnvelopeLayerTest, TheSlabLightSamplesSeeTheErodedCloudTheViewRaySees) {
+  using namespace cumulo::render;
+  set_size(48, 27);
+  EnvelopeMarchSettings m;
+  m.max_steps = 4096;
+  m.step_m = 2.0f, m.step_growth = 0.0f;
+  ASSERT_GT(m.detail_erosion, 0.0f);
+  const glm::vec3 l = glm::normalize(glm::vec3(1.4f, 0.3f, -1.0f));
+  const scene::CameraView backlit = camera({-1400.0f, 250.0f, 1000.0f}, {0.0f, 400.0f, 0.0f}, 60.0f);
+  const scene::CameraView lit = camera(glm::vec3(0.0f, 400.0f, 0.0f) + 1700.0f * l, {0.0f, 400.0f, 0.0f}, 60.0f);
+  auto inputs = [&](const scene::CameraView& cam, CloudLightingPreset preset, bool erosion) {
+    CloudFrameInputs in = env_inputs(cam);
+    in.sun_direction = l;
+    apply_lighting_preset(in.settings, preset);
+    in.settings.envelope_light_erosion = erosion;
+    return in;
+  };
+  EXPECT_TRUE(inputs(lit, CloudLightingPreset::Slab, true).settings.envelope_light_erosion);
+  {
+    CloudSettings talk;
+    apply_lighting_preset(talk, CloudLightingPreset::Talk);
+    EXPECT_FALSE(talk.envelope_light_erosion);
+    CloudSettings slab;
+    apply_lighting_preset(slab, CloudLightingPreset::Slab);
+    EXPECT_TRUE(slab.envelope_light_erosion);
+  }
+  auto lum = [](glm::vec4 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  double gain[2] = {0.0, 0.0};
+  for (int v = 0; v < 2; ++v) {
+    const scene::CameraView& cam = v == 0 ? backlit : lit;
+    const std::vector<glm::vec4> on = march_with(cam, m, inputs(cam, CloudLightingPreset::Slab, true)).color;
+    const std::vector<glm::vec4> off = march_with(cam, m, inputs(cam, CloudLightingPreset::Slab, false)).color;
+    ASSERT_EQ(on.size(), off.size());
+    double sum_on = 0.0, sum_off = 0.0;
+    int darker = 0, cloud = 0;
+    for (size_t i = 0; i < on.size(); ++i) {
+      EXPECT_EQ(on[i].a, off[i].a) << i;  // the view ray's density is the same
+      if (lum(on[i]) < lum(off[i]) - 1e-5) ++darker;
+      if (off[i].a > 0.2) continue;  // nearly opaque cloud
+      sum_on += lum(on[i]), sum_off += lum(off[i]), ++cloud;
+    }
+    ASSERT_GT(cloud, 20);
+    gain[v] = sum_on / sum_off - 1.0;
+    std::printf("%s: the eroded light samples add %.1f %% over %d cloud pixels\n", v == 0 ? "backlit" : "lit side",
+                100.0 * gain[v], cloud);
+    EXPECT_EQ(darker, 0);
+  }
+  EXPECT_GT(gain[0], 0.02);
+  EXPECT_GT(gain[0], gain[1]);
+  // The talk's preset: the switch changes nothing.
+  const std::vector<glm::vec4> talk_on = march_with(backlit, m, inputs(backlit, CloudLightingPreset::Talk, true)).color;
+  const std::vector<glm::vec4> talk_off = march_with(backlit, m, inputs(backlit, CloudLightingPreset::Talk, false)).color;
+  ASSERT_EQ(talk_on.size(), talk_off.size());
+  for (size_t i = 0; i < talk_on.size(); ++i) EXPECT_EQ(glm::vec3(talk_on[i]), glm::vec3(talk_off[i])) << i;
+  EXPECT_EQ(ctx().validation_errors(), 0u);
+}
+
+// The detail noise's mean fBm, as envelope_density.glsl weighs its channels (0.625, 0.25, 0.125; A unused).
+TEST(EnvelopeDetailMeanFbm, WeighsTheChannelsAsTheDensityDoes) {
+  Volume v = Volume::create(glm::uvec3(2, 1, 1), 1.0f, VolumeEncoding::RGBA8,
+                            {{"r"}, {"g"}, {"b"}, {"a"}});
+  v.levels[0] = {255, 0, 0, 255, 0, 255, 255, 0};
+  EXPECT_NEAR(detail_mean_fbm(v), (0.625 + 0.375) / 2.0, 1e-6);
+  v.levels[0] = {102, 102, 102, 9, 102, 102, 102, 200};
+  EXPECT_NEAR(detail_mean_fbm(v), 0.4, 1e-6);
+  EXPECT_EQ(detail_mean_fbm(Volume{}), 0.0f);
 }
 
 // The sun's light on the envelope goes through what lies between: the voxel clouds above (their shadow map, on its
