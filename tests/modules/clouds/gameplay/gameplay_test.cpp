@@ -301,3 +301,21 @@ TEST(Lightning, ABoltRunsFromTheFlashToTheGroundWithBranches) {
 }
 
 }  // namespace
+
+#include "engine/core/json.h"
+
+// A scripted bolt's channel comes from where the event sits in the level and where it strikes, never from the level
+// file's name: the same level renders the same bolt from any folder (before, a test in a fresh temporary folder drew a
+// different bolt each run).
+TEST(Lightning, AScriptedBoltsShapeDoesNotDependOnTheFilesName) {
+  const Json j = Json::parse(R"({"kind": "ground", "position": [0, 540, 0]})");
+  const Json moved = Json::parse(R"({"kind": "ground", "position": [40, 540, 0]})");
+  const LightningEvent a = lightning_event_from_json(JsonDocument(j, "/tmp/one/level.json").view());
+  const LightningEvent b = lightning_event_from_json(JsonDocument(j, "/tmp/two/other.json").view());
+  const LightningEvent c = lightning_event_from_json(JsonDocument(moved, "/tmp/one/level.json").view());
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_NE(a.seed, c.seed);
+  const auto bolt_a = lightning_bolt(a.position, 0.0f, a.seed), bolt_b = lightning_bolt(b.position, 0.0f, b.seed);
+  ASSERT_EQ(bolt_a.size(), bolt_b.size());
+  for (size_t i = 0; i < bolt_a.size(); ++i) EXPECT_EQ(bolt_a[i].a, bolt_b[i].a) << i;
+}
