@@ -66,6 +66,13 @@ struct EnvelopeSample {
   float edge;     // the edge gradient
 };
 
+// The detail noise's erosion of a density (0..1, before the multiplier) by its fBm there (the view ray) or by the fBm's
+// mean (the slab lighting's light samples, envelope_march.comp; a mean of 0 leaves the density as it is).
+float envelope_erode(float d, float fbm) {
+  float k = fbm * E.noise.z * 0.25;
+  return saturate((d - k) / max(1.0 - k, 1e-3));
+}
+
 // `detail`: the high-frequency erosion (off in the light samples).
 EnvelopeSample envelope_sample(vec3 p, bool detail) {
   EnvelopeSample s;
@@ -88,8 +95,7 @@ EnvelopeSample envelope_sample(vec3 p, bool detail) {
   float d = saturate(noise_composite - (1.0 - s.profile));
   if (detail && d > 0.0 && E.noise.z > 0.0) {
     vec3 dn = textureLod(detail_noise, q / E.noise.y, 0.0).rgb;
-    float dfbm = dn.r * 0.625 + dn.g * 0.25 + dn.b * 0.125;
-    d = saturate((d - dfbm * E.noise.z * 0.25) / max(1.0 - dfbm * E.noise.z * 0.25, 1e-3));
+    d = envelope_erode(d, dn.r * 0.625 + dn.g * 0.25 + dn.b * 0.125);
   }
   s.density = d * E.heights.w;
   return s;

@@ -90,10 +90,9 @@ float cone_step(float h, float ratio, float horizontal, float up) {
 // envelope_density.glsl erodes by the sampled one.
 float light_optical_depth(vec3 p, vec3 l) {
   float od = 0.0, t = 0.0, len = E.march.w;
-  float erosion = E.terrain.z * E.noise.z * 0.25;
   for (int k = 0; k < 4; ++k) {
-    float d = envelope_sample(p + l * (t + 0.5 * len), false).density;
-    od += max(d - erosion * E.heights.w, 0.0) / max(1.0 - erosion, 1e-3) * len;
+    float d = envelope_sample(p + l * (t + 0.5 * len), false).density / max(E.heights.w, 1e-6);
+    od += envelope_erode(d, E.terrain.z) * E.heights.w * len;
     t += len;
     len *= 2.0;
   }
