@@ -47,6 +47,10 @@ struct SceneLighting {
   // About half of 0.5 (zenith + horizon) by day, and neutral where that is warm at a low sun: the horizon is
   // the sky's brightest band and holds the sun's glow.
   glm::vec3 sky_mean{0.0f};
+  // The sky's irradiance on a horizontal surface over pi: the radiance a white Lambertian ground reflects of the sky
+  // (the upper hemisphere's radiance weighted by the cosine; 0: not known). Below sky_mean where the sky is brightest
+  // near the horizon, as at a low sun: a ground sees that band at a grazing angle.
+  glm::vec3 sky_irradiance{0.0f};
   float fog_density = 0.0f;       // 1/m at sea level
   float fog_falloff = 0.0f;       // 1/m (exponential height falloff)
   std::string source = "stand-in";  // who filled it (stats, debugging)

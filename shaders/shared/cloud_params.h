@@ -178,9 +178,12 @@ struct CloudParams {
   vec4 slab;            // the slab's terms (0: off): x its incidence blend (CloudSettings::ms_incidence), y the cavity
                         // (ms_cavity), z the sky through the nearest surface (sky_side), w the forward lobe past the
                         // first order (ms_forward)
+  vec4 ground_light;    // rgb: the ground's radiance per unit albedo under the sun and the sky, which the slab's ground
+                        // bounce reflects into the clouds (the sun's irradiance x sin(elevation) / pi plus the sky's
+                        // horizontal irradiance / pi); w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1312)
+CUMULO_SHARED_SIZE(CloudParams, 1328)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

@@ -50,8 +50,9 @@ struct EnvelopeParams {
                        // y); z: the detail noise's mean fBm the light samples erode by (the slab presets; 0: none);
                        // w: unused
   vec4 voxel_shadow;   // the voxel clouds' shadow map: xy world x, z of its corner, zw its size (m)
+  vec4 ground_light;   // rgb: the ground's radiance per unit albedo (as the voxel clouds' CloudParams::ground_light); w: unused
 };
-CUMULO_SHARED_SIZE(EnvelopeParams, 496)
+CUMULO_SHARED_SIZE(EnvelopeParams, 512)
 
 // Push constants of envelope_shadow.comp: the key light's transmittance through the envelope, from where the light's
 // ray leaves the envelope's top down to the first terrain it meets, on a horizontal plane (render::LightShadowMap).

@@ -274,17 +274,22 @@ SceneLighting Atmosphere::lighting(const scene::SunLight& sun, float camera_alti
   // The upper hemisphere's mean: 8 bands of equal solid angle (sin e uniform, so the bright band near the
   // horizon gets its share) x 12 azimuths; within 6 % of a 32 x 64 quadrature at sun elevations 2.7-60 degrees
   // (atmosphere_test.cpp).
-  glm::vec3 mean(0.0f);
+  // The same samples weighted by the sine of their elevation (the cosine to the up normal) give the horizontal
+  // irradiance: E = 2 pi x their mean of L sin e, so E / pi = 2 x that mean.
+  glm::vec3 mean(0.0f), cosine(0.0f);
   float weight = 0.0f;
   for (int v = 0; v < 8; ++v) {
-    const float e = std::asin((float(v) + 0.5f) / 8.0f);
+    const float sin_e = (float(v) + 0.5f) / 8.0f, e = std::asin(sin_e);
     for (int k = 0; k < 12; ++k) {
       const float a = 2.0f * kPi * (float(k) + 0.5f) / 12.0f;
-      mean += sky(glm::vec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a)));
+      const glm::vec3 L = sky(glm::vec3(std::cos(e) * std::cos(a), sin_e, std::cos(e) * std::sin(a)));
+      mean += L;
+      cosine += L * sin_e;
       weight += 1.0f;
     }
   }
   c.sky_mean = mean / weight;
+  c.sky_irradiance = 2.0f * cosine / weight;
   // The key light: the sun, or past the middle of the twilight the moon (Lambertian units: a white
   // surface facing it shows E T / pi).
   if (night > 0.5f) {

@@ -50,6 +50,11 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
   return ip;
 }
 
+glm::vec3 ground_radiance(const CloudFrameInputs& in) {
+  const glm::vec3 sky = in.ground_sky != glm::vec3(0.0f) ? in.ground_sky : in.ambient_color;
+  return in.sun_color * (std::max(glm::normalize(in.sun_direction).y, 0.0f) / 3.14159265f) + sky;
+}
+
 namespace {
 
 shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size, bool history_valid,
@@ -63,6 +68,7 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   p.sun_dir = glm::vec4(sun, s.ms_diffusion ? s.ms_enclosed_sky_depth : 0.0f);
   p.sun_color = glm::vec4(in.sun_color, s.ms_slab ? s.ms_lateral : 0.0f);
   p.ambient_color = glm::vec4(in.ambient_color, s.ms_slab ? s.ground_albedo : 0.0f);
+  p.ground_light = glm::vec4(ground_radiance(in), 0.0f);
   p.viewport = glm::vec4(float(size.width), float(size.height), 1.0f / float(size.width), 1.0f / float(size.height));
   const bool uniform_steps = s.ablation != CloudAblation::Full;
   p.march = glm::vec4(s.extinction, s.albedo, s.transmittance_limit, float(uniform_steps ? s.base_max_steps : s.max_steps));
@@ -381,8 +387,9 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
   in.ambient_color = (in.settings.sky_mean_ambient && mean_known ? snap.lighting.sky_mean
                                                                  : 0.5f * (snap.lighting.sky_zenith + snap.lighting.sky_horizon)) *
                      snap.lighting.ambient;
+  in.ground_sky = snap.lighting.sky_irradiance * snap.lighting.ambient;
   if (in.settings.lights == CloudLights::Sky) in.sun_color = glm::vec3(0.0f);
-  if (in.settings.lights == CloudLights::Sun) in.ambient_color = glm::vec3(0.0f);
+  if (in.settings.lights == CloudLights::Sun) in.ambient_color = glm::vec3(0.0f), in.ground_sky = glm::vec3(0.0f);
   in.haze_density = snap.lighting.fog_density;
   in.haze_falloff = snap.lighting.fog_falloff;
   in.sky_zenith = snap.lighting.sky_zenith;

@@ -172,6 +172,7 @@ struct EnvelopeLayer::Impl {
     p.terrain = glm::vec4(terrain_shadowed(in) ? in.terrain_depth_range_m : 0.0f, in.voxel_shadow.height,
                           s.ms_slab && s.envelope_light_erosion ? detail_fbm : 0.0f, 0.0f);
     p.voxel_shadow = glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size);
+    p.ground_light = glm::vec4(ground_radiance(in), 0.0f);
     return p;
   }
 

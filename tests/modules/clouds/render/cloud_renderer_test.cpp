@@ -892,6 +892,29 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, sky_only).ambient_color.b, 0.35f, 1e-6f);
 }
 
+// The light the slab's ground bounce reflects (CloudParams::ground_light): the sun's irradiance on the ground (x the
+// sine of its elevation) / pi plus the sky's horizontal irradiance / pi where the atmosphere filled it (scaled as the
+// ambient is), else the sky ambient; each light alone (--cloud-lights) keeps only its own share.
+TEST(CloudInputs, TheGroundBounceTakesTheSkysIrradianceOnTheGround) {
+  cumulo::render::FrameSnapshot snap;
+  snap.sun.direction = glm::normalize(glm::vec3(0.0f, 1.0f, 1.0f));  // 45 degrees up
+  snap.lighting.sun_radiance = glm::vec3(2.0f);
+  snap.lighting.sky_zenith = glm::vec3(0.2f);
+  snap.lighting.sky_horizon = glm::vec3(0.6f);
+  snap.lighting.ambient = 0.5f;
+  const float sun = 2.0f * std::sqrt(0.5f);  // pi x radiance x sin(45 degrees) / pi
+  EXPECT_NEAR(ground_radiance(cloud_inputs_from_snapshot(snap, 0)).g, sun + 0.5f * 0.4f, 1e-5f);  // not filled: the ambient
+  snap.lighting.sky_irradiance = glm::vec3(0.3f);
+  EXPECT_NEAR(ground_radiance(cloud_inputs_from_snapshot(snap, 0)).g, sun + 0.5f * 0.3f, 1e-5f);
+  CloudSettings sun_only, sky_only;
+  sun_only.lights = CloudLights::Sun, sky_only.lights = CloudLights::Sky;
+  EXPECT_NEAR(ground_radiance(cloud_inputs_from_snapshot(snap, 0, sun_only)).g, sun, 1e-5f);
+  EXPECT_NEAR(ground_radiance(cloud_inputs_from_snapshot(snap, 0, sky_only)).g, 0.5f * 0.3f, 1e-5f);
+  // What the march reads.
+  const CloudFrameInputs in = cloud_inputs_from_snapshot(snap, 0);
+  EXPECT_NEAR(cloud_params(in, VkExtent2D{16, 16}, {}).ground_light.g, sun + 0.15f, 1e-5f);
+}
+
 TEST_F(CloudRender, DebugViewsDrawSomethingDifferentFromTheImage) {
   const scene::CameraView cam = camera();
   CloudFrameInputs in = inputs(asset(), cam);
