@@ -69,9 +69,11 @@ void main() {
   vec3 l = frame.sun_direction;
   float ndl = max(dot(n, l), 0.0);
   vec3 sun = frame.sun_radiance * light_visibility(in_world, l);
-  // Hemisphere ambient: sky colour from above, ground bounce from below.
+  // Hemisphere ambient: the sky from above, the ground's bounce from below. An upward face reflects the sky's
+  // horizontal irradiance / pi (the cosine weighs the bright band at the horizon little), where the atmosphere gives it.
   float up = dot(n, kWorldUp) * 0.5 + 0.5;
-  vec3 ambient = mix(frame.ground_color, mix(frame.sky_horizon, frame.sky_zenith, 0.5), up) * frame.ambient;
+  vec3 sky = frame.sky_irradiance.w > 0.5 ? frame.sky_irradiance.rgb : mix(frame.sky_horizon, frame.sky_zenith, 0.5);
+  vec3 ambient = mix(frame.ground_color, sky, up) * frame.ambient;
   vec3 lit = base.rgb * (sun * ndl + ambient);
   // Point lights (lightning): inverse square, normalized to their colour at 500 m (capped within 100 m),
   // faded to 0 at their reach.

@@ -45,8 +45,11 @@ struct FrameParams {
   vec4 shadow_plane;  // xy: world x, z of the map's corner; zw: 1 / its size (m)
   vec4 shadow_misc;   // x: the plane's height (world y); y: 1 = a map is bound; z, w unused
   vec4 aerial;        // x: 1 = aerial perspective from the atmosphere's froxels, 0 = the height fog; y, z, w unused
+  // rgb: the sky's irradiance on a horizontal surface / pi (SceneLighting::sky_irradiance): what an upward face's
+  // ambient term reflects of the sky; w: 1 = filled (else the face takes 0.5 (zenith + horizon))
+  vec4 sky_irradiance;
 };
-CUMULO_SHARED_SIZE(FrameParams, 432)
+CUMULO_SHARED_SIZE(FrameParams, 448)
 CUMULO_SHARED_OFFSET(FrameParams, sun_radiance, 160)
 CUMULO_SHARED_OFFSET(FrameParams, viewport_size, 224)
 

@@ -299,9 +299,8 @@ SceneLighting Atmosphere::lighting(const scene::SunLight& sun, float camera_alti
     c.light_direction = key;
     c.sun_radiance = E * transmittance_lut(r, key.y) / kPi * sun.top_of_atmosphere;
   }
-  // The ground seen below the horizon: its albedo under the sun and the sky (about pi x the mean sky).
-  const glm::vec3 sky_irradiance = kPi * 0.5f * (c.sky_zenith + c.sky_horizon);
-  c.ground = p_.ground_albedo / kPi * (c.sun_radiance * kPi * std::max(c.light_direction.y, 0.0f) + sky_irradiance);
+  // The ground seen below the horizon: its albedo under the sun and the sky (the sky's horizontal irradiance).
+  c.ground = p_.ground_albedo * (c.sun_radiance * std::max(c.light_direction.y, 0.0f) + c.sky_irradiance);
   c.ambient = 1.0f;
   // Exposure meter: the key light on a grey card plus the sky, held to 1 by day (the renderer's units are
   // set for the noon sun); the eye adapts only partly (the 0.6 power: dusk stays darker than day, night
