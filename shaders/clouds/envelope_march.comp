@@ -139,8 +139,7 @@ vec3 octave_light(vec3 p, vec3 rd, vec3 l, float mu, float od_sun, float sun_vis
   sun += E.sun_color.rgb * (max(orders, diffused) * edge);
   sun *= sun_visible;
   float sky_share = saturate(0.5 + 0.75 * g * rd.y);
-  vec3 light_in = sun + E.ambient_color.rgb * (sky_share * exp(-tau_up)) +
-                  E.sky_irradiance.rgb * (edge * E.phase.w * 0.25 / (1.0 + 0.75 * r * tau_up));
+  vec3 light_in = sun + E.ambient_color.rgb * (sky_share * exp(-tau_up) + edge * E.phase.w * 0.25 / (1.0 + 0.75 * r * tau_up));
   light_in += E.ground_light.rgb *
               (E.sun_color.w * (1.0 - sky_share) / (1.0 + 0.75 * r * tau_away));
   return light_in;

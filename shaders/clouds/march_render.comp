@@ -385,12 +385,11 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
         // hemisphere's share (1 - sky_share) from the ground (the bounce, below).
         float sky_share = slab ? saturate(0.5 + 0.75 * g_mean * rd.y) : 1.0;
         light_in += P.ambient_color.rgb * (sky_share * pow(1.0 - saturate(ds.raw_profile), 0.5) * exp(-od_sky));
-        // The slab's sky light diffused into the cloud as the sun's is (the sky's irradiance on a cloud's top,
-        // P.sky_irradiance x pi, so strength / 4 where the sun's is strength / 4 pi; the cosine weighs the bright band
-        // at the horizon little), through the column above the point (its optical depth at the preset's full
-        // extinction, P.light.y = 1).
+        // The slab's sky light diffused into the cloud as the sun's is (irradiance pi x the sky's radiance, so
+        // strength / 4 where the sun's is strength / 4 pi), through the column above the point (its optical depth
+        // at the preset's full extinction, P.light.y = 1).
         if (slab)
-          light_in += P.sky_irradiance.rgb * (edge * ms_strength * 0.25 / (1.0 + 0.75 * r * od_sky));
+          light_in += P.ambient_color.rgb * (edge * ms_strength * 0.25 / (1.0 + 0.75 * r * od_sky));
         // Ground bounce (slab, P.ambient_color.w = the ground's albedo): the ground's radiance, lit by the sun and the
         // sky (P.ground_light: the sky's horizontal irradiance, not its mean radiance, which the bright band at the
         // horizon a ground sees at a grazing angle pulls up), seen through the own cloud below the point, for which the depth away from the sun stands (the sun is

@@ -181,11 +181,9 @@ struct CloudParams {
   vec4 ground_light;    // rgb: the ground's radiance per unit albedo under the sun and the sky, which the slab's ground
                         // bounce reflects into the clouds (the sun's irradiance x sin(elevation) / pi plus the sky's
                         // horizontal irradiance / pi); w: unused
-  vec4 sky_irradiance;  // rgb: the sky's horizontal irradiance / pi (ambient_color where the atmosphere does not give it),
-                        // the light the slab's diffused sky enters a cloud's top with; w: unused
   CloudInstanceParams instances[CLOUD_MAX_INSTANCES];
 };
-CUMULO_SHARED_SIZE(CloudParams, 1344)
+CUMULO_SHARED_SIZE(CloudParams, 1328)
 
 // Push constants of light_grid_update.comp: one slab of one instance's grid per dispatch.
 struct CloudLightGridPush {

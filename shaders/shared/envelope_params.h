@@ -51,9 +51,8 @@ struct EnvelopeParams {
                        // w: unused
   vec4 voxel_shadow;   // the voxel clouds' shadow map: xy world x, z of its corner, zw its size (m)
   vec4 ground_light;   // rgb: the ground's radiance per unit albedo (as the voxel clouds' CloudParams::ground_light); w: unused
-  vec4 sky_irradiance; // rgb: the sky's horizontal irradiance / pi (CloudParams::sky_irradiance); w: unused
 };
-CUMULO_SHARED_SIZE(EnvelopeParams, 528)
+CUMULO_SHARED_SIZE(EnvelopeParams, 512)
 
 // Push constants of envelope_shadow.comp: the key light's transmittance through the envelope, from where the light's
 // ray leaves the envelope's top down to the first terrain it meets, on a horizontal plane (render::LightShadowMap).

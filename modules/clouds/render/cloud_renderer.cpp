@@ -50,10 +50,9 @@ shared::CloudInstanceParams cloud_instance_params(const CloudInstance& inst, glm
   return ip;
 }
 
-glm::vec3 sky_irradiance(const CloudFrameInputs& in) { return in.ground_sky != glm::vec3(0.0f) ? in.ground_sky : in.ambient_color; }
-
 glm::vec3 ground_radiance(const CloudFrameInputs& in) {
-  return in.sun_color * (std::max(glm::normalize(in.sun_direction).y, 0.0f) / 3.14159265f) + sky_irradiance(in);
+  const glm::vec3 sky = in.ground_sky != glm::vec3(0.0f) ? in.ground_sky : in.ambient_color;
+  return in.sun_color * (std::max(glm::normalize(in.sun_direction).y, 0.0f) / 3.14159265f) + sky;
 }
 
 namespace {
@@ -70,7 +69,6 @@ shared::CloudParams make_params_impl(const CloudFrameInputs& in, VkExtent2D size
   p.sun_color = glm::vec4(in.sun_color, s.ms_slab ? s.ms_lateral : 0.0f);
   p.ambient_color = glm::vec4(in.ambient_color, s.ms_slab ? s.ground_albedo : 0.0f);
   p.ground_light = glm::vec4(ground_radiance(in), 0.0f);
-  p.sky_irradiance = glm::vec4(sky_irradiance(in), 0.0f);
   p.viewport = glm::vec4(float(size.width), float(size.height), 1.0f / float(size.width), 1.0f / float(size.height));
   const bool uniform_steps = s.ablation != CloudAblation::Full;
   p.march = glm::vec4(s.extinction, s.albedo, s.transmittance_limit, float(uniform_steps ? s.base_max_steps : s.max_steps));

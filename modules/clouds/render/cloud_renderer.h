@@ -361,9 +361,8 @@ struct CloudFrameInputs {
   glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};  // unit, toward the sun
   glm::vec3 sun_color{1.0f};                  // colour x illuminance (linear)
   glm::vec3 ambient_color{0.3f, 0.4f, 0.5f};  // sky ambient (linear)
-  // The sky's irradiance on a horizontal ground / pi (SceneLighting::sky_irradiance, times its ambient scale): the
-  // sky's share of the light the ground bounces into the clouds, and the light the slab's diffused sky enters a cloud's
-  // top with; 0: not known, ambient_color stands for it.
+  // The sky's irradiance on a horizontal ground / pi (SceneLighting::sky_irradiance, times its ambient scale), the
+  // sky's share of the light the ground bounces into the clouds; 0: not known, ambient_color stands for it.
   glm::vec3 ground_sky{0.0f};
   // Aerial perspective in the composite: the terrain's height fog (SceneLighting fog_*) toward the sky's
   // zenith/horizon colours; density 0 leaves the clouds unhazed.
@@ -428,9 +427,6 @@ shared::CloudParams cloud_params(const CloudFrameInputs& in, VkExtent2D size, co
 // The ground's radiance per unit albedo under the frame's sun and sky: what the slab's ground bounce reflects into the
 // clouds (CloudParams::ground_light).
 glm::vec3 ground_radiance(const CloudFrameInputs& in);
-// The sky's horizontal irradiance / pi (in.ground_sky; the sky ambient where it is not known): the light the slab's
-// diffused sky enters a cloud with (CloudParams::sky_irradiance).
-glm::vec3 sky_irradiance(const CloudFrameInputs& in);
 
 inline constexpr uint32_t kMaxInstances = 4;    // CLOUD_MAX_INSTANCES
 inline constexpr uint32_t kMaxPointLights = kMaxCloudPointLights;  // CLOUD_MAX_POINT_LIGHTS

@@ -173,7 +173,6 @@ struct EnvelopeLayer::Impl {
                           s.ms_slab && s.envelope_light_erosion ? detail_fbm : 0.0f, 0.0f);
     p.voxel_shadow = glm::vec4(in.voxel_shadow.origin, in.voxel_shadow.size);
     p.ground_light = glm::vec4(ground_radiance(in), 0.0f);
-    p.sky_irradiance = glm::vec4(sky_irradiance(in), 0.0f);
     return p;
   }
 
