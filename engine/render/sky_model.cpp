@@ -35,7 +35,8 @@ shared::FrameParams make_frame_params(const FrameSnapshot& s, float exposure) {
   p.sky_horizon = c.sky_horizon;
   p.fog_falloff = c.fog_falloff;
   p.ground_color = c.ground;
-  p.sky_irradiance = glm::vec4(c.sky_irradiance, c.sky_irradiance != glm::vec3(0.0f) ? 1.0f : 0.0f);
+  // Where no atmosphere gave the irradiance, the two sky colours' mean stands for it (the stand-in sky's ambient).
+  p.sky_irradiance = glm::vec4(c.sky_irradiance != glm::vec3(0.0f) ? c.sky_irradiance : 0.5f * (c.sky_zenith + c.sky_horizon), 0.0f);
   float w = static_cast<float>(std::max(1u, s.width)), h = static_cast<float>(std::max(1u, s.height));
   p.viewport_size = glm::vec2(w, h);
   p.inv_viewport_size = glm::vec2(1.0f / w, 1.0f / h);

@@ -392,8 +392,9 @@ void march_instance(CLOUD_MODELING_PARAMS, sampler3D field, sampler3D fair, int 
           light_in += P.ambient_color.rgb * (edge * ms_strength * 0.25 / (1.0 + 0.75 * r * od_sky));
         // Ground bounce (slab, P.ambient_color.w = the ground's albedo): the ground's radiance, lit by the sun and the
         // sky (P.ground_light: the sky's horizontal irradiance, not its mean radiance, which the bright band at the
-        // horizon a ground sees at a grazing angle pulls up), seen through the own cloud below the point, for which the depth away from the sun stands (the sun is
-        // high where the bounce matters); so a base gets it and a sunlit side or a top does not.
+        // horizon a ground sees at a grazing angle pulls up), seen through the own cloud below the point, for which
+        // the depth away from the sun stands (the sun is high where the bounce matters); so a base gets it and a
+        // sunlit side or a top does not.
         if (P.ambient_color.w > 0.0)
           light_in += P.ground_light.rgb * (P.ambient_color.w * (1.0 - sky_share) / (1.0 + 0.75 * r * away));
         for (uint l = 0u; l < point_lights; ++l) {

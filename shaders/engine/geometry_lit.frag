@@ -70,10 +70,9 @@ void main() {
   float ndl = max(dot(n, l), 0.0);
   vec3 sun = frame.sun_radiance * light_visibility(in_world, l);
   // Hemisphere ambient: the sky from above, the ground's bounce from below. An upward face reflects the sky's
-  // horizontal irradiance / pi (the cosine weighs the bright band at the horizon little), where the atmosphere gives it.
+  // horizontal irradiance / pi (the cosine weighs the bright band at the horizon little).
   float up = dot(n, kWorldUp) * 0.5 + 0.5;
-  vec3 sky = frame.sky_irradiance.w > 0.5 ? frame.sky_irradiance.rgb : mix(frame.sky_horizon, frame.sky_zenith, 0.5);
-  vec3 ambient = mix(frame.ground_color, sky, up) * frame.ambient;
+  vec3 ambient = mix(frame.ground_color, frame.sky_irradiance.rgb, up) * frame.ambient;
   vec3 lit = base.rgb * (sun * ndl + ambient);
   // Point lights (lightning): inverse square, normalized to their colour at 500 m (capped within 100 m),
   // faded to 0 at their reach.

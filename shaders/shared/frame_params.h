@@ -46,7 +46,7 @@ struct FrameParams {
   vec4 shadow_misc;   // x: the plane's height (world y); y: 1 = a map is bound; z, w unused
   vec4 aerial;        // x: 1 = aerial perspective from the atmosphere's froxels, 0 = the height fog; y, z, w unused
   // rgb: the sky's irradiance on a horizontal surface / pi (SceneLighting::sky_irradiance): what an upward face's
-  // ambient term reflects of the sky; w: 1 = filled (else the face takes 0.5 (zenith + horizon))
+  // ambient term reflects of the sky (0.5 (zenith + horizon) where the atmosphere does not give it); w: unused
   vec4 sky_irradiance;
 };
 CUMULO_SHARED_SIZE(FrameParams, 448)

@@ -87,6 +87,26 @@ TEST(Atmosphere, SkyColoursAtNoonSunsetAndNight) {
   EXPECT_LT(luminance(noon.sun_radiance), 3.2f);
 }
 
+// The mean of the sky's radiance over the upper hemisphere weighted by weight(elevation) per solid angle, by a fine
+// 32 x 64 quadrature in elevation and azimuth (d omega = cos(e) de da).
+template <class Weight>
+glm::vec3 hemisphere_mean(const scene::SunLight& s, Weight weight) {
+  const double pi = 3.14159265358979;
+  glm::dvec3 sum(0.0);
+  double w = 0.0;
+  for (int v = 0; v < 32; ++v) {
+    const double e = (v + 0.5) / 32.0 * 0.5 * pi;
+    for (int u = 0; u < 64; ++u) {
+      const double a = (u + 0.5) / 64.0 * 2.0 * pi;
+      const glm::vec3 d(float(std::cos(e) * std::cos(a)), float(std::sin(e)), float(std::cos(e) * std::sin(a)));
+      const double k = weight(e) * std::cos(e);
+      sum += glm::dvec3(earth().sky_radiance(0.0f, d, glm::normalize(s.direction), earth().params().solar_irradiance)) * k;
+      w += k;
+    }
+  }
+  return glm::vec3(sum / w);
+}
+
 // The sky's mean over the upper hemisphere (SceneLighting::sky_mean) against a fine quadrature of the same radiance:
 // within 7 % per channel from a low sun to noon; and below 0.5 (zenith + horizon), which the horizon's bright band
 // (and at a low sun the sun's glow in it) pulls up.
@@ -95,18 +115,7 @@ TEST(Atmosphere, SkyMeanIsTheUpperHemispheresMean) {
     SCOPED_TRACE(el);
     const scene::SunLight s = sun_at(el);
     const SceneLighting c = earth().lighting(s);
-    glm::dvec3 sum(0.0);
-    double w = 0.0;
-    for (int v = 0; v < 32; ++v) {
-      const double e = (v + 0.5) / 32.0 * 0.5 * 3.14159265358979;
-      for (int u = 0; u < 64; ++u) {
-        const double a = (u + 0.5) / 64.0 * 2.0 * 3.14159265358979;
-        const glm::vec3 d(float(std::cos(e) * std::cos(a)), float(std::sin(e)), float(std::cos(e) * std::sin(a)));
-        sum += glm::dvec3(earth().sky_radiance(0.0f, d, glm::normalize(s.direction), earth().params().solar_irradiance)) * std::cos(e);
-        w += std::cos(e);
-      }
-    }
-    const glm::vec3 fine = glm::vec3(sum / w);
+    const glm::vec3 fine = hemisphere_mean(s, [](double) { return 1.0; });  // per solid angle
     std::printf("  sun %4.1f deg: sky mean %.4f %.4f %.4f, fine %.4f %.4f %.4f, 0.5 (zenith + horizon) %.4f %.4f %.4f\n", el, c.sky_mean.r,
                 c.sky_mean.g, c.sky_mean.b, fine.r, fine.g, fine.b, 0.5f * (c.sky_zenith.r + c.sky_horizon.r),
                 0.5f * (c.sky_zenith.g + c.sky_horizon.g), 0.5f * (c.sky_zenith.b + c.sky_horizon.b));
@@ -124,18 +133,8 @@ TEST(Atmosphere, SkyIrradianceIsTheCosineWeightedHemisphere) {
     SCOPED_TRACE(el);
     const scene::SunLight s = sun_at(el);
     const SceneLighting c = earth().lighting(s);
-    glm::dvec3 sum(0.0);
-    for (int v = 0; v < 32; ++v) {
-      const double e = (v + 0.5) / 32.0 * 0.5 * 3.14159265358979, de = 0.5 * 3.14159265358979 / 32.0;
-      for (int u = 0; u < 64; ++u) {
-        const double a = (u + 0.5) / 64.0 * 2.0 * 3.14159265358979, da = 2.0 * 3.14159265358979 / 64.0;
-        const glm::vec3 d(float(std::cos(e) * std::cos(a)), float(std::sin(e)), float(std::cos(e) * std::sin(a)));
-        // dE = L sin(e) d(omega), d(omega) = cos(e) de da
-        sum += glm::dvec3(earth().sky_radiance(0.0f, d, glm::normalize(s.direction), earth().params().solar_irradiance)) *
-               (std::sin(e) * std::cos(e) * de * da);
-      }
-    }
-    const glm::vec3 fine = glm::vec3(sum / 3.14159265358979);
+    // E / pi = the cosine-weighted mean (the weights' integral over the hemisphere, pi, cancels the 1 / pi)
+    const glm::vec3 fine = hemisphere_mean(s, [](double e) { return std::sin(e); });
     std::printf("  sun %4.1f deg: sky irradiance / pi %.4f %.4f %.4f, fine %.4f %.4f %.4f, sky mean %.4f %.4f %.4f\n", el,
                 c.sky_irradiance.r, c.sky_irradiance.g, c.sky_irradiance.b, fine.r, fine.g, fine.b, c.sky_mean.r, c.sky_mean.g,
                 c.sky_mean.b);
