@@ -42,8 +42,9 @@ void add_pass_options(ArgParser& p, CloudRenderOptions& o) {
               "the march's jitter: animated every frame at every distance (default; the temporal accumulation averages "
               "it), or as in the talk, animated within 250 m and static beyond",
               &o.talk_jitter)
-      .choice("--cloud-light-grid", kLightGridNames,
-              "light grid size: the talk's 256x256x32, or sized for the device (default: 96x96x16 on CPU devices)",
+      .choice("--cloud-light-grid", kLightGridNames, "auto",
+              "light grid size: the talk's 256x256x32, or sized for the device, 96x96x16 on CPU devices (default auto: the "
+              "device's; cumulo fidelity the talk's)",
               &o.talk_light_grid)
       .option("--cloud-light-grid-samples", "N",
               "the sweep's most density samples along one voxel's stretch to the next level of the light grid (a low "

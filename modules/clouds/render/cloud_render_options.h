@@ -19,7 +19,9 @@ struct CloudRenderOptions {
   uint32_t reprojection_block = 0;  // CloudSettings::reprojection_block (0: by budget mode)
   uint32_t near_reprojection_block = 4;  // CloudSettings::near_reprojection_block (--cloud-near-reprojection)
   bool talk_jitter = false;  // --cloud-jitter talk: animated within 250 m only (CloudSettings::animated_jitter_distance_m)
-  bool talk_light_grid = false;  // true: 256x256x32 on every device
+  // --cloud-light-grid: true the talk's 256x256x32 on every device, false the device's (CloudResourcesDesc::for_device);
+  // none: the device's, except in `cumulo fidelity` (the talk's).
+  std::optional<bool> talk_light_grid;
   uint32_t light_grid_samples = 0;  // CloudResourcesDesc::light_grid_sweep_samples (0: the device's)
   CloudLightGridMethod light_grid_method = CloudLightGridMethod::Sweep;
   bool light_sample_noise_mean = true;  // CloudSettings::light_sample_noise_mean

@@ -84,6 +84,8 @@ TEST(FidelityCli, WritesTheJsonTheImagesAndTheTable) {
   EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
   EXPECT_EQ(j["settings"]["spp"], 2);
   EXPECT_EQ(j["settings"]["constants"], nlohmann::json::array({"slab", "talk"}));
+  // The lighting is measured at the talk's light grid on every device unless --cloud-light-grid device asks otherwise.
+  EXPECT_EQ(j["settings"]["light_grid"], nlohmann::json::array({256, 256, 32}));
   ASSERT_EQ(j["views"].size(), 2u);
   for (const auto& v : j["views"]) {
     for (const char* key : {"name", "error_mean", "error_in_cloud", "error_in_cloud_noise_corrected", "spp", "images", "constants"})
@@ -108,16 +110,20 @@ TEST(FidelityCli, TracesTheReferenceWithTheLightsTheRealTimeImageHas) {
     std::ofstream v(dir / "views.json");
     v << R"({"views": [{"name": "mixed", "camera": "mixed"}]})";
   }
-  auto run = [&](const std::string& lights, const std::string& out) {
+  auto run = [&](const std::string& lights, const std::string& out, const std::string& extra = "") {
     auto r = run_cumulo("fidelity " + sample_level() + " --views-file " + (dir / "views.json").string() +
                         " --size 32x18 --spp 2 --max-bounces 4 --frames 2 --warmup 1 --constants slab --reuse-references --images " +
-                        (dir / "images").string() + " --cloud-lights " + lights + " --out " + (dir / out).string());
+                        (dir / "images").string() + " --cloud-lights " + lights + " --out " + (dir / out).string() + extra);
     EXPECT_EQ(r.exit_code, 0) << r.output;
     std::ifstream f(dir / out);
     return nlohmann::json::parse(f);
   };
-  const auto sun = run("sun", "sun.json");
+  const auto sun = run("sun", "sun.json", " --cloud-light-grid device");
   EXPECT_EQ(sun["settings"]["lights"], "sun");
+  // The device's own grid when asked for: on a CPU device (lavapipe) the smaller one.
+  if (sun["device"]["name"].get<std::string>().find("llvmpipe") != std::string::npos) {
+    EXPECT_EQ(sun["settings"]["light_grid"], nlohmann::json::array({96, 96, 16}));
+  }
   EXPECT_GT(sun["views"][0]["constants"]["slab"]["opaque_pixels"].get<int>(), 0);
   const auto all = run("all", "all.json");
   EXPECT_FALSE(all["views"][0]["reference_reused"].get<bool>()) << "traced with the sun alone: not the reference of all the lights";
