@@ -261,6 +261,10 @@ void add_lighting_options(ArgParser& p, CloudRenderOptions& o) {
               "the clouds' sky light from the sky's mean radiance over the upper hemisphere (on) or 0.5 (zenith + "
               "horizon) (off), overriding the preset's (slab: off)",
               &o.sky_mean)
+      .choice("--cloud-sky-hue", kOnOffNames, "preset",
+              "with --cloud-sky-mean off, the clouds' sky light in the hue of the sky's mean over the upper hemisphere at "
+              "the luminance of 0.5 (zenith + horizon) (on), or that colour itself (off), overriding the preset's (slab: on)",
+              &o.sky_hue)
       .option("--cloud-ms-anisotropy", "X",
               "with the slab lighting, the multiple scattering's forward lobe near the lit surface as a fraction of the "
               "phase function's mean cosine, overriding the preset's (slab: 0.2; 0: isotropic)",

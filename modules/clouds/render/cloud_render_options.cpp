@@ -44,6 +44,7 @@ CloudSettings cloud_settings(const CloudRenderOptions& o) {
   if (o.ms_solve_omega > 0.0f) s.ms_solve_omega = o.ms_solve_omega;
   if (o.step_growth >= 1.0f) s.step_growth = o.step_growth;
   if (o.sky_mean) s.sky_mean_ambient = *o.sky_mean;
+  if (o.sky_hue) s.sky_mean_hue = *o.sky_hue;
   if (o.instance_shadows) s.instance_shadows = *o.instance_shadows;
   return s;
 }

@@ -67,6 +67,7 @@ struct CloudRenderOptions {
   float step_growth = -1.0f;     // --cloud-step-growth (< 0: the setting's default)
   float split_distance_m = -1.0f;  // --cloud-split-distance (< 0: by device, split_distance_for_device)
   std::optional<bool> sky_mean;         // --cloud-sky-mean
+  std::optional<bool> sky_hue;          // --cloud-sky-hue
   // cumulo fidelity: draw only what the path-traced reference traces (the voxel clouds): no 2.5D sky,
   // light shafts, rain or bolt channels.
   bool reference_comparable = false;

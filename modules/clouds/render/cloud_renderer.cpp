@@ -267,6 +267,7 @@ void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p) {
   s.edge_depth_scale = talk.edge_depth_scale;
   s.instance_shadows = talk.instance_shadows;
   s.sky_mean_ambient = talk.sky_mean_ambient;
+  s.sky_mean_hue = talk.sky_mean_hue;
   s.ms_lateral = talk.ms_lateral;
   s.ms_solve = talk.ms_solve;
   s.ms_solve_weight = talk.ms_solve_weight;
@@ -294,6 +295,7 @@ void apply_lighting_preset(CloudSettings& s, CloudLightingPreset p) {
     s.edge_depth_scale = kSlabEdgeDepthScale;
     s.instance_shadows = true;
     s.sky_mean_ambient = kSlabSkyMeanAmbient;
+    s.sky_mean_hue = true;
     s.ms_lateral = kSlabMsLateral;
     s.light_sample_m = kSlabLightSampleM;
     s.light_sample_growth = kSlabLightSampleGrowth;
@@ -367,6 +369,15 @@ CloudResourcesPtr create_cloud_resources(gpu::Context& ctx, gpu::PipelineLibrary
   return res;
 }
 
+glm::vec3 cloud_sky_light(const cumulo::render::SceneLighting& l, const CloudSettings& s) {
+  const glm::vec3 two = 0.5f * (l.sky_zenith + l.sky_horizon);
+  if (l.sky_mean == glm::vec3(0.0f)) return two;  // no atmosphere filled it
+  if (s.sky_mean_ambient) return l.sky_mean;
+  if (!s.sky_mean_hue) return two;
+  const auto lum = [](glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
+  return l.sky_mean * (lum(two) / std::max(lum(l.sky_mean), 1e-12f));
+}
+
 CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snap, uint32_t slot,
                                             const CloudSettings& settings) {
   CloudFrameInputs in;
@@ -383,10 +394,7 @@ CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot&
   // was pi x scene::SunLight::radiance, the stand-in model's unscaled radiance: a third of the terrain's sun,
   // which the path-traced reference showed.)
   in.sun_color = snap.lighting.sun_radiance * 3.14159265f;
-  const bool mean_known = snap.lighting.sky_mean != glm::vec3(0.0f);
-  in.ambient_color = (in.settings.sky_mean_ambient && mean_known ? snap.lighting.sky_mean
-                                                                 : 0.5f * (snap.lighting.sky_zenith + snap.lighting.sky_horizon)) *
-                     snap.lighting.ambient;
+  in.ambient_color = cloud_sky_light(snap.lighting, in.settings) * snap.lighting.ambient;
   in.ground_sky = snap.lighting.sky_irradiance * snap.lighting.ambient;
   if (in.settings.lights == CloudLights::Sky) in.sun_color = glm::vec3(0.0f);
   if (in.settings.lights == CloudLights::Sun) in.ambient_color = glm::vec3(0.0f), in.ground_sky = glm::vec3(0.0f);

@@ -225,6 +225,11 @@ struct CloudSettings {
   // The clouds' sky light is the sky's mean radiance over the upper hemisphere (SceneLighting::sky_mean), not
   // 0.5 (zenith + horizon), which is about twice as bright and, at a low sun, warm where the sky is blue.
   bool sky_mean_ambient = false;
+  // Without sky_mean_ambient: the sky light keeps 0.5 (zenith + horizon)'s luminance, which the lighting model's sky
+  // transport was calibrated with, in the hue of the hemisphere's mean. The path tracer's sky-lit clouds take the
+  // mean's hue (issue 21, session 59: blue / red 3.2 at noon and 1.2 at dusk in the reference, the mean's own; 2.1
+  // and 0.5 with the zenith and horizon's, whose bright band at the horizon is orange at dusk).
+  bool sky_mean_hue = false;
   // Which lights reach the clouds (cumulo fidelity --cloud-lights): all, the sun alone or the sky alone, so each
   // source's share of the lighting model can be measured against the path tracer's with the same source alone.
   CloudLights lights = CloudLights::All;
@@ -419,6 +424,10 @@ float nearest_instance_distance(const CloudFrameInputs& in);
 
 CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snapshot, uint32_t slot,
                                             const CloudSettings& settings = {});
+// The clouds' sky light (before SceneLighting::ambient): 0.5 (zenith + horizon), the hemisphere's mean
+// (CloudSettings::sky_mean_ambient), or the former's luminance in the latter's hue (sky_mean_hue); the two colours
+// where the atmosphere left the mean unset.
+glm::vec3 cloud_sky_light(const cumulo::render::SceneLighting& lighting, const CloudSettings& settings);
 
 // The march's parameter block for a frame (what add_cloud_passes uploads; no history): other passes that
 // read the same density field and lighting (the path-traced reference) bind it too. `slots`: the asset slot

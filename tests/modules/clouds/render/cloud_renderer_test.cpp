@@ -883,6 +883,21 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   snap.lighting.sky_mean = glm::vec3(0.1f, 0.2f, 0.4f);
   EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, mean).ambient_color.b, 0.2f, 1e-6f);
   EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0).ambient_color.b, 0.35f, 1e-6f);
+  // The mean's hue at the two colours' luminance (the slab's): the ratios of the mean, the luminance of the two.
+  CloudSettings hue;
+  hue.sky_mean_hue = true;
+  const auto lum = [](glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
+  const glm::vec3 h = cloud_inputs_from_snapshot(snap, 0, hue).ambient_color;
+  EXPECT_NEAR(lum(h), lum(in.ambient_color), 1e-5f);
+  EXPECT_NEAR(h.b / h.r, 4.0f, 1e-4f);
+  EXPECT_NEAR(h.g / h.r, 2.0f, 1e-4f);
+  EXPECT_EQ(cloud_sky_light(snap.lighting, mean), snap.lighting.sky_mean) << "the mean itself wins over its hue";
+  CloudSettings slab;
+  apply_lighting_preset(slab, CloudLightingPreset::Slab);
+  EXPECT_TRUE(slab.sky_mean_hue);
+  CloudSettings talk;
+  apply_lighting_preset(talk, CloudLightingPreset::Talk);
+  EXPECT_FALSE(talk.sky_mean_hue);
   // One light alone (--cloud-lights): the other's colour is zero, the one kept unchanged.
   CloudSettings sun_only, sky_only;
   sun_only.lights = CloudLights::Sun, sky_only.lights = CloudLights::Sky;
