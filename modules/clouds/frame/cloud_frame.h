@@ -79,6 +79,11 @@ struct SkyLayerFrame {
   float bottom_m = 1500.0f, top_m = 4000.0f;
   float planet_radius_m = 6360e3f;
   float draw_distance_m = 35000.0f;
+  // A camera inside the shell (or within this distance of it) sees the layer from this distance on, fading in over
+  // as much again: the layer is the distant sky (the 2015 talk's player stands under it), and marched from inside, its
+  // 64-128 steps over the ray's kilometres turned the deck around the camera into an even veil over the whole view (the
+  // sample's `overview` camera, 1900 m up outside the voxel box). 0: none.
+  float near_fade_m = 1500.0f;
   float horizon_bias_start_m = 15000.0f, horizon_coverage = 0.5f;
   float high_coverage = 0.35f;  // the 2D cirrus / alto layers
   float high_altitude_m = 7000.0f;

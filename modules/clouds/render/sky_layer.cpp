@@ -114,7 +114,7 @@ struct SkyLayer::Impl {
     shared::SkyLayerParams p{};
     p.inv_view_proj = in.camera.inv_view_proj;
     p.camera_pos = glm::vec4(in.camera.position, float(t));
-    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), 0.0f);
+    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), std::max(sky.near_fade_m, 0.0f));
     p.sun_color = glm::vec4(in.sun_color, 0.0f);
     p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
     p.shell =

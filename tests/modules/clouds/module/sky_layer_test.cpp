@@ -150,6 +150,33 @@ TEST_F(CloudsRun, TheSkyLayerAddsNothingOverTheVoxelBoxAndShowsBeyondIt) {
   // reconstruction blurs over 8 px here. The seam itself is measured on the density: SkyLayerGpu below.)
 }
 
+// A camera inside the shell (2.5 km up, far outside the voxel box) looking steeply down: the deck around it is not
+// drawn (SkyLayerFrame::near_fade_m), so the rays that leave the shell within the near distance show the sea as they do
+// without the layer; rays toward the horizon still meet the deck beyond it. (Before, the deck's nearest kilometre,
+// marched in 64-128 steps over the whole ray, covered the view like a veil.)
+TEST_F(CloudsRun, ACameraInsideTheShellSeesTheLayerOnlyBeyondItsNearFade) {
+  const fs::path file = dir_ / "inside.json";
+  write_file_atomic(file, R"({"version": 1, "name": "sky-inside", "entities": [
+    {"name": "sun", "components": {"TimeOfDay": {"hours": 12}}},
+    {"name": "cloud", "components": {"Transform": {"position": [0, 500, 0]}, "Cloudscape": {"asset": "small_cloud.json"}}},
+    {"name": "down", "components": {"Transform": {"position": [9000, 2500, 9000], "look_at": [9000, 0, 8300]}, "Camera": {}}},
+    {"name": "ahead", "components": {"Transform": {"position": [9000, 2500, 9000], "look_at": [9000, 2300, 0]}, "Camera": {}}}]})");
+  const std::vector<std::string> deck{"--weather", "overcast_stratus"};
+  auto with = [&](std::vector<std::string> extra) {
+    extra.insert(extra.end(), deck.begin(), deck.end());
+    return extra;
+  };
+  ASSERT_EQ(run(file, "down_on.png", with({"--camera", "down", "--cloud-sky", "on"}), 16), 0);
+  ASSERT_EQ(run(file, "down_off.png", with({"--camera", "down", "--cloud-sky", "off"}), 16), 0);
+  ASSERT_EQ(run(file, "ahead_on.png", with({"--camera", "ahead", "--cloud-sky", "on"}), 16), 0);
+  ASSERT_EQ(run(file, "ahead_off.png", with({"--camera", "ahead", "--cloud-sky", "off"}), 16), 0);
+  const double down = mean_diff(load_png(dir_ / "down_on.png"), load_png(dir_ / "down_off.png"));
+  const double ahead = mean_diff(load_png(dir_ / "ahead_on.png"), load_png(dir_ / "ahead_off.png"));
+  std::printf("  inside the shell: mean |on - off| looking down %.2f, ahead %.2f\n", down, ahead);
+  EXPECT_LT(down, 1.0);   // the sea under the camera, unveiled
+  EXPECT_GT(ahead, 5.0);  // the deck beyond the fade
+}
+
 namespace {
 
 class SkyLayerGpu : public gpu::test::GpuTest {};
