@@ -521,8 +521,10 @@ TextureHandle add_cloud_passes(CloudResources& res, RenderGraph& graph, const Cl
 
 // The shadow map's plane (at the lowest box's bottom) and extent (every box's footprint along the
 // light), or none: shadows off, no instance, or the light lower than kShadowMinLightHeight (sin of
-// its elevation: below ~3 degrees the footprint grows past 20 km for a 1 km-deep layer).
-inline constexpr float kShadowMinLightHeight = 0.05f;
+// its elevation, about 1.1 degrees: there the footprint reaches 50 km for a 1 km-deep layer; 0.05 before issue 21's
+// seventeenth session, which left the sample's low-sun view, 2.7 degrees, without the clouds' long shadows on the sea
+// that the path tracer shows).
+inline constexpr float kShadowMinLightHeight = 0.02f;
 std::optional<cumulo::render::LightShadowMap> shadow_plane(const CloudFrameInputs& in, uint32_t texels);
 
 // For tests and `cumulo bench`: GPU memory of the persistent cloud resources (light grids, history)

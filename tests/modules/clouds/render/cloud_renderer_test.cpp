@@ -910,6 +910,30 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
 // The light the slab's ground bounce reflects (CloudParams::ground_light): the sun's irradiance on the ground (x the
 // sine of its elevation) / pi plus the sky's horizontal irradiance / pi where the atmosphere filled it (scaled as the
 // ambient is), else the sky ambient; each light alone (--cloud-lights) keeps only its own share.
+// The clouds' shadow map under a low sun: the sample's 18.2 h (2.7 degrees, `long_shadows`) still casts it, the plane under
+// the box reaches as far as the box's top corners project along the light, and a sun on the horizon casts none.
+TEST(CloudShadowPlane, ALowSunCastsTheCloudsShadowOverTheWholeProjectedBox) {
+  CloudFrameInputs in;
+  CloudInstance inst;
+  auto asset = std::make_shared<CloudAsset>();
+  asset->bounds_min = glm::vec3(-1000.0f, 0.0f, -1000.0f);
+  asset->bounds_max = glm::vec3(1000.0f, 2000.0f, 1000.0f);
+  inst.asset = asset;
+  inst.position = glm::vec3(0.0f, 500.0f, 0.0f);
+  in.instances.push_back(inst);
+  const float e = glm::radians(2.74f);
+  in.sun_direction = glm::vec3(std::cos(e), std::sin(e), 0.0f);
+  const auto plane = shadow_plane(in, 128);
+  ASSERT_TRUE(plane.has_value());
+  EXPECT_FLOAT_EQ(plane->height, 500.0f);
+  const float reach = 2000.0f / std::tan(e);  // the top's corners, away from the sun
+  EXPECT_LE(plane->origin.x, -1000.0f - reach + 1.0f);
+  EXPECT_GE(plane->origin.x + plane->size.x, 1000.0f);
+  const float flat = 0.005f;  // 0.3 degrees
+  in.sun_direction = glm::vec3(std::cos(flat), std::sin(flat), 0.0f);
+  EXPECT_FALSE(shadow_plane(in, 128).has_value());
+}
+
 TEST(CloudInputs, TheGroundBounceTakesTheSkysIrradianceOnTheGround) {
   cumulo::render::FrameSnapshot snap;
   snap.sun.direction = glm::normalize(glm::vec3(0.0f, 1.0f, 1.0f));  // 45 degrees up
