@@ -145,7 +145,8 @@ bool load_reference(const std::string& base, const FidelityOptions& o, render::C
   return true;
 }
 
-// The real-time side's light grid, x (east) x z (north) x y (levels) as the talk writes 256x256x32; null without clouds.
+// The real-time side's light grid, x (east) x z (north) x y (levels) as the talk writes 256x256x32; null without
+// clouds.
 nlohmann::ordered_json light_grid_json(const render::CloudFeature& f) {
   if (!f.resources()) return nullptr;
   const glm::uvec3 g = f.resources()->desc.light_grid_size;

@@ -38,7 +38,8 @@ void CloudFeature::create_gpu(cumulo::render::GpuServices& g) {
   if (noise_file_.empty()) return;  // the level has no clouds
   // The talk's 256x256x32 grid, or on CPU devices a smaller one (its eighth per frame would cost about
   // as much as the whole march there) unless --cloud-light-grid talk asks for the talk's.
-  CloudResourcesDesc desc = options_.talk_light_grid.value_or(false) ? CloudResourcesDesc{} : CloudResourcesDesc::for_device(g.ctx.info());
+  CloudResourcesDesc desc = options_.talk_light_grid.value_or(false) ? CloudResourcesDesc{}
+                                                                     : CloudResourcesDesc::for_device(g.ctx.info());
   if (options_.light_grid_samples > 0) desc.light_grid_sweep_samples = options_.light_grid_samples;
   resources_ = create_cloud_resources(g.ctx, g.library, cache_->noise(noise_file_), desc);
   drawn_passes_.clear();

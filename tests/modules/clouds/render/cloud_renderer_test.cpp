@@ -907,11 +907,8 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   EXPECT_NEAR(cloud_inputs_from_snapshot(snap, 0, sky_only).ambient_color.b, 0.35f, 1e-6f);
 }
 
-// The light the slab's ground bounce reflects (CloudParams::ground_light): the sun's irradiance on the ground (x the
-// sine of its elevation) / pi plus the sky's horizontal irradiance / pi where the atmosphere filled it (scaled as the
-// ambient is), else the sky ambient; each light alone (--cloud-lights) keeps only its own share.
-// The clouds' shadow map under a low sun: the sample's 18.2 h (2.7 degrees, `long_shadows`) still casts it, the plane under
-// the box reaches as far as the box's top corners project along the light, and a sun on the horizon casts none.
+// The clouds' shadow map under a low sun: the sample's 18.2 h (2.7 degrees, `long_shadows`) still casts it, the plane
+// under the box reaches as far as the box's top corners project along the light, and a sun on the horizon casts none.
 TEST(CloudShadowPlane, ALowSunCastsTheCloudsShadowOverTheWholeProjectedBox) {
   CloudFrameInputs in;
   CloudInstance inst;
@@ -934,6 +931,9 @@ TEST(CloudShadowPlane, ALowSunCastsTheCloudsShadowOverTheWholeProjectedBox) {
   EXPECT_FALSE(shadow_plane(in, 128).has_value());
 }
 
+// The light the slab's ground bounce reflects (CloudParams::ground_light): the sun's irradiance on the ground (x the
+// sine of its elevation) / pi plus the sky's horizontal irradiance / pi where the atmosphere filled it (scaled as the
+// ambient is), else the sky ambient; each light alone (--cloud-lights) keeps only its own share.
 TEST(CloudInputs, TheGroundBounceTakesTheSkysIrradianceOnTheGround) {
   cumulo::render::FrameSnapshot snap;
   snap.sun.direction = glm::normalize(glm::vec3(0.0f, 1.0f, 1.0f));  // 45 degrees up
