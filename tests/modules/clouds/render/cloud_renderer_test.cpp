@@ -892,12 +892,13 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   EXPECT_NEAR(h.b / h.r, 4.0f, 1e-4f);
   EXPECT_NEAR(h.g / h.r, 2.0f, 1e-4f);
   EXPECT_EQ(cloud_sky_light(snap.lighting, mean), snap.lighting.sky_mean) << "the mean itself wins over its hue";
-  CloudSettings slab;
-  apply_lighting_preset(slab, CloudLightingPreset::Slab);
-  EXPECT_TRUE(slab.sky_mean_hue);
-  CloudSettings talk;
-  apply_lighting_preset(talk, CloudLightingPreset::Talk);
-  EXPECT_FALSE(talk.sky_mean_hue);
+  const auto preset = [](CloudLightingPreset p) {
+    CloudSettings s;
+    apply_lighting_preset(s, p);
+    return s;
+  };
+  EXPECT_TRUE(preset(CloudLightingPreset::Slab).sky_mean_hue);
+  EXPECT_FALSE(preset(CloudLightingPreset::Talk).sky_mean_hue);
   // One light alone (--cloud-lights): the other's colour is zero, the one kept unchanged.
   CloudSettings sun_only, sky_only;
   sun_only.lights = CloudLights::Sun, sky_only.lights = CloudLights::Sky;
