@@ -36,7 +36,8 @@ shared::FrameParams make_frame_params(const FrameSnapshot& s, float exposure) {
   p.fog_falloff = c.fog_falloff;
   p.ground_color = c.ground;
   // Where no atmosphere gave the irradiance, the two sky colours' mean stands for it (the stand-in sky's ambient).
-  p.sky_irradiance = glm::vec4(c.sky_irradiance != glm::vec3(0.0f) ? c.sky_irradiance : 0.5f * (c.sky_zenith + c.sky_horizon), 0.0f);
+  const bool irradiance_known = c.sky_irradiance != glm::vec3(0.0f);
+  p.sky_irradiance = glm::vec4(irradiance_known ? c.sky_irradiance : 0.5f * (c.sky_zenith + c.sky_horizon), 0.0f);
   float w = static_cast<float>(std::max(1u, s.width)), h = static_cast<float>(std::max(1u, s.height));
   p.viewport_size = glm::vec2(w, h);
   p.inv_viewport_size = glm::vec2(1.0f / w, 1.0f / h);

@@ -109,18 +109,11 @@ vec4 high_layers(vec3 ro, vec3 rd, float t_max) {
   return vec4(alpha, 0.0, 0.0, t);
 }
 
-// The near fade (S.sun_dir.w): a camera in the shell sees the layer from g_near on, fully from twice that; the fade
-// shrinks to nothing as the camera leaves the shell by the same distance (no step at its boundary).
-float g_near = 0.0;
-float near_distance(vec3 ro) {
-  float a = altitude(ro);
-  float outside = max(max(S.shell.x - a, a - S.shell.y), 0.0);
-  return S.sun_dir.w > 0.0 ? S.sun_dir.w * saturate(1.0 - outside / S.sun_dir.w) : 0.0;
-}
-// A full sample at step i (distance t): none past the stretch's end or the shell's.
+// A full sample at step i (distance t): none past the stretch's end or the shell's. The near fade (S.sun_dir.w, the
+// camera's: sky_layer.cpp): a camera in or near the shell sees the layer from that distance on, fully from twice it.
 float full_density(vec3 p, float t, int i, int i_end, float t_end) {
   SkyCoarse c = density_coarse(p);
-  float fade = g_near > 0.0 ? smoothstep(g_near, 2.0 * g_near, t) : 1.0;
+  float fade = S.sun_dir.w > 0.0 ? smoothstep(S.sun_dir.w, 2.0 * S.sun_dir.w, t) : 1.0;
   return c.d * c.yield_m > 0.0 && t < t_end && i < i_end ? density_detail(c) * fade : 0.0;
 }
 
@@ -147,8 +140,7 @@ void main() {
   float mu = dot(rd, l);
   float phase = mix(henyey_greenstein(mu, S.phase.y), henyey_greenstein(mu, S.phase.x), S.phase.z);
   vec2 seg = shell_segment(ro, rd, t_max);
-  g_near = near_distance(ro);
-  seg.x = max(seg.x, g_near);
+  seg.x = max(seg.x, S.sun_dir.w);
 #if VOXEL_OCCLUSION
   if (seg.x < seg.y && hidden_by_voxels(uv, seg.x)) {
     imageStore(out_color, block, last_value(rd));

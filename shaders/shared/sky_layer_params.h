@@ -28,7 +28,7 @@ CUMULO_SHARED_BEGIN
 struct SkyLayerParams {
   mat4 inv_view_proj;
   vec4 camera_pos;     // xyz world (m); w: time (s)
-  vec4 sun_dir;        // xyz toward the key light; w: the near fade (m) for a camera in or near the shell (SkyLayerFrame::near_fade_m)
+  vec4 sun_dir;        // xyz toward the key light; w: where the layer begins for this camera (m; SkyLayerFrame::near_fade_m)
   vec4 sun_color;      // rgb: the same sun as the voxel clouds (pi x Lambertian radiance); w: unused
   vec4 ambient_color;  // rgb: sky ambient at the layer's top; w: unused
   vec4 shell;          // x: inner altitude (m above sea level), y: outer, z: planet radius (m), w: max draw distance (m)

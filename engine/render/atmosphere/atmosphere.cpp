@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/color.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/json.h"
@@ -305,8 +306,7 @@ SceneLighting Atmosphere::lighting(const scene::SunLight& sun, float camera_alti
   // Exposure meter: the key light on a grey card plus the sky, held to 1 by day (the renderer's units are
   // set for the noon sun); the eye adapts only partly (the 0.6 power: dusk stays darker than day, night
   // darker than dusk), at most 32x.
-  const auto lum = [](glm::vec3 v) { return 0.2126f * v.r + 0.7152f * v.g + 0.0722f * v.b; };
-  const float level = 0.05f * lum(c.sun_radiance) * std::max(c.light_direction.y, 0.0f) + 0.5f * lum(c.sky_zenith);
+  const float level = 0.05f * luminance(c.sun_radiance) * std::max(c.light_direction.y, 0.0f) + 0.5f * luminance(c.sky_zenith);
   c.exposure = std::clamp(std::pow(0.1f / std::max(level, 1e-6f), 0.6f), 1.0f, 32.0f);
   c.fog_density = 0.00004f;
   c.fog_falloff = 0.001f;

@@ -7,8 +7,6 @@
 
 namespace cumulo::clouds {
 
-float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
-
 namespace {
 double floor_luminance(const render::ReferenceImage& ref, float fraction) {
   double sum = 0;

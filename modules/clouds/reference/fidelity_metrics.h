@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/color.h"
 #include "engine/gpu/readback.h"
 #include "modules/clouds/reference/reference_tracer.h"
 
@@ -34,7 +35,6 @@ struct FidelityError {
 inline constexpr float kCloudOpacity = 0.2f;
 inline constexpr float kOpaqueOpacity = 0.99f;
 
-float luminance(glm::vec3 c);
 // Pixels with reference luminance below `floor_fraction` x the image's mean count as that floor (a black
 // pixel would make any error infinite).
 FidelityError fidelity_error(const std::vector<glm::vec4>& realtime, const render::ReferenceImage& reference,

@@ -9,6 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "engine/core/color.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/gpu/barrier.h"
@@ -374,8 +375,7 @@ glm::vec3 cloud_sky_light(const cumulo::render::SceneLighting& l, const CloudSet
   if (l.sky_mean == glm::vec3(0.0f)) return two;  // no atmosphere filled it
   if (s.sky_mean_ambient) return l.sky_mean;
   if (!s.sky_mean_hue) return two;
-  const auto lum = [](glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
-  return l.sky_mean * (lum(two) / std::max(lum(l.sky_mean), 1e-12f));
+  return l.sky_mean * (luminance(two) / std::max(luminance(l.sky_mean), 1e-12f));
 }
 
 CloudFrameInputs cloud_inputs_from_snapshot(const cumulo::render::FrameSnapshot& snap, uint32_t slot,

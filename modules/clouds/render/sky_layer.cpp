@@ -106,6 +106,17 @@ struct SkyLayer::Impl {
 
   Impl(gpu::Context& c, gpu::PipelineLibrary& l) : ctx(c), library(l) {}
 
+  // Where the layer begins for this camera (SkyLayerFrame::near_fade_m): the whole distance inside the shell, shrinking to
+  // 0 as the camera leaves it by as much (no step at its boundary); altitude over the planet under the world origin.
+  static float near_fade(const SkyLayerFrame& sky, glm::vec3 camera) {
+    const float fade = std::max(sky.near_fade_m, 0.0f);
+    if (fade <= 0.0f) return 0.0f;
+    const double r = double(sky.planet_radius_m);
+    const float altitude = float(glm::length(glm::dvec3(camera) + glm::dvec3(0.0, r, 0.0)) - r);
+    const float outside = std::max({sky.bottom_m - altitude, altitude - sky.top_m, 0.0f});
+    return fade * std::clamp(1.0f - outside / fade, 0.0f, 1.0f);
+  }
+
   // This frame's parameter block (camera, sun, weather, wind, the yield boxes of `in`'s instances).
   shared::SkyLayerParams params(const SkyLayerFrame& sky, const CloudFrameInputs& in) const {
     const CloudSettings& s = in.settings;
@@ -114,7 +125,7 @@ struct SkyLayer::Impl {
     shared::SkyLayerParams p{};
     p.inv_view_proj = in.camera.inv_view_proj;
     p.camera_pos = glm::vec4(in.camera.position, float(t));
-    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), std::max(sky.near_fade_m, 0.0f));
+    p.sun_dir = glm::vec4(glm::normalize(in.sun_direction), near_fade(sky, in.camera.position));
     p.sun_color = glm::vec4(in.sun_color, 0.0f);
     p.ambient_color = glm::vec4(in.ambient_color, 0.0f);
     p.shell =

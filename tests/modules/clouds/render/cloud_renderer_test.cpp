@@ -16,6 +16,7 @@
 
 #include <cstring>
 #include <map>
+#include "engine/core/color.h"
 #include "engine/core/random.h"
 #include "engine/gpu/barrier.h"
 #include "engine/gpu/descriptors.h"
@@ -886,9 +887,8 @@ TEST(CloudInputs, FromASnapshotTakeTheCameraSunAmbientAndBudgetMode) {
   // The mean's hue at the two colours' luminance (the slab's): the ratios of the mean, the luminance of the two.
   CloudSettings hue;
   hue.sky_mean_hue = true;
-  const auto lum = [](glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
   const glm::vec3 h = cloud_inputs_from_snapshot(snap, 0, hue).ambient_color;
-  EXPECT_NEAR(lum(h), lum(in.ambient_color), 1e-5f);
+  EXPECT_NEAR(luminance(h), luminance(in.ambient_color), 1e-5f);
   EXPECT_NEAR(h.b / h.r, 4.0f, 1e-4f);
   EXPECT_NEAR(h.g / h.r, 2.0f, 1e-4f);
   EXPECT_EQ(cloud_sky_light(snap.lighting, mean), snap.lighting.sky_mean) << "the mean itself wins over its hue";
