@@ -109,11 +109,14 @@ vec4 high_layers(vec3 ro, vec3 rd, float t_max) {
   return vec4(alpha, 0.0, 0.0, t);
 }
 
-// A full sample at step i (distance t): none past the stretch's end or the shell's. The near fade (S.sun_dir.w, the
-// camera's: sky_layer.cpp): a camera in or near the shell sees the layer from that distance on, fully from twice it.
+// The near fade (S.sun_dir.w, the camera's: sky_layer.cpp): a camera in or near the shell sees the layer from that
+// distance on, fully from twice it. Read through runtime_zero(): it changes as the camera moves, and lavapipe would
+// inline it in the branch below and compile the shader again every frame (runtime_uniform.glsl).
+float g_near = 0.0;
+// A full sample at step i (distance t): none past the stretch's end or the shell's.
 float full_density(vec3 p, float t, int i, int i_end, float t_end) {
   SkyCoarse c = density_coarse(p);
-  float fade = S.sun_dir.w > 0.0 ? smoothstep(S.sun_dir.w, 2.0 * S.sun_dir.w, t) : 1.0;
+  float fade = g_near > 0.0 ? smoothstep(g_near, 2.0 * g_near, t) : 1.0;
   return c.d * c.yield_m > 0.0 && t < t_end && i < i_end ? density_detail(c) * fade : 0.0;
 }
 
@@ -140,7 +143,8 @@ void main() {
   float mu = dot(rd, l);
   float phase = mix(henyey_greenstein(mu, S.phase.y), henyey_greenstein(mu, S.phase.x), S.phase.z);
   vec2 seg = shell_segment(ro, rd, t_max);
-  seg.x = max(seg.x, S.sun_dir.w);
+  g_near = S.sun_dir.w + runtime_zero();
+  seg.x = max(seg.x, g_near);
 #if VOXEL_OCCLUSION
   if (seg.x < seg.y && hidden_by_voxels(uv, seg.x)) {
     imageStore(out_color, block, last_value(rd));
